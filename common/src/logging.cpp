@@ -1,0 +1,41 @@
+#include "skelgrasp/common/logging.h"
+
+#include <spdlog/sinks/stdout_color_sinks.h>
+
+#include <mutex>
+
+namespace skelgrasp {
+
+spdlog::logger& log() {
+  static std::shared_ptr<spdlog::logger> logger = [] {
+    auto existing = spdlog::get("skelgrasp");
+    if (existing) return existing;
+    auto created = spdlog::stderr_color_mt("skelgrasp");
+    created->set_pattern("[%H:%M:%S.%e] [%^%l%$] %v");
+    return created;
+  }();
+  return *logger;
+}
+
+void setLogLevel(spdlog::level::level_enum level) {
+  log().set_level(level);
+}
+
+ProgressReporter::ProgressReporter(std::string what, std::size_t total, double min_interval_s)
+    : what_(std::move(what)), total_(total), min_interval_s_(min_interval_s) {}
+
+void ProgressReporter::step(std::size_t done) {
+  const double now = watch_.seconds();
+  if (now - last_report_s_ < min_interval_s_ && done < total_) return;
+  last_report_s_ = now;
+  const double fraction = total_ > 0 ? static_cast<double>(done) / total_ : 1.0;
+  const double eta = done > 0 ? now / done * (total_ - done) : 0.0;
+  log().info("{}: {}/{} ({:.0f}%), elapsed {:.1f} s, ETA {:.0f} s", what_, done, total_,
+             100.0 * fraction, now, eta);
+}
+
+void ProgressReporter::finish() {
+  log().info("{}: {}/{} done in {:.1f} s", what_, total_, total_, watch_.seconds());
+}
+
+}  // namespace skelgrasp

@@ -1,0 +1,241 @@
+// Mesh I/O through CGAL's polygon-soup readers (the only CGAL translation unit of common/).
+#include "skelgrasp/common/mesh_io.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/IO/polygon_soup_io.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "skelgrasp/common/error.h"
+#include "skelgrasp/common/logging.h"
+
+namespace skelgrasp {
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using CgalPoint = Kernel::Point_3;
+
+bool isSupported(const std::string& ext) {
+  return ext == "ply" || ext == "obj" || ext == "off" || ext == "stl";
+}
+
+void checkReadable(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw IoError(path, "no such file");
+  if (fs::is_directory(path, ec)) throw IoError(path, "is a directory, expected a mesh file");
+  std::ifstream probe(path, std::ios::binary);
+  if (!probe) throw IoError(path, "cannot open for reading");
+  if (fs::file_size(path, ec) == 0) throw IoError(path, "file is empty");
+}
+
+void writePlyBinary(const std::string& path, const TriangleMesh& mesh) {
+  std::ofstream out(path, std::ios::binary);
+  if (!out) throw IoError(path, "cannot open for writing");
+  const bool colors = mesh.vertex_colors.size() == mesh.vertices.size() && !mesh.vertices.empty();
+  out << "ply\nformat binary_little_endian 1.0\ncomment written by skelgrasp (units: m)\n"
+      << "element vertex " << mesh.vertices.size() << "\n"
+      << "property float x\nproperty float y\nproperty float z\n";
+  if (colors) out << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+  out << "element face " << mesh.faces.size() << "\nproperty list uchar int vertex_indices\n"
+      << "end_header\n";
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    const float xyz[3] = {static_cast<float>(mesh.vertices[i].x()),
+                          static_cast<float>(mesh.vertices[i].y()),
+                          static_cast<float>(mesh.vertices[i].z())};
+    out.write(reinterpret_cast<const char*>(xyz), sizeof(xyz));
+    if (colors) out.write(reinterpret_cast<const char*>(mesh.vertex_colors[i].data()), 3);
+  }
+  for (const auto& f : mesh.faces) {
+    const unsigned char n = 3;
+    const std::int32_t idx[3] = {f[0], f[1], f[2]};
+    out.write(reinterpret_cast<const char*>(&n), 1);
+    out.write(reinterpret_cast<const char*>(idx), sizeof(idx));
+  }
+  if (!out) throw IoError(path, "write failed");
+}
+
+// An OFF file declaring zero vertices is a valid but empty mesh, not a parse error.
+bool isEmptyMeshHeader(const std::string& path, const std::string& ext) {
+  if (ext != "off") return false;
+  std::ifstream in(path);
+  std::string magic;
+  long nv = -1;
+  in >> magic >> nv;
+  return magic == "OFF" && nv == 0;
+}
+
+// CGAL's readers only say "failed"; name the likeliest problem from what was read before it.
+std::string diagnoseParseFailure(const std::string& path, const std::string& ext,
+                                 std::size_t points,
+                                 const std::vector<std::vector<std::size_t>>& polygons) {
+  for (std::size_t f = 0; f < polygons.size(); ++f) {
+    for (std::size_t idx : polygons[f]) {
+      if (idx >= points) {
+        return "face " + std::to_string(f) + " references vertex " + std::to_string(idx) +
+               " but only " + std::to_string(points) + " vertices were read";
+      }
+    }
+  }
+  // Text formats: a NaN/inf token stops the number parser; report its line.
+  std::ifstream in(path);
+  std::string line;
+  for (std::size_t number = 1; std::getline(in, line) && number <= 50'000'000; ++number) {
+    std::string lower;
+    for (char c : line) lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    std::istringstream tokens(lower);
+    std::string token;
+    while (tokens >> token) {
+      if (token == "nan" || token == "-nan" || token == "inf" || token == "-inf" ||
+          token == "+inf" || token == "infinity") {
+        return "non-finite (NaN or inf) coordinate on line " + std::to_string(number);
+      }
+    }
+    if (line.find('\0') != std::string::npos) break;  // binary payload: stop scanning
+  }
+  if (points == 0)
+    return "cannot parse " + ext + " file: not a valid " + ext + " header or no vertex data";
+  if (polygons.empty()) {
+    return "cannot parse " + ext + " file: read " + std::to_string(points) +
+           " vertices but no faces (truncated, malformed, or a point set without triangles)";
+  }
+  return "cannot parse " + ext + " file: stopped after " + std::to_string(points) +
+         " vertices and " + std::to_string(polygons.size()) +
+         " faces (truncated, malformed, or a face index out of range)";
+}
+
+}  // namespace
+
+std::string fileExtension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  if (!ext.empty() && ext[0] == '.') ext.erase(0, 1);
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+LengthUnit parseLengthUnit(const std::string& text) {
+  if (text == "auto") return LengthUnit::kAuto;
+  if (text == "m" || text == "meters" || text == "metres") return LengthUnit::kMeters;
+  if (text == "mm" || text == "millimeters" || text == "millimetres")
+    return LengthUnit::kMillimeters;
+  throw InvalidArgument("unknown length unit '" + text + "' (use auto, m or mm)");
+}
+
+TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options, MeshLoadInfo* info) {
+  const std::string ext = fileExtension(path);
+  checkReadable(path);
+  if (!isSupported(ext)) {
+    throw IoError(path, "unknown mesh format '." + ext + "' (supported: .ply .obj .off .stl)");
+  }
+
+  std::vector<CgalPoint> points;
+  std::vector<std::vector<std::size_t>> polygons;
+  bool ok = false;
+  try {
+    ok = CGAL::IO::read_polygon_soup(path, points, polygons, CGAL::parameters::verbose(false));
+  } catch (const std::exception& e) {
+    throw IoError(path, std::string("cannot parse ") + ext + " file: " + e.what());
+  }
+  if (!ok && points.empty() && polygons.empty() && isEmptyMeshHeader(path, ext)) {
+    throw IoError(path, "mesh has no vertices");
+  }
+  if (!ok) throw IoError(path, diagnoseParseFailure(path, ext, points.size(), polygons));
+  if (points.empty()) throw IoError(path, "mesh has no vertices");
+
+  MeshLoadInfo local;
+  local.path = path;
+  local.format = ext;
+  TriangleMesh mesh;
+  mesh.vertices.reserve(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d p(points[i].x(), points[i].y(), points[i].z());
+    if (!p.allFinite()) {
+      throw IoError(path, "non-finite (NaN or inf) coordinate at vertex " + std::to_string(i));
+    }
+    mesh.vertices.push_back(p);
+  }
+  mesh.faces.reserve(polygons.size());
+  for (std::size_t f = 0; f < polygons.size(); ++f) {
+    const auto& poly = polygons[f];
+    for (std::size_t idx : poly) {
+      if (idx >= points.size()) {
+        throw IoError(path, "face " + std::to_string(f) + " references vertex " +
+                                std::to_string(idx) + " but the file has " +
+                                std::to_string(points.size()) + " vertices");
+      }
+    }
+    if (poly.size() < 3) {
+      ++local.degenerate_faces_dropped;
+      continue;
+    }
+    if (poly.size() > 3) ++local.polygons_triangulated;
+    for (std::size_t k = 1; k + 1 < poly.size(); ++k) {
+      const Eigen::Vector3i t(static_cast<int>(poly[0]), static_cast<int>(poly[k]),
+                              static_cast<int>(poly[k + 1]));
+      if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
+        ++local.degenerate_faces_dropped;
+        continue;
+      }
+      mesh.faces.push_back(t);
+    }
+  }
+  if (mesh.faces.empty()) throw IoError(path, "mesh has no triangles");
+
+  const double diagonal = mesh.bounds().diagonal();
+  switch (options.units) {
+    case LengthUnit::kMeters:
+      break;
+    case LengthUnit::kMillimeters:
+      local.scale_to_meters = 1e-3;
+      break;
+    case LengthUnit::kAuto:
+      if (diagonal > options.auto_millimetre_diagonal) {
+        local.scale_to_meters = 1e-3;
+        local.units_guessed = true;
+        log().warn(
+            "{}: bounding-box diagonal {:.3g} exceeds {:.3g}, assuming millimetres and scaling "
+            "to metres (pass --units m to keep the values)",
+            path, diagonal, options.auto_millimetre_diagonal);
+      }
+      break;
+  }
+  if (local.scale_to_meters != 1.0) mesh.scale(local.scale_to_meters);
+  if (local.degenerate_faces_dropped > 0) {
+    log().warn("{}: dropped {} degenerate face(s)", path, local.degenerate_faces_dropped);
+  }
+  log().debug("{}: loaded {} vertices, {} triangles", path, mesh.numVertices(), mesh.numFaces());
+  if (info) *info = local;
+  return mesh;
+}
+
+void saveMesh(const std::string& path, const TriangleMesh& mesh) {
+  const std::string ext = fileExtension(path);
+  if (ext == "ply") {
+    writePlyBinary(path, mesh);
+    return;
+  }
+  if (!isSupported(ext)) {
+    throw IoError(path, "unknown mesh format '." + ext + "' (supported: .ply .obj .off .stl)");
+  }
+  std::vector<CgalPoint> points;
+  points.reserve(mesh.vertices.size());
+  for (const auto& v : mesh.vertices) points.emplace_back(v.x(), v.y(), v.z());
+  std::vector<std::vector<std::size_t>> polygons;
+  polygons.reserve(mesh.faces.size());
+  for (const auto& f : mesh.faces) {
+    polygons.push_back({static_cast<std::size_t>(f[0]), static_cast<std::size_t>(f[1]),
+                        static_cast<std::size_t>(f[2])});
+  }
+  if (!CGAL::IO::write_polygon_soup(path, points, polygons,
+                                    CGAL::parameters::stream_precision(9))) {
+    throw IoError(path, "write failed");
+  }
+}
+
+}  // namespace skelgrasp
