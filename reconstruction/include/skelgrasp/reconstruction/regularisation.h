@@ -1,0 +1,67 @@
+#pragma once
+// Regularisation: any triangle input (soup, open, non-manifold, multi-part, inverted) becomes a
+// closed, single-part, outward-oriented 2-manifold, as mean-curvature-flow contraction requires.
+#include <optional>
+#include <string>
+
+#include "skelgrasp/common/error.h"
+#include "skelgrasp/common/mesh.h"
+#include "skelgrasp/common/mesh_topology.h"
+
+namespace skelgrasp::reconstruction {
+
+enum class RegularisationMethod {
+  kAlphaWrap,  // CGAL 3D alpha wrapping of the triangle soup (default)
+  kNone,       // use the input as is; it must already be a closed single-part 2-manifold
+};
+
+RegularisationMethod parseRegularisationMethod(const std::string& text);  // "alpha_wrap" | "none"
+const char* toString(RegularisationMethod method);
+
+struct RegularisationParams {
+  RegularisationMethod method = RegularisationMethod::kAlphaWrap;
+  // Alpha (radius of the carving ball) = bbox diagonal / alpha_divisor. Larger divisors keep more
+  // detail but cost time and keep more spurious handles. Default chosen by measurement, see
+  // docs/regularisation.md.
+  double alpha_divisor = 50.0;
+  // Offset of the wrap from the input surface = bbox diagonal / offset_divisor. Matters little for
+  // the skeleton's topology but much for time (docs/regularisation.md).
+  double offset_divisor = 500.0;
+  // Isotropic remeshing after wrapping to this target edge length in metres; 0 = off.
+  double remesh_target_edge_m = 0.0;
+  int remesh_iterations = 3;
+  // The wrap leaves several parts when input parts are farther apart than alpha. When the parts
+  // other than the largest hold more than `join_area_fraction` of the area (a lid's knob, not
+  // scan debris), the wrap is retried with alpha doubled, up to `join_attempts` times.
+  double join_area_fraction = 0.02;
+  int join_attempts = 2;
+  // Parts still separate after that: the largest (by area) is kept when true, otherwise the result
+  // is kInvalidInput.
+  bool keep_largest_component = true;
+};
+
+struct RegularisationReport {
+  std::string method;
+  MeshTopology input;
+  MeshTopology output;
+  double bbox_diagonal_m = 0;
+  double alpha_m = 0;
+  double offset_m = 0;
+  bool remeshed = false;
+  bool orientation_flipped = false;  // method none: inward input turned outward
+  std::size_t wrap_components = 0;   // parts the final wrap produced before selection
+  int join_retries = 0;              // wraps repeated with a doubled alpha
+  double dropped_area_fraction = 0;  // area of discarded parts / total wrap area
+  double time_s = 0;
+};
+
+struct RegularisationResult {
+  Status status;
+  TriangleMesh mesh;  // closed, single-part, outward 2-manifold when status.ok()
+  RegularisationReport report;
+};
+
+// Throws InvalidArgument for non-positive divisors; input problems go to the status.
+RegularisationResult regularise(const TriangleMesh& input, const RegularisationParams& params = {});
+
+}  // namespace skelgrasp::reconstruction

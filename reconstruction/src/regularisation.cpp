@@ -1,0 +1,162 @@
+// CGAL translation unit: alpha wrapping, component selection and isotropic remeshing.
+#include "skelgrasp/reconstruction/regularisation.h"
+
+#include <CGAL/Polygon_mesh_processing/connected_components.h>
+#include <CGAL/Polygon_mesh_processing/measure.h>
+#include <CGAL/Polygon_mesh_processing/orientation.h>
+#include <CGAL/Polygon_mesh_processing/remesh.h>
+#include <CGAL/alpha_wrap_3.h>
+
+#include "skelgrasp/common/logging.h"
+#include "skelgrasp/internal/cgal_conversions.h"
+
+namespace skelgrasp::reconstruction {
+namespace PMP = CGAL::Polygon_mesh_processing;
+using internal::CgalMesh;
+
+RegularisationMethod parseRegularisationMethod(const std::string& text) {
+  if (text == "alpha_wrap") return RegularisationMethod::kAlphaWrap;
+  if (text == "none") return RegularisationMethod::kNone;
+  throw InvalidArgument("unknown regularisation method '" + text + "' (use alpha_wrap or none)");
+}
+
+const char* toString(RegularisationMethod method) {
+  return method == RegularisationMethod::kAlphaWrap ? "alpha_wrap" : "none";
+}
+
+namespace {
+
+// Keeps the largest part by area; returns (parts, dropped area fraction).
+std::pair<std::size_t, double> keepLargestComponent(CgalMesh& mesh) {
+  auto fcc = mesh.add_property_map<CgalMesh::Face_index, std::size_t>("f:cc", 0).first;
+  const std::size_t parts = PMP::connected_components(mesh, fcc);
+  if (parts <= 1) {
+    mesh.remove_property_map(fcc);
+    return {parts, 0.0};
+  }
+  std::vector<double> area(parts, 0.0);
+  double total = 0;
+  for (auto f : mesh.faces()) {
+    const double a = PMP::face_area(f, mesh);
+    area[fcc[f]] += a;
+    total += a;
+  }
+  const std::size_t keep =
+      static_cast<std::size_t>(std::max_element(area.begin(), area.end()) - area.begin());
+  PMP::keep_connected_components(mesh, std::vector<std::size_t>{keep}, fcc);
+  mesh.remove_property_map(fcc);
+  mesh.collect_garbage();
+  return {parts, total > 0 ? 1.0 - area[keep] / total : 0.0};
+}
+
+}  // namespace
+
+RegularisationResult regularise(const TriangleMesh& input, const RegularisationParams& params) {
+  if (params.method == RegularisationMethod::kAlphaWrap &&
+      (!(params.alpha_divisor > 0) || !(params.offset_divisor > 0))) {
+    throw InvalidArgument("regularise: alpha_divisor and offset_divisor must be positive");
+  }
+  if (params.remesh_target_edge_m < 0 || params.remesh_iterations < 0) {
+    throw InvalidArgument("regularise: remeshing parameters must be non-negative");
+  }
+  Stopwatch watch;
+  RegularisationResult result;
+  auto& report = result.report;
+  report.method = toString(params.method);
+  report.input = analyzeTopology(input);
+  report.bbox_diagonal_m = input.bounds().diagonal();
+  if (input.empty()) {
+    result.status = Status::Make(StatusCode::kInvalidInput, "input mesh is empty");
+    return result;
+  }
+
+  CgalMesh mesh;
+  if (params.method == RegularisationMethod::kNone) {
+    const auto& t = report.input;
+    std::string problem;
+    if (!t.closed) {
+      problem = std::to_string(t.boundary_edges) + " boundary and " +
+                std::to_string(t.non_manifold_edges) + " non-manifold edges";
+    } else if (t.inconsistently_oriented_edges > 0) {
+      problem = "inconsistent face orientation";
+    } else if (t.components != 1) {
+      problem = std::to_string(t.components) + " parts";
+    } else if (!internal::toCgalMesh(input, mesh)) {
+      problem = "non-manifold vertices";
+    }
+    if (!problem.empty()) {
+      result.status =
+          Status::Make(StatusCode::kInvalidInput, "mesh is not a closed single-part 2-manifold (" +
+                                                      problem + "); use alpha_wrap");
+      return result;
+    }
+    if (PMP::volume(mesh) < 0) {
+      PMP::reverse_face_orientations(mesh);
+      report.orientation_flipped = true;
+    }
+  } else {
+    std::vector<internal::CgalPoint> points;
+    std::vector<std::array<std::size_t, 3>> faces;
+    internal::toCgalSoup(input, points, faces);
+    report.alpha_m = report.bbox_diagonal_m / params.alpha_divisor;
+    report.offset_m = report.bbox_diagonal_m / params.offset_divisor;
+    std::size_t parts = 0;
+    double dropped = 0;
+    for (int attempt = 0;; ++attempt) {
+      mesh.clear();
+      try {
+        CGAL::alpha_wrap_3(points, faces, report.alpha_m, report.offset_m, mesh);
+      } catch (const std::exception& e) {
+        result.status =
+            Status::Make(StatusCode::kFailed, std::string("alpha wrap failed: ") + e.what());
+        return result;
+      }
+      if (mesh.number_of_faces() == 0) {
+        result.status = Status::Make(StatusCode::kFailed, "alpha wrap produced an empty mesh");
+        return result;
+      }
+      std::tie(parts, dropped) = keepLargestComponent(mesh);
+      if (parts <= 1 || dropped <= params.join_area_fraction || attempt >= params.join_attempts)
+        break;
+      log().info(
+          "regularise: wrap split into {} parts ({:.1f}% of area outside the largest); "
+          "retrying with alpha {:.4f} m",
+          parts, 100 * dropped, 2 * report.alpha_m);
+      report.alpha_m *= 2;
+      ++report.join_retries;
+    }
+    report.wrap_components = parts;
+    report.dropped_area_fraction = dropped;
+    if (parts > 1) {
+      if (!params.keep_largest_component) {
+        result.status = Status::Make(
+            StatusCode::kInvalidInput,
+            "wrap has " + std::to_string(parts) + " separate parts; increase alpha to join them");
+        return result;
+      }
+      log().warn(
+          "regularise: wrap has {} separate parts, kept the largest ({:.1f}% of area dropped)",
+          parts, 100 * dropped);
+    }
+    if (PMP::volume(mesh) < 0) PMP::reverse_face_orientations(mesh);
+  }
+
+  if (params.remesh_target_edge_m > 0) {
+    PMP::isotropic_remeshing(faces(mesh), params.remesh_target_edge_m, mesh,
+                             CGAL::parameters::number_of_iterations(params.remesh_iterations));
+    mesh.collect_garbage();
+    report.remeshed = true;
+  }
+
+  result.mesh = internal::fromCgalMesh(mesh);
+  report.output = analyzeTopology(result.mesh);
+  report.time_s = watch.seconds();
+  SKELGRASP_DEMAND(report.output.closed && report.output.components == 1);
+  log().debug("regularise ({}): {} -> {} vertices, genus {} -> {}, {:.2f} s", report.method,
+              report.input.vertices, report.output.vertices,
+              report.input.genus ? std::to_string(*report.input.genus) : "n/a",
+              report.output.genus ? std::to_string(*report.output.genus) : "n/a", report.time_s);
+  return result;
+}
+
+}  // namespace skelgrasp::reconstruction
