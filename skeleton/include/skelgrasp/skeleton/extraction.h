@@ -1,0 +1,81 @@
+#pragma once
+// The skeleton stage: input mesh -> regularised closed mesh -> CGAL mean-curvature-flow skeleton
+// -> every input vertex mapped to one skeleton vertex -> classification and segments.
+#include "skelgrasp/common/error.h"
+#include "skelgrasp/common/mesh.h"
+#include "skelgrasp/reconstruction/regularisation.h"
+#include "skelgrasp/skeleton/skeleton.h"
+
+namespace skelgrasp::skeleton {
+
+// CGAL Mean_curvature_flow_skeletonization parameters. Defaults are CGAL's, which are also the
+// values the reference implementation sets explicitly.
+struct ContractionParams {
+  double max_triangle_angle_rad = 110.0 * 3.14159265358979323846 / 180.0;
+  double quality_speed_tradeoff = 0.1;            // omega_H
+  double medially_centered_speed_tradeoff = 0.2;  // omega_P
+  double area_variation_factor = 1e-4;  // converged when area change / original area < this
+  int max_iterations = 500;
+  bool is_medially_centered = true;
+  // Edges shorter than this fraction of the mesh's bounding-box diagonal are collapsed.
+  double min_edge_length_fraction = 0.002;
+};
+
+struct SkeletonParams {
+  reconstruction::RegularisationParams regularisation;
+  ContractionParams contraction;
+  // Terminal branches shorter than this factor times the inscribed radius where they attach are
+  // removed as contraction artefacts (see cleanup.h); 0 keeps the raw CGAL skeleton.
+  double spur_radius_factor = 0.5;
+  GraphAnalysisParams graph;
+};
+
+struct Contraction {
+  Status status;
+  std::vector<Eigen::Vector3d> positions;
+  std::vector<std::array<int, 2>> edges;
+  // Skeleton vertex of each vertex of the contracted (closed) mesh.
+  std::vector<int> mesh_vertex_to_skeleton;
+  std::size_t unassigned_mesh_vertices = 0;  // not reported by CGAL; mapped to the nearest vertex
+  double time_s = 0;
+};
+
+// MCF contraction of a closed, single-part, outward 2-manifold (status kInvalidInput otherwise).
+Contraction contractMesh(const TriangleMesh& closed_mesh, const ContractionParams& params = {});
+
+struct SkeletonTimings {
+  double regularise_s = 0;
+  double skeleton_s = 0;  // contraction and conversion to the skeleton graph
+  double mapping_s = 0;   // input vertices -> skeleton vertices
+  double analysis_s = 0;  // classification, segments, curvature
+  double total_s = 0;
+};
+
+struct SkeletonDiagnostics {
+  std::size_t regularised_vertices = 0;
+  std::size_t unassigned_mesh_vertices = 0;
+  std::size_t pruned_spurs = 0;
+  std::size_t pruned_spur_vertices = 0;
+  // Distance from each input vertex to the regularised vertex it was mapped through.
+  double mean_mapping_distance_m = 0;
+  double max_mapping_distance_m = 0;
+};
+
+struct SkeletonResult {
+  Status status;
+  Skeleton skeleton;              // surface_points index the *input* mesh's vertices
+  TriangleMesh regularised_mesh;  // the closed mesh that was contracted
+  reconstruction::RegularisationReport regularisation;
+  SkeletonTimings timing;
+  SkeletonDiagnostics diagnostics;
+};
+
+// Runs the whole stage. Data problems (empty mesh, wrap failure) are reported in the status.
+SkeletonResult extractSkeleton(const TriangleMesh& input, const SkeletonParams& params = {});
+
+// Index of the nearest `targets` point for every query (exact kd-tree search).
+std::vector<int> nearestPoints(const std::vector<Eigen::Vector3d>& targets,
+                               const std::vector<Eigen::Vector3d>& queries,
+                               std::vector<double>* distances = nullptr);
+
+}  // namespace skelgrasp::skeleton
