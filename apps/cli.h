@@ -1,0 +1,26 @@
+#pragma once
+// Shared plumbing of the skelgrasp subcommands. Each command file registers its subcommand and
+// returns the process exit code from its run function: 0 success, 2 bad input or failure to
+// process it (one error line on stderr naming the file and the problem).
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <string>
+
+namespace skelgrasp::cli {
+
+constexpr int kExitOk = 0;
+constexpr int kExitBadInput = 2;
+
+// A registered subcommand's action, run after parsing.
+using Action = std::function<int()>;
+
+void registerSkeletonCommand(CLI::App& app, Action& action);
+void registerShapeCommand(CLI::App& app, Action& action);
+void registerBenchCommand(CLI::App& app, Action& action);
+void registerDemoCommand(CLI::App& app, Action& action);
+
+// Prints "skelgrasp: error: <message>" to stderr and returns kExitBadInput.
+int fail(const std::string& message);
+
+}  // namespace skelgrasp::cli

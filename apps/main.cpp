@@ -1,0 +1,50 @@
+// skelgrasp: skeleton-based grasp planning from raw 3D scans.
+#include <iostream>
+
+#include "cli.h"
+#include "skelgrasp/common/error.h"
+#include "skelgrasp/common/logging.h"
+
+namespace skelgrasp::cli {
+
+int fail(const std::string& message) {
+  std::cerr << "skelgrasp: error: " << message << std::endl;
+  return kExitBadInput;
+}
+
+}  // namespace skelgrasp::cli
+
+int main(int argc, char** argv) {
+  using namespace skelgrasp;
+  CLI::App app{"skelgrasp: skeleton-based grasp planning for multi-fingered hands"};
+  app.require_subcommand(1);
+  app.fallthrough();  // global flags (-q, -v) may follow the subcommand
+  bool quiet = false, verbose = false;
+  app.add_flag("-q,--quiet", quiet, "Only warnings and errors on stderr");
+  app.add_flag("-v,--verbose", verbose, "Debug logging on stderr");
+
+  cli::Action action;
+  cli::registerSkeletonCommand(app, action);
+  cli::registerShapeCommand(app, action);
+  cli::registerBenchCommand(app, action);
+  cli::registerDemoCommand(app, action);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::Success& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return cli::kExitBadInput;
+  }
+  setLogLevel(verbose ? spdlog::level::debug : quiet ? spdlog::level::warn : spdlog::level::info);
+  try {
+    return action ? action() : cli::kExitOk;
+  } catch (const IoError& e) {
+    return cli::fail(e.what());
+  } catch (const InvalidArgument& e) {
+    return cli::fail(e.what());
+  } catch (const std::exception& e) {
+    return cli::fail(e.what());
+  }
+}

@@ -1,0 +1,72 @@
+#pragma once
+// Command-line options of the skeleton stage, shared by the commands that run it.
+#include <CLI/CLI.hpp>
+
+#include "skelgrasp/common/mesh_io.h"
+#include "skelgrasp/skeleton/extraction.h"
+
+namespace skelgrasp::cli {
+
+struct SkeletonOptions {
+  std::string units = "auto";
+  std::string regularise = "alpha_wrap";
+  double alpha_divisor = reconstruction::RegularisationParams{}.alpha_divisor;
+  double offset_divisor = reconstruction::RegularisationParams{}.offset_divisor;
+  double remesh_edge_m = 0;
+  double stencil_m = skeleton::GraphAnalysisParams{}.curvature_stencil_m;
+  double spur_factor = skeleton::SkeletonParams{}.spur_radius_factor;
+  bool write_regularised = false;
+  std::string render_path;
+
+  void addTo(CLI::App& cmd) {
+    cmd.add_option("--units", units, "Input length unit: auto (diagonal > 5 means mm), m or mm")
+        ->check(CLI::IsMember({"auto", "m", "mm"}))
+        ->capture_default_str();
+    cmd.add_option("--regularise", regularise,
+                   "alpha_wrap, or none (input must already be a closed single-part manifold)")
+        ->check(CLI::IsMember({"alpha_wrap", "none"}))
+        ->capture_default_str();
+    cmd.add_option("--alpha-divisor", alpha_divisor, "Alpha = bbox diagonal / this")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    cmd.add_option("--offset-divisor", offset_divisor, "Wrap offset = bbox diagonal / this")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    cmd.add_option("--remesh", remesh_edge_m,
+                   "Isotropic remeshing target edge length in metres after wrapping (0 = off)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    cmd.add_option("--curvature-stencil", stencil_m,
+                   "Arc length (m) over which skeleton curvature is differentiated")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    cmd.add_option("--spur-factor", spur_factor,
+                   "Prune terminal branches shorter than this times the local radius (0 = off)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    cmd.add_flag("--write-regularised", write_regularised, "Also write regularised.ply");
+    cmd.add_option("--render", render_path, "Also render segmentation and skeleton to this PNG");
+  }
+
+  MeshLoadOptions loadOptions() const {
+    MeshLoadOptions o;
+    o.units = parseLengthUnit(units);
+    return o;
+  }
+
+  skeleton::SkeletonParams params() const {
+    skeleton::SkeletonParams p;
+    p.regularisation.method = reconstruction::parseRegularisationMethod(regularise);
+    p.regularisation.alpha_divisor = alpha_divisor;
+    p.regularisation.offset_divisor = offset_divisor;
+    p.regularisation.remesh_target_edge_m = remesh_edge_m;
+    p.graph.curvature_stencil_m = stencil_m;
+    p.spur_radius_factor = spur_factor;
+    return p;
+  }
+};
+
+int runSkeletonOnFile(const std::string& mesh_path, const std::string& out_dir,
+                      const SkeletonOptions& options);
+
+}  // namespace skelgrasp::cli
