@@ -1,0 +1,128 @@
+#include "skelgrasp/common/mesh_io.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "skelgrasp/common/error.h"
+#include "skelgrasp/common/primitives.h"
+#include "test_support.h"
+
+namespace skelgrasp {
+namespace {
+
+void writeText(const std::string& path, const std::string& text) {
+  std::ofstream(path) << text;
+}
+
+class MeshIoRoundTrip : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(MeshIoRoundTrip, PreservesGeometry) {
+  const TriangleMesh box = primitives::makeBox({0.1, 0.2, 0.3}, 2);
+  const std::string path = test::tempDir("io_" + GetParam()) + "/box." + GetParam();
+  saveMesh(path, box);
+  MeshLoadInfo info;
+  const TriangleMesh loaded = loadMesh(path, {}, &info);
+  EXPECT_EQ(info.format, GetParam());
+  EXPECT_EQ(loaded.numFaces(), box.numFaces());
+  // STL is a soup and is welded by position; the others keep vertex order exactly.
+  ASSERT_EQ(loaded.numVertices(), box.numVertices());
+  if (GetParam() != "stl") {
+    for (std::size_t i = 0; i < box.numVertices(); ++i) {
+      EXPECT_LT((loaded.vertices[i] - box.vertices[i]).norm(), 1e-6);
+    }
+  }
+  EXPECT_NEAR(loaded.signedVolume(), box.signedVolume(), 1e-6);
+}
+
+INSTANTIATE_TEST_SUITE_P(Formats, MeshIoRoundTrip, ::testing::Values("ply", "obj", "off", "stl"));
+
+TEST(MeshIo, PlyKeepsVertexColours) {
+  TriangleMesh mesh = primitives::makeBox({1, 1, 1});
+  mesh.scale(0.1);
+  mesh.vertex_colors.assign(mesh.numVertices(), Rgb{10, 20, 30});
+  const std::string path = test::tempDir("io_colour") + "/c.ply";
+  saveMesh(path, mesh);
+  std::ifstream in(path, std::ios::binary);
+  std::string header((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_NE(header.find("property uchar red"), std::string::npos);
+  EXPECT_EQ(loadMesh(path).numVertices(), mesh.numVertices());
+}
+
+TEST(MeshIo, MillimetreInputIsDetectedAndScaled) {
+  TriangleMesh mesh = primitives::makeBox({80, 60, 120});  // a box in mm
+  const std::string path = test::tempDir("io_mm") + "/mm.obj";
+  saveMesh(path, mesh);
+  MeshLoadInfo info;
+  const TriangleMesh auto_loaded = loadMesh(path, {}, &info);
+  EXPECT_TRUE(info.units_guessed);
+  EXPECT_DOUBLE_EQ(info.scale_to_meters, 1e-3);
+  EXPECT_NEAR(auto_loaded.bounds().extent().z(), 0.12, 1e-9);
+  MeshLoadOptions keep;
+  keep.units = LengthUnit::kMeters;
+  EXPECT_NEAR(loadMesh(path, keep).bounds().extent().z(), 120, 1e-9);
+  MeshLoadOptions mm;
+  mm.units = LengthUnit::kMillimeters;
+  EXPECT_NEAR(loadMesh(path, mm).bounds().extent().z(), 0.12, 1e-9);
+}
+
+TEST(MeshIo, QuadsAreTriangulated) {
+  const std::string path = test::tempDir("io_quad") + "/quad.off";
+  writeText(path, "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n");
+  MeshLoadInfo info;
+  const TriangleMesh mesh = loadMesh(path, {}, &info);
+  EXPECT_EQ(mesh.numFaces(), 2u);
+  EXPECT_EQ(info.polygons_triangulated, 1u);
+}
+
+// Each bad input raises IoError whose message names the file and the problem.
+struct BadInput {
+  std::string name;
+  std::string file;
+  std::string content;  // empty: the file is not created
+  std::string expected_problem;
+};
+
+class MeshIoBadInput : public ::testing::TestWithParam<BadInput> {};
+
+TEST_P(MeshIoBadInput, ThrowsIoErrorNamingFileAndProblem) {
+  const auto& c = GetParam();
+  const std::string path = test::tempDir("bad_" + c.name) + "/" + c.file;
+  if (!c.content.empty()) writeText(path, c.content);
+  if (c.name == "empty_file") writeText(path, "");
+  try {
+    loadMesh(path);
+    FAIL() << "expected IoError for " << c.name;
+  } catch (const IoError& e) {
+    EXPECT_EQ(e.path(), path);
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos);
+    EXPECT_NE(e.problem().find(c.expected_problem), std::string::npos) << e.problem();
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, MeshIoBadInput,
+    ::testing::Values(
+        BadInput{"missing", "nothing.ply", "", "no such file"},
+        BadInput{"unknown_format", "mesh.xyz", "1 2 3\n", "unknown mesh format"},
+        BadInput{"empty_file", "empty.obj", "", "file is empty"},
+        BadInput{"garbage_ply", "garbage.ply", "this is not a ply file\n", "cannot parse"},
+        BadInput{"no_faces", "points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n", "no faces"},
+        BadInput{"nan", "nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", "non-finite"},
+        BadInput{"index_out_of_range", "bad_index.off",
+                 "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", "index out of range"}),
+    [](const auto& info) { return info.param.name; });
+
+TEST(MeshIo, RealMeshesKeepTheirVertexCounts) {
+  SKELGRASP_REQUIRE_SHARED_DATA();
+  const std::string root = test::sharedDataDir() + "/objects/";
+  // Counts from the data's SOURCES.md.
+  EXPECT_EQ(loadMesh(root + "ycb/002_master_chef_can.ply").numVertices(), 8006u);
+  EXPECT_EQ(loadMesh(root + "ycb/025_mug.ply").numFaces(), 16384u);
+  EXPECT_EQ(loadMesh(root + "kit/Amicelli_800_tex.obj").numVertices(), 400u);
+  EXPECT_EQ(loadMesh(root + "ycb_poisson_simox/pringles-poisson_mesh2.stl").numVertices(), 14531u);
+  EXPECT_EQ(loadMesh(root + "ycb_poisson_simox/pringles-poisson_mesh3.stl").numVertices(), 2779u);
+}
+
+}  // namespace
+}  // namespace skelgrasp

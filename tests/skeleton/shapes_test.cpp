@@ -1,0 +1,107 @@
+// The skeleton stage on shapes generated in code, whose topology is known.
+#include <gtest/gtest.h>
+
+#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/skeleton/extraction.h"
+
+namespace skelgrasp::skeleton {
+namespace {
+
+SkeletonResult run(const std::string& shape) {
+  auto r = extractSkeleton(primitives::makeNamedShape(shape));
+  EXPECT_TRUE(r.status.ok()) << shape << ": " << r.status.message;
+  return r;
+}
+
+void expectPartition(const SkeletonResult& r, std::size_t input_vertices) {
+  std::vector<int> seen(input_vertices, 0);
+  std::size_t total = 0;
+  for (const auto& v : r.skeleton.vertices) {
+    total += v.surface_points.size();
+    for (int p : v.surface_points) ++seen[p];
+  }
+  EXPECT_EQ(total, input_vertices);
+  for (int s : seen) ASSERT_EQ(s, 1);
+}
+
+TEST(SkeletonShapes, CapsuleIsOneSegmentBetweenTwoEndpoints) {
+  const auto r = run("capsule");
+  const auto& s = r.skeleton;
+  EXPECT_EQ(s.countType(VertexType::kEndpoint), 2u);
+  EXPECT_EQ(s.countType(VertexType::kBranch), 0u);
+  ASSERT_EQ(s.segments.size(), 1u);
+  EXPECT_EQ(s.cycleRank(), 0);
+  // The skeleton runs along the axis over most of the 17 cm capsule.
+  EXPECT_GT(s.segments[0].length, 0.10);
+  EXPECT_LT(s.segments[0].length, 0.17);
+  for (const auto& v : s.vertices) EXPECT_LT(v.position.head<2>().norm(), 0.004);
+  expectPartition(r, primitives::makeNamedShape("capsule").numVertices());
+}
+
+class ThreeArmShapes : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(ThreeArmShapes, HaveABranchRegionThreeEndpointsAndThreeSegments) {
+  const auto r = run(GetParam());
+  const auto& s = r.skeleton;
+  EXPECT_GE(s.countType(VertexType::kBranch), 1u);
+  EXPECT_EQ(s.countType(VertexType::kEndpoint), 3u);
+  int arm_segments = 0;
+  for (const auto& seg : s.segments) {
+    if (seg.ends[0] == SegmentEnd::kEndpoint || seg.ends[1] == SegmentEnd::kEndpoint)
+      ++arm_segments;
+  }
+  EXPECT_EQ(arm_segments, 3);
+  EXPECT_EQ(s.segments.size(), 3u);
+  EXPECT_EQ(s.cycleRank(), 0);
+  // Branch vertices sit near the junction at the origin.
+  for (const auto& v : s.vertices) {
+    if (v.type == VertexType::kBranch) EXPECT_LT(v.position.norm(), 0.03);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(YAndT, ThreeArmShapes, ::testing::Values("y_shape", "t_shape"));
+
+TEST(SkeletonShapes, TorusIsOneLoopWithoutEndpoints) {
+  const auto r = run("torus");
+  const auto& s = r.skeleton;
+  EXPECT_EQ(s.countType(VertexType::kEndpoint), 0u);
+  EXPECT_EQ(s.cycleRank(), 1);
+  ASSERT_EQ(s.segments.size(), 1u);
+  EXPECT_TRUE(s.segments[0].isLoop());
+  // Loop length close to the centre circle 2 pi R (R = 6 cm).
+  EXPECT_NEAR(s.segments[0].length, 2 * 3.14159 * 0.06, 0.03);
+  double mean_kappa = 0;
+  for (const auto& v : s.vertices) mean_kappa += v.curvature / s.vertices.size();
+  EXPECT_NEAR(mean_kappa, 1 / 0.06, 0.3 / 0.06);
+}
+
+TEST(SkeletonShapes, MugHasALoopAndBranches) {
+  const auto r = run("mug");
+  const auto& s = r.skeleton;
+  EXPECT_EQ(s.cycleRank(), 1);
+  EXPECT_GE(s.countType(VertexType::kBranch), 1u);
+  EXPECT_EQ(r.regularisation.output.genus.value(), 1);
+  // The handle (on the +x side) is a segment ending at branch vertices on both sides.
+  bool handle = false;
+  for (const auto& seg : s.segments) {
+    if (seg.ends[0] == SegmentEnd::kBranch && seg.ends[1] == SegmentEnd::kBranch) {
+      double max_x = -1;
+      for (int v : seg.vertices) max_x = std::max(max_x, s.vertices[v].position.x());
+      if (max_x > 0.06) handle = true;
+    }
+  }
+  EXPECT_TRUE(handle);
+}
+
+TEST(SkeletonShapes, BallCollapsesToAFewVerticesWithADefinedSegmentation) {
+  const auto r = run("ball");
+  const auto& s = r.skeleton;
+  EXPECT_GE(s.vertices.size(), 1u);
+  EXPECT_LE(s.vertices.size(), 12u);
+  EXPECT_GE(s.segments.size(), 1u);
+  EXPECT_EQ(s.components(), 1);
+  expectPartition(r, primitives::makeNamedShape("ball").numVertices());
+}
+
+}  // namespace
+}  // namespace skelgrasp::skeleton
