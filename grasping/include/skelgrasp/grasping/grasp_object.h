@@ -1,0 +1,55 @@
+#pragma once
+// An object to grasp: its mesh (object frame, metres), mass properties used by the quality measure,
+// and its collision geometry (an FCL bounding-volume hierarchy built once and shared by every
+// simulator that uses the object).
+#include <memory>
+#include <mutex>
+
+#include "skelgrasp/common/mesh.h"
+#include "skelgrasp/reconstruction/mesh_query.h"
+
+namespace skelgrasp::grasping {
+
+class GraspObject {
+ public:
+  // Throws InvalidArgument for an empty mesh.
+  explicit GraspObject(TriangleMesh mesh);
+  ~GraspObject();
+  GraspObject(const GraspObject&) = delete;
+  GraspObject& operator=(const GraspObject&) = delete;
+
+  const TriangleMesh& mesh() const { return mesh_; }
+  const AxisAlignedBox& bounds() const { return bounds_; }
+  // Volume centroid (uniform density) when the mesh encloses a volume, else the area centroid.
+  const Eigen::Vector3d& centerOfMass() const { return center_of_mass_; }
+  // Mean of the mesh vertices (the reference implementation's "centre").
+  const Eigen::Vector3d& vertexMean() const { return vertex_mean_; }
+  // Largest distance of a vertex from the centre of mass.
+  double maxRadius() const { return max_radius_; }
+  // Outward unit normal of a face (zero for degenerate faces).
+  const Eigen::Vector3d& faceNormal(std::size_t face) const { return face_normals_[face]; }
+  // Outward normal at a surface point found on face `face`. On an edge or a corner the point lies
+  // on several faces; the one facing `towards` (e.g. the touching finger) is chosen.
+  Eigen::Vector3d surfaceNormal(const Eigen::Vector3d& point, std::size_t face,
+                                const Eigen::Vector3d& towards) const;
+
+  // Closest-point queries on the surface (AABB tree, built on first use, thread-safe).
+  const reconstruction::MeshQuery& surfaceQuery() const;
+
+  struct CollisionData;  // FCL geometry, defined in the FCL translation units
+  const CollisionData& collisionData() const { return *collision_; }
+
+ private:
+  TriangleMesh mesh_;
+  AxisAlignedBox bounds_;
+  Eigen::Vector3d center_of_mass_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d vertex_mean_ = Eigen::Vector3d::Zero();
+  double max_radius_ = 0;
+  std::vector<Eigen::Vector3d> face_normals_;
+  std::vector<std::vector<int>> vertex_faces_;
+  std::unique_ptr<CollisionData> collision_;
+  mutable std::once_flag query_once_;
+  mutable std::unique_ptr<reconstruction::MeshQuery> query_;
+};
+
+}  // namespace skelgrasp::grasping

@@ -1,0 +1,78 @@
+#pragma once
+// Closing a hand on an object: collision queries and the finger-closing procedure of the
+// reference implementation (fact sheet §8), with FCL collision checks.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "skelgrasp/common/error.h"
+#include "skelgrasp/grasping/contact.h"
+#include "skelgrasp/grasping/grasp_object.h"
+#include "skelgrasp/grasping/hand_model.h"
+
+namespace skelgrasp::grasping {
+
+struct ClosingParams {
+  double step_rad = 0;  // revolute step per iteration; 0: the hand's default (0.02 rad)
+  double step_m = 0;    // prismatic step per iteration; 0: the hand's default (0.5 mm)
+  // Palm (static) links within this distance of the object add contacts; < 0: hand default (3 mm).
+  double palm_contact_distance_m = -1;
+  bool palm_contacts = true;
+  // Finger links this close to the object count as touching even if they were never blocked.
+  double contact_distance_m = 0.001;
+  int min_contacts = 2;
+  // Re-runs from the reached configuration let fingers blocked by other fingers continue.
+  int max_passes = 10;
+  int max_iterations_per_pass = 5000;
+};
+
+struct ClosingResult {
+  // kOk: closed with >= min_contacts contacts. kNoResult with reason "start_collision" (the hand
+  // intersects the object in its preshape; `colliding_link` says where) or "too_few_contacts".
+  Status status;
+  std::string reason;
+  std::string colliding_link;
+  Eigen::VectorXd joints;  // reached configuration (all joints)
+  std::vector<Contact> contacts;
+  int iterations = 0;
+  int passes = 0;
+};
+
+class GraspSimulator {
+ public:
+  // Keeps references: hand and object must outlive the simulator. Builds FCL objects for the
+  // hand's link shapes; the object's BVH is shared.
+  GraspSimulator(const HandModel& hand, const GraspObject& object);
+  ~GraspSimulator();
+  GraspSimulator(const GraspSimulator&) = delete;
+  GraspSimulator& operator=(const GraspSimulator&) = delete;
+
+  const HandModel& hand() const { return hand_; }
+  const GraspObject& object() const { return object_; }
+
+  // `hand_pose` is the pose of the hand's root link in the object frame.
+  // First link (index) of the hand intersecting the object, or -1.
+  int firstLinkInCollision(const Pose& hand_pose, const Eigen::VectorXd& joints);
+  bool inCollision(const Pose& hand_pose, const Eigen::VectorXd& joints) {
+    return firstLinkInCollision(hand_pose, joints) >= 0;
+  }
+
+  // Sets the preshape, then advances the fingers until they are blocked or at their limits, and
+  // collects contacts.
+  ClosingResult close(const Pose& hand_pose, const Preshape& preshape,
+                      const ClosingParams& params = {});
+
+  // Hand root pose that puts the preshape's grasp centre point at `gcp_pose` (object frame).
+  Pose handPoseForGcp(const Pose& gcp_pose, const Preshape& preshape) const;
+
+  std::size_t collisionQueries() const { return queries_; }
+
+ private:
+  struct Impl;
+  const HandModel& hand_;
+  const GraspObject& object_;
+  std::unique_ptr<Impl> impl_;
+  std::size_t queries_ = 0;
+};
+
+}  // namespace skelgrasp::grasping

@@ -1,0 +1,71 @@
+#pragma once
+// Grasp-wrench-space quality: force closure, the Ferrari-Canny epsilon (L1) and the hull volume,
+// from point contacts with Coulomb friction, the convex hull computed by Qhull.
+#include <vector>
+
+#include "skelgrasp/common/error.h"
+#include "skelgrasp/grasping/contact.h"
+#include "skelgrasp/grasping/grasp_object.h"
+
+namespace skelgrasp::grasping {
+
+using Wrench = Eigen::Matrix<double, 6, 1>;
+
+struct QualityParams {
+  double friction = 0.35;  // Coulomb coefficient mu; cone half-angle atan(mu)
+  int cone_edges = 8;
+  // Soft-finger contacts: torsion about the normal up to this length times the normal force
+  // (2/3 mu a for a circular patch of radius a); 0 = point contacts. Two point contacts can never
+  // hold a torque about the line through them, so a parallel gripper needs this to reach closure.
+  double torsional_friction_m = 0;
+  // Reproduce the reference implementation (fact sheet §9): every cone edge 45 degrees off the
+  // normal whatever mu, epsilon measured from the hull centre (mean of hull vertices), force
+  // closure when every facet is within 1e-4 of containing the origin.
+  bool reference_compat = false;
+};
+
+struct WrenchSpaceResult {
+  bool force_closure = false;
+  // Distance from the origin (reference_compat: the hull centre) to the nearest hull facet;
+  // 0 without force closure.
+  double epsilon = 0;
+  double volume = 0;  // 6D volume of the hull (0 when the wrenches do not span 6D)
+  int hull_facets = 0;
+  int wrenches = 0;
+  int rank = 0;      // dimension spanned by the wrenches (6 needed for force closure)
+  std::string note;  // why the hull is degenerate, if it is
+};
+
+// The unit force vectors of one friction cone: edges at half-angle atan(mu) around -normal (the
+// finger pushes into the object). The first edge leans towards `reference` projected on the tangent
+// plane (contactWrenches passes p - center), so the discretised cone moves rigidly with the grasp
+// and epsilon does not depend on how the grasp is oriented.
+std::vector<Eigen::Vector3d> frictionConeEdges(
+    const Eigen::Vector3d& outward_normal, const QualityParams& params,
+    const Eigen::Vector3d& reference = Eigen::Vector3d::Zero());
+
+// Wrenches (f, k (p - center) x f) of every cone edge of every contact; with torsional friction g
+// each edge becomes two wrenches with an extra torque +-k g (f . n_in) n_in about the normal.
+std::vector<Wrench> contactWrenches(const std::vector<Contact>& contacts,
+                                    const Eigen::Vector3d& center, double torque_scale,
+                                    const QualityParams& params);
+
+// Throws InvalidArgument for mu < 0, < 3 cone edges or a non-positive torque scale.
+WrenchSpaceResult evaluateWrenchSpace(const std::vector<Contact>& contacts,
+                                      const Eigen::Vector3d& center, double torque_scale,
+                                      const QualityParams& params = {});
+
+// Torque scale 1 / (maximum distance of the object's vertices from its centre of mass), the
+// default: it makes unit torques comparable to unit forces and, unlike a bounding-box side, does
+// not change when the object is rotated.
+double torqueScaleMaxRadius(const GraspObject& object);
+// Torque scale 2 / (longest side of the axis-aligned bounding box), as the reference code.
+double torqueScaleLongestSide(const AxisAlignedBox& box);
+
+// Quality of a grasp on an object with the object's centre and torque scale: centre of mass and
+// max radius, or (reference_compat) vertex mean and 2 / longest bbox side. The hand's contact
+// model (torsional friction) is taken from `params`.
+WrenchSpaceResult evaluateGrasp(const std::vector<Contact>& contacts, const GraspObject& object,
+                                const QualityParams& params = {});
+
+}  // namespace skelgrasp::grasping

@@ -1,0 +1,170 @@
+// Grasp description (JSON, schema "skelgrasp.grasp_description/1", docs/hands.md) applied to a
+// URDF model.
+#include <nlohmann/json.hpp>
+
+#include "hand_loading.h"
+#include "skelgrasp/common/error.h"
+#include "skelgrasp/common/json.h"
+
+namespace skelgrasp::grasping::internal {
+namespace {
+
+using nlohmann::json;
+
+class DescriptionReader {
+ public:
+  DescriptionReader(const HandModel& hand, std::string origin)
+      : hand_(hand), origin_(std::move(origin)) {}
+
+  [[noreturn]] void fail(const std::string& problem) const { throw IoError(origin_, problem); }
+
+  int link(const std::string& name, const std::string& where) const {
+    const int i = hand_.linkIndex(name);
+    if (i < 0) fail(where + ": unknown link '" + name + "'");
+    return i;
+  }
+  int movableJoint(const std::string& name, const std::string& where) const {
+    const int i = hand_.jointIndex(name);
+    if (i < 0) fail(where + ": unknown joint '" + name + "'");
+    if (!hand_.joints()[i].movable()) fail(where + ": joint '" + name + "' is fixed");
+    return i;
+  }
+  double positive(const json& j, const char* key, double fallback) const {
+    if (!j.contains(key)) return fallback;
+    const double v = j.at(key).get<double>();
+    if (!(v > 0)) fail(std::string("'") + key + "' must be positive");
+    return v;
+  }
+
+  ShapeThresholds thresholds(const json& j, const std::string& where) const {
+    ShapeThresholds t;
+    t.lambda1_min_m = j.value("lambda1_min_m", 0.0);
+    t.lambda1_max_m = j.value("lambda1_max_m", 1e9);
+    t.lambda2_min_m = j.value("lambda2_min_m", 0.0);
+    t.lambda2_max_m = j.value("lambda2_max_m", 1e9);
+    if (t.lambda1_min_m > t.lambda1_max_m || t.lambda2_min_m > t.lambda2_max_m) {
+      fail(where + ": a minimum exceeds its maximum");
+    }
+    return t;
+  }
+
+  Preshape preshape(const std::string& name, const json& j) const {
+    Preshape p;
+    p.name = name;
+    p.joints = hand_.zeroConfiguration();
+    const std::string where = "preshape '" + name + "'";
+    for (const auto& [joint, value] : j.at("joints").items()) {
+      const int index = movableJoint(joint, where);
+      if (hand_.joints()[index].mimic_of >= 0)
+        fail(where + ": joint '" + joint + "' is a mimic joint");
+      const double v = value.get<double>();
+      const auto& limits = hand_.joints()[index];
+      if (v < limits.lower - 1e-6 || v > limits.upper + 1e-6) {
+        fail(where + ": joint '" + joint + "' value " + std::to_string(v) + " outside its limits");
+      }
+      p.joints[index] = v;
+    }
+    hand_.normalise(p.joints);
+    const json& gcp = j.at("gcp");
+    p.gcp_link = link(gcp.at("link").get<std::string>(), where + " gcp");
+    p.gcp_in_link = poseFromJson(gcp);
+    return p;
+  }
+
+ private:
+  const HandModel& hand_;
+  std::string origin_;
+};
+
+}  // namespace
+
+void applyGraspDescription(HandModel& hand, const std::string& description_json,
+                           const std::string& origin) {
+  DescriptionReader reader(hand, origin);
+  json d;
+  try {
+    d = json::parse(description_json);
+  } catch (const json::parse_error& e) {
+    reader.fail(std::string("invalid JSON: ") + e.what());
+  }
+  try {
+    const std::string schema = d.value("schema", "");
+    if (schema != "skelgrasp.grasp_description/1") {
+      reader.fail("schema must be \"skelgrasp.grasp_description/1\" (got \"" + schema + "\")");
+    }
+    std::vector<Finger> fingers;
+    for (const auto& f : d.at("fingers")) {
+      Finger finger;
+      finger.name = f.at("name").get<std::string>();
+      const std::string where = "finger '" + finger.name + "'";
+      for (const auto& drive_json : f.at("joints")) {
+        FingerDrive drive;
+        drive.joint = reader.movableJoint(drive_json.at("joint").get<std::string>(), where);
+        drive.direction = drive_json.value("direction", 1.0);
+        if (drive.direction != 1.0 && drive.direction != -1.0)
+          reader.fail(where + ": direction must be 1 or -1");
+        for (const auto& follower : drive_json.value("followers", json::array())) {
+          drive.followers.emplace_back(
+              reader.movableJoint(follower.at("joint").get<std::string>(), where),
+              follower.value("ratio", 1.0));
+        }
+        finger.drives.push_back(std::move(drive));
+      }
+      for (const auto& [name, mode] : f.at("links").items()) {
+        const std::string m = mode.get<std::string>();
+        const CollisionMode cm =
+            m == "all"      ? CollisionMode::kAll
+            : m == "actors" ? CollisionMode::kActors
+            : m == "none"   ? CollisionMode::kNone
+                            : (reader.fail(where + ": collision mode must be all, actors or none"),
+                             CollisionMode::kNone);
+        finger.links.emplace_back(reader.link(name, where), cm);
+      }
+      if (finger.drives.empty()) reader.fail(where + " has no joints");
+      fingers.push_back(std::move(finger));
+    }
+    if (fingers.empty()) reader.fail("no fingers");
+    std::vector<int> palm;
+    for (const auto& name : d.value("palm_links", json::array()))
+      palm.push_back(reader.link(name, "palm_links"));
+
+    std::map<std::string, Preshape> preshapes;
+    for (const auto& [name, p] : d.at("preshapes").items())
+      preshapes[name] = reader.preshape(name, p);
+    for (const char* required : {"power", "precision"}) {
+      if (!preshapes.count(required))
+        reader.fail(std::string("missing preshape '") + required + "'");
+    }
+
+    PlannerThresholds thresholds;
+    const json& t = d.at("thresholds");
+    thresholds.round_ratio = reader.positive(t, "round_ratio", 1.2);
+    if (!t.at("precision").is_null())
+      thresholds.precision = reader.thresholds(t.at("precision"), "precision thresholds");
+    if (!t.at("power").is_null())
+      thresholds.power = reader.thresholds(t.at("power"), "power thresholds");
+    thresholds.power_retreat_m = t.value("power_retreat_m", 0.015);
+
+    const json& intervals = d.at("intervals");
+    const double precision_m = reader.positive(intervals, "precision_m", 0.047);
+    const double power_m = reader.positive(intervals, "power_m", 0.094);
+
+    ClosingDefaults closing;
+    const json c = d.value("closing", json::object());
+    closing.step_rad = reader.positive(c, "step_rad", closing.step_rad);
+    closing.step_m = reader.positive(c, "step_m", closing.step_m);
+    closing.palm_contact_distance_m =
+        reader.positive(c, "palm_contact_distance_m", closing.palm_contact_distance_m);
+    closing.torsional_friction_m = c.value("torsional_friction_m", 0.0);
+    if (!(closing.torsional_friction_m >= 0)) reader.fail("'torsional_friction_m' must be >= 0");
+
+    hand.setDescription(std::move(fingers), std::move(palm), std::move(preshapes), thresholds,
+                        precision_m, power_m, closing);
+  } catch (const json::exception& e) {
+    reader.fail(std::string("grasp description: ") + e.what());
+  } catch (const InvalidArgument& e) {
+    reader.fail(e.what());
+  }
+}
+
+}  // namespace skelgrasp::grasping::internal

@@ -1,0 +1,108 @@
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "builtin_hand_data.h"
+#include "hand_loading.h"
+#include "skelgrasp/common/error.h"
+#include "skelgrasp/common/logging.h"
+
+namespace skelgrasp::grasping {
+namespace {
+
+std::string readText(const std::string& path) {
+  namespace fs = std::filesystem;
+  if (!fs::exists(path)) throw IoError(path, "no such file");
+  if (fs::is_directory(path)) throw IoError(path, "is a directory");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(path, "cannot open for reading");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (text.str().empty()) throw IoError(path, "file is empty");
+  return text.str();
+}
+
+}  // namespace
+
+namespace {
+
+// URDF problems are reported against `urdf_origin`, description problems against `desc_origin`.
+HandModel buildHand(const std::string& urdf_xml, const std::string& description_json,
+                    const std::string& base_dir, const std::string& urdf_origin,
+                    const std::string& desc_origin) {
+  auto parsed = internal::parseUrdf(urdf_xml, base_dir, urdf_origin);
+  const std::string& origin = desc_origin;
+  std::string title = parsed.name;
+  try {
+    const auto d = nlohmann::json::parse(description_json);
+    title = d.value("title", parsed.name);
+    if (d.contains("name")) parsed.name = d.at("name").get<std::string>();
+    if (d.contains("base_link") &&
+        d.at("base_link").get<std::string>() != parsed.links[parsed.root_link].name) {
+      throw IoError(origin, "base_link '" + d.at("base_link").get<std::string>() +
+                                "' is not the URDF's root link '" +
+                                parsed.links[parsed.root_link].name + "'");
+    }
+  } catch (const nlohmann::json::exception&) {
+    // Reported with its position by applyGraspDescription below.
+  }
+  HandModel hand(parsed.name, title, std::move(parsed.links), std::move(parsed.joints),
+                 parsed.root_link);
+  internal::applyGraspDescription(hand, description_json, origin);
+  log().debug("hand '{}': {} links, {} joints, {} fingers, {} drives", hand.name(),
+              hand.links().size(), hand.joints().size(), hand.fingers().size(), hand.numDrives());
+  return hand;
+}
+
+}  // namespace
+
+HandModel loadHandFromText(const std::string& urdf_xml, const std::string& description_json,
+                           const std::string& base_dir, const std::string& origin) {
+  return buildHand(urdf_xml, description_json, base_dir, origin, origin);
+}
+
+HandModel loadHand(const std::string& urdf_path, const std::string& description_path) {
+  const std::string urdf = readText(urdf_path);
+  const std::string description = readText(description_path);
+  const std::string dir = std::filesystem::path(urdf_path).parent_path().string();
+  return buildHand(urdf, description, dir.empty() ? "." : dir, urdf_path, description_path);
+}
+
+std::vector<std::string> builtinHandNames() {
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < internal::kNumEmbeddedHands; ++i)
+    names.push_back(internal::kEmbeddedHands[i].name);
+  return names;
+}
+
+HandModel loadBuiltinHand(const std::string& name) {
+  for (std::size_t i = 0; i < internal::kNumEmbeddedHands; ++i) {
+    const auto& h = internal::kEmbeddedHands[i];
+    if (name == h.name)
+      return loadHandFromText(h.urdf, h.description, ".", "built-in hand '" + name + "'");
+  }
+  std::string known;
+  for (const auto& n : builtinHandNames()) known += (known.empty() ? "" : ", ") + n;
+  throw InvalidArgument("unknown hand '" + name + "' (built-in hands: " + known +
+                        "; or pass a .urdf with --grasp-description)");
+}
+
+HandModel resolveHand(const std::string& hand, const std::string& description_path) {
+  const bool is_urdf = hand.size() > 5 && hand.substr(hand.size() - 5) == ".urdf";
+  if (!is_urdf) {
+    if (!description_path.empty()) {
+      throw InvalidArgument(
+          "--grasp-description is only used with a .urdf hand, not the built-in '" + hand + "'");
+    }
+    return loadBuiltinHand(hand);
+  }
+  if (description_path.empty()) {
+    throw InvalidArgument("hand '" + hand +
+                          "' is a URDF file: also pass --grasp-description DESC.json");
+  }
+  return loadHand(hand, description_path);
+}
+
+}  // namespace skelgrasp::grasping

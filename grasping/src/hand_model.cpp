@@ -1,0 +1,161 @@
+#include "skelgrasp/grasping/hand_model.h"
+
+#include <deque>
+
+#include "skelgrasp/common/error.h"
+
+namespace skelgrasp::grasping {
+
+HandModel::HandModel(std::string name, std::string title, std::vector<Link> links,
+                     std::vector<Joint> joints, int root_link)
+    : name_(std::move(name)),
+      title_(std::move(title)),
+      links_(std::move(links)),
+      joints_(std::move(joints)),
+      root_(root_link) {
+  if (links_.empty()) throw InvalidArgument("hand '" + name_ + "': no links");
+  if (root_ < 0 || root_ >= static_cast<int>(links_.size())) {
+    throw InvalidArgument("hand '" + name_ + "': bad root link");
+  }
+  // Breadth-first order from the root; every link must be reached exactly once.
+  std::vector<std::vector<int>> children(links_.size());
+  for (std::size_t j = 0; j < joints_.size(); ++j) {
+    const auto& joint = joints_[j];
+    if (joint.parent_link < 0 || joint.child_link < 0) {
+      throw InvalidArgument("hand '" + name_ + "': joint '" + joint.name + "' is not connected");
+    }
+    children[joint.parent_link].push_back(static_cast<int>(j));
+    if (joint.mimic_of >= static_cast<int>(joints_.size())) {
+      throw InvalidArgument("hand '" + name_ + "': joint '" + joint.name +
+                            "' mimics an unknown joint");
+    }
+  }
+  std::vector<char> reached(links_.size(), 0);
+  reached[root_] = 1;
+  std::deque<int> queue{root_};
+  while (!queue.empty()) {
+    const int link = queue.front();
+    queue.pop_front();
+    for (int j : children[link]) {
+      const int child = joints_[j].child_link;
+      if (reached[child])
+        throw InvalidArgument("hand '" + name_ + "': kinematic loop at '" + links_[child].name +
+                              "'");
+      reached[child] = 1;
+      joint_order_.push_back(j);
+      queue.push_back(child);
+    }
+  }
+  for (std::size_t l = 0; l < links_.size(); ++l) {
+    if (!reached[l])
+      throw InvalidArgument("hand '" + name_ + "': link '" + links_[l].name +
+                            "' is not connected to the root");
+  }
+  link_finger_.assign(links_.size(), -1);
+  link_mode_.assign(links_.size(), CollisionMode::kAll);
+}
+
+int HandModel::linkIndex(const std::string& name) const {
+  for (std::size_t i = 0; i < links_.size(); ++i) {
+    if (links_[i].name == name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+int HandModel::jointIndex(const std::string& name) const {
+  for (std::size_t i = 0; i < joints_.size(); ++i) {
+    if (joints_[i].name == name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+Eigen::VectorXd HandModel::zeroConfiguration() const {
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(joints_.size()));
+  normalise(q);
+  return q;
+}
+
+void HandModel::normalise(Eigen::VectorXd& q) const {
+  SKELGRASP_DEMAND(q.size() == static_cast<Eigen::Index>(joints_.size()));
+  for (int j : joint_order_) {
+    const auto& joint = joints_[j];
+    if (!joint.movable()) {
+      q[j] = 0;
+      continue;
+    }
+    if (joint.mimic_of >= 0) q[j] = joint.mimic_multiplier * q[joint.mimic_of] + joint.mimic_offset;
+    q[j] = std::clamp(q[j], joint.lower, joint.upper);
+  }
+}
+
+std::vector<Pose> HandModel::linkPoses(const Eigen::VectorXd& q) const {
+  SKELGRASP_DEMAND(q.size() == static_cast<Eigen::Index>(joints_.size()));
+  std::vector<Pose> poses(links_.size(), Pose::Identity());
+  for (int j : joint_order_) {
+    const auto& joint = joints_[j];
+    Pose motion = Pose::Identity();
+    if (joint.type == JointType::kRevolute) {
+      motion.linear() = Eigen::AngleAxisd(q[j], joint.axis).toRotationMatrix();
+    } else if (joint.type == JointType::kPrismatic) {
+      motion.translation() = joint.axis * q[j];
+    }
+    poses[joint.child_link] = poses[joint.parent_link] * joint.origin * motion;
+  }
+  return poses;
+}
+
+const Preshape& HandModel::preshape(const std::string& name) const {
+  const auto it = preshapes_.find(name);
+  if (it == preshapes_.end()) {
+    std::string known;
+    for (const auto& [n, p] : preshapes_) known += (known.empty() ? "" : ", ") + n;
+    throw InvalidArgument("hand '" + name_ + "' has no preshape '" + name + "' (known: " + known +
+                          ")");
+  }
+  return it->second;
+}
+
+Pose HandModel::gcpInRoot(const Preshape& preshape) const {
+  return linkPoses(preshape.joints)[preshape.gcp_link] * preshape.gcp_in_link;
+}
+
+int HandModel::numDrives() const {
+  int n = 0;
+  for (const auto& f : fingers_) n += static_cast<int>(f.drives.size());
+  return n;
+}
+
+int HandModel::numMovingJoints() const {
+  int n = 0;
+  for (const auto& f : fingers_) {
+    for (const auto& d : f.drives) n += 1 + static_cast<int>(d.followers.size());
+  }
+  return n;
+}
+
+void HandModel::setDescription(std::vector<Finger> fingers, std::vector<int> palm_links,
+                               std::map<std::string, Preshape> preshapes,
+                               PlannerThresholds thresholds, double precision_interval_m,
+                               double power_interval_m, ClosingDefaults closing) {
+  fingers_ = std::move(fingers);
+  palm_links_ = std::move(palm_links);
+  preshapes_ = std::move(preshapes);
+  thresholds_ = thresholds;
+  precision_interval_m_ = precision_interval_m;
+  power_interval_m_ = power_interval_m;
+  closing_ = closing;
+  link_finger_.assign(links_.size(), -1);
+  link_mode_.assign(links_.size(), CollisionMode::kAll);
+  for (std::size_t f = 0; f < fingers_.size(); ++f) {
+    for (const auto& [link, mode] : fingers_[f].links) {
+      if (link_finger_[link] >= 0) {
+        throw InvalidArgument("hand '" + name_ + "': link '" + links_[link].name +
+                              "' is in two fingers");
+      }
+      link_finger_[link] = static_cast<int>(f);
+      link_mode_[link] = mode;
+    }
+  }
+}
+
+}  // namespace skelgrasp::grasping
