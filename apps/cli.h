@@ -19,6 +19,7 @@ void registerSkeletonCommand(CLI::App& app, Action& action);
 void registerShapeCommand(CLI::App& app, Action& action);
 void registerBenchCommand(CLI::App& app, Action& action);
 void registerDemoCommand(CLI::App& app, Action& action);
+void registerHandCommands(CLI::App& app, Action& action);
 
 // Prints "skelgrasp: error: <message>" to stderr and returns kExitBadInput.
 int fail(const std::string& message);

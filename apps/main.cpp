@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
   cli::registerShapeCommand(app, action);
   cli::registerBenchCommand(app, action);
   cli::registerDemoCommand(app, action);
+  cli::registerHandCommands(app, action);
 
   try {
     app.parse(argc, argv);

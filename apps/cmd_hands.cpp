@@ -1,0 +1,252 @@
+// skelgrasp hands: the built-in hands.
+// skelgrasp close MESH --hand H --preshape P --pose "...": closes a hand on a mesh and scores it.
+// skelgrasp quality CONTACTS.json: scores a given contact set.
+#include <fmt/format.h>
+
+#include <iostream>
+
+#include "cli.h"
+#include "hand_options.h"
+#include "skelgrasp/common/json.h"
+#include "skelgrasp/common/mesh_io.h"
+#include "skelgrasp/grasping/grasp_simulator.h"
+#include "skelgrasp/grasping/hand_render.h"
+#include "skelgrasp/grasping/quality.h"
+
+namespace skelgrasp::cli {
+namespace {
+
+nlohmann::json contactsToJson(const std::vector<grasping::Contact>& contacts) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& c : contacts) {
+    out.push_back({{"point", toJson(c.point)},
+                   {"normal", toJson(c.normal)},
+                   {"link", c.link},
+                   {"palm", c.palm}});
+  }
+  return out;
+}
+
+int runHands() {
+  std::cout << fmt::format("{:<18} {:>7} {:>6} {:>7}  {}\n", "hand", "fingers", "DOF", "joints",
+                           "preshapes");
+  for (const auto& name : grasping::builtinHandNames()) {
+    const auto hand = grasping::loadBuiltinHand(name);
+    std::string preshapes;
+    for (const auto& [p, _] : hand.preshapes()) preshapes += (preshapes.empty() ? "" : ", ") + p;
+    std::cout << fmt::format("{:<18} {:>7} {:>6} {:>7}  {}   ({})\n", name, hand.fingers().size(),
+                             hand.numDrives(), hand.numMovingJoints(), preshapes, hand.title());
+  }
+  std::cout << "DOF = actuated drives while closing; joints = joints those drives move\n";
+  return kExitOk;
+}
+
+struct CloseArgs {
+  std::string mesh;
+  std::string preshape = "power";
+  std::string pose;
+  std::string units = "auto";
+  std::string render;
+  double mu = 0.35;
+  bool json = false;
+  bool reference_compat = false;
+  HandOptions hand;
+};
+
+int runClose(const CloseArgs& args) {
+  const auto hand = args.hand.load();
+  const auto& preshape = hand.preshape(args.preshape);
+  const Pose gcp = parsePose(args.pose);
+  MeshLoadOptions load;
+  load.units = parseLengthUnit(args.units);
+  const grasping::GraspObject object(loadMesh(args.mesh, load));
+  grasping::GraspSimulator simulator(hand, object);
+  const Pose hand_pose = simulator.handPoseForGcp(gcp, preshape);
+  const auto closing = simulator.close(hand_pose, preshape);
+  grasping::QualityParams quality_params;
+  quality_params.friction = args.mu;
+  quality_params.reference_compat = args.reference_compat;
+  quality_params.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
+  const auto quality = closing.status.ok()
+                           ? grasping::evaluateGrasp(closing.contacts, object, quality_params)
+                           : grasping::WrenchSpaceResult{};
+  nlohmann::json joints;
+  for (std::size_t j = 0; j < hand.joints().size(); ++j) {
+    if (hand.joints()[j].movable())
+      joints[hand.joints()[j].name] = closing.joints[static_cast<Eigen::Index>(j)];
+  }
+  const nlohmann::json out = {{"hand", hand.name()},
+                              {"preshape", preshape.name},
+                              {"gcp_pose", poseToJson(gcp)},
+                              {"hand_pose", poseToJson(hand_pose)},
+                              {"status", closing.status.ok() ? "closed" : closing.reason},
+                              {"message", closing.status.message},
+                              {"colliding_link", closing.colliding_link},
+                              {"joints", joints},
+                              {"contacts", contactsToJson(closing.contacts)},
+                              {"force_closure", quality.force_closure},
+                              {"epsilon", quality.epsilon},
+                              {"volume", quality.volume},
+                              {"hull_facets", quality.hull_facets}};
+  if (!args.render.empty()) {
+    grasping::renderGraspPng(args.render, object.mesh(), hand, hand_pose, preshape.joints,
+                             closing.joints, closing.contacts);
+  }
+  if (args.json) {
+    std::cout << out.dump(2) << std::endl;
+    return kExitOk;
+  }
+  if (!closing.status.ok()) {
+    std::cout << fmt::format(
+        "{} {}: not closed: {} ({}{})\n", hand.name(), preshape.name, closing.reason,
+        closing.status.message,
+        closing.colliding_link.empty() ? "" : ", link " + closing.colliding_link);
+    return kExitOk;
+  }
+  std::cout << "joints reached:";
+  for (const auto& [name, value] : joints.items())
+    std::cout << fmt::format(" {}={:.3f}", name, value.get<double>());
+  std::cout << "\n" << closing.contacts.size() << " contacts:\n";
+  for (const auto& c : closing.contacts) {
+    std::cout << fmt::format(
+        "  {:<18} point [{:.4f} {:.4f} {:.4f}] normal [{:.3f} {:.3f} {:.3f}]{}\n", c.link,
+        c.point.x(), c.point.y(), c.point.z(), c.normal.x(), c.normal.y(), c.normal.z(),
+        c.palm ? " (palm)" : "");
+  }
+  std::cout << fmt::format("force closure: {}, epsilon {:.5f}, volume {:.3g}, {} hull facets\n",
+                           quality.force_closure ? "yes" : "no", quality.epsilon, quality.volume,
+                           quality.hull_facets);
+  return kExitOk;
+}
+
+struct QualityArgs {
+  std::string path;
+  double mu = 0.35;
+  int edges = 8;
+  double torsion_m = 0;
+  bool json = false;
+  bool reference_compat = false;
+};
+
+int runQuality(const QualityArgs& args) {
+  const auto j = readJsonFile(args.path);
+  std::vector<grasping::Contact> contacts;
+  try {
+    for (const auto& c : j.at("contacts")) {
+      grasping::Contact contact;
+      const auto& p = c.at("point");
+      const auto& n = c.at("normal");
+      contact.point =
+          Eigen::Vector3d(p.at(0).get<double>(), p.at(1).get<double>(), p.at(2).get<double>());
+      contact.normal =
+          Eigen::Vector3d(n.at(0).get<double>(), n.at(1).get<double>(), n.at(2).get<double>());
+      if (!contact.point.allFinite() || !(contact.normal.norm() > 1e-9)) {
+        throw IoError(args.path, "contact " + std::to_string(contacts.size()) +
+                                     " has a non-finite point or zero normal");
+      }
+      contact.normal.normalize();
+      contacts.push_back(contact);
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw IoError(
+        args.path,
+        std::string("expected {\"contacts\": [{\"point\": [x,y,z], \"normal\": [x,y,z]}]}: ") +
+            e.what());
+  }
+  if (contacts.empty()) throw IoError(args.path, "no contacts");
+  AxisAlignedBox box;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const auto& c : contacts) {
+    box.extend(c.point);
+    centroid += c.point / static_cast<double>(contacts.size());
+  }
+  Eigen::Vector3d center = centroid;
+  double torque_scale = grasping::torqueScaleLongestSide(box);
+  try {
+    if (j.contains("center")) {
+      const auto& c = j.at("center");
+      center = Eigen::Vector3d(c.at(0).get<double>(), c.at(1).get<double>(), c.at(2).get<double>());
+    }
+    if (j.contains("torque_scale")) torque_scale = j.at("torque_scale").get<double>();
+  } catch (const nlohmann::json::exception& e) {
+    throw IoError(args.path, std::string("bad center or torque_scale: ") + e.what());
+  }
+  if (!(torque_scale > 0)) throw IoError(args.path, "torque_scale must be positive");
+  grasping::QualityParams params;
+  params.friction = args.mu;
+  params.cone_edges = args.edges;
+  params.torsional_friction_m = args.torsion_m;
+  params.reference_compat = args.reference_compat;
+  const auto q = grasping::evaluateWrenchSpace(contacts, center, torque_scale, params);
+  if (args.json) {
+    std::cout << nlohmann::json({{"force_closure", q.force_closure},
+                                 {"epsilon", q.epsilon},
+                                 {"volume", q.volume},
+                                 {"hull_facets", q.hull_facets},
+                                 {"wrenches", q.wrenches},
+                                 {"rank", q.rank},
+                                 {"torque_scale", torque_scale},
+                                 {"center", toJson(center)},
+                                 {"note", q.note}})
+                     .dump(2)
+              << std::endl;
+  } else {
+    std::cout << fmt::format("force closure: {}, epsilon {:.6f}, volume {:.6g}, {} hull facets{}\n",
+                             q.force_closure ? "yes" : "no", q.epsilon, q.volume, q.hull_facets,
+                             q.note.empty() ? "" : " (" + q.note + ")");
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+void registerHandCommands(CLI::App& app, Action& action) {
+  auto* hands = app.add_subcommand("hands", "List the built-in hands");
+  hands->callback([&action] { action = [] { return runHands(); }; });
+
+  auto* close =
+      app.add_subcommand("close", "Close a hand on a mesh at a given pose and score the grasp");
+  auto c = std::make_shared<CloseArgs>();
+  close->add_option("MESH", c->mesh, "Object mesh (object frame, metres)")->required();
+  c->hand.addTo(*close);
+  close->add_option("--preshape", c->preshape, "Preshape name (power, precision, ...)")
+      ->capture_default_str();
+  close
+      ->add_option("--pose", c->pose,
+                   "Grasp centre point pose in the object frame: \"x y z qw qx qy qz\"")
+      ->required();
+  close->add_option("--units", c->units, "Mesh length unit: auto, m or mm")->capture_default_str();
+  close->add_option("--mu", c->mu, "Friction coefficient")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  close->add_flag("--reference-compat", c->reference_compat,
+                  "Quality as the reference code (fact sheet §9)");
+  close->add_flag("--json", c->json, "Print JSON");
+  close->add_option("--render", c->render, "Render object and hand (preshape, closed) to this PNG");
+  close->callback([c, &action] { action = [c] { return runClose(*c); }; });
+
+  auto* quality =
+      app.add_subcommand("quality", "Force closure, epsilon and volume of a contact set");
+  auto q = std::make_shared<QualityArgs>();
+  quality
+      ->add_option("CONTACTS", q->path,
+                   "JSON: {\"contacts\": [{\"point\", \"normal\"}], \"center\", \"torque_scale\"}")
+      ->required();
+  quality->add_option("--mu", q->mu, "Friction coefficient")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  quality->add_option("--cone-edges", q->edges, "Edges per friction cone")
+      ->check(CLI::Range(3, 64))
+      ->capture_default_str();
+  quality
+      ->add_option("--torsional-friction", q->torsion_m,
+                   "Soft-finger contacts: torsional friction length in metres (0 = point contacts)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  quality->add_flag("--reference-compat", q->reference_compat,
+                    "Reproduce the reference code's quirks");
+  quality->add_flag("--json", q->json, "Print JSON");
+  quality->callback([q, &action] { action = [q] { return runQuality(*q); }; });
+}
+
+}  // namespace skelgrasp::cli
