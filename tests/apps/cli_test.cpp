@@ -80,6 +80,61 @@ INSTANTIATE_TEST_SUITE_P(
                       BadCliInput{"garbage", "junk.ply", "ply\nformat nonsense\n", "cannot parse"}),
     [](const auto& info) { return info.param.name; });
 
+TEST(Cli, HandsListsTheFourBuiltInHands) {
+  const std::string dir = test::tempDir("cli_hands");
+  const CliRun run = runCli("hands", dir);
+  EXPECT_EQ(run.exit_code, 0);
+  for (const char* hand : {"armar3", "sdh", "shadow", "parallel_gripper"}) {
+    EXPECT_NE(run.out.find(hand), std::string::npos) << hand;
+  }
+}
+
+TEST(Cli, QualityScoresAContactFile) {
+  const std::string dir = test::tempDir("cli_quality");
+  std::ofstream(dir + "/three.json")
+      << R"({"contacts": [{"point": [0.03, 0, 0], "normal": [1, 0, 0]},
+                          {"point": [-0.015, 0.02598, 0], "normal": [-0.5, 0.866, 0]},
+                          {"point": [-0.015, -0.02598, 0], "normal": [-0.5, -0.866, 0]}],
+            "center": [0, 0, 0]})";
+  const CliRun run = runCli("quality " + dir + "/three.json --json", dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto j = nlohmann::json::parse(run.out);
+  EXPECT_TRUE(j["force_closure"].get<bool>());
+  EXPECT_GT(j["epsilon"].get<double>(), 0);
+  EXPECT_GT(j["hull_facets"].get<int>(), 0);
+  // Default torque scale: 2 / longest side of the contacts' bounding box.
+  EXPECT_NEAR(j["torque_scale"].get<double>(), 2 / 0.05196, 1e-2);
+
+  std::ofstream(dir + "/bad.json") << R"({"contacts": [{"point": [0, 0]}]})";
+  const CliRun bad = runCli("quality " + dir + "/bad.json", dir);
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find(dir + "/bad.json"), std::string::npos);
+}
+
+TEST(Cli, CloseReportsJointsContactsAndQuality) {
+  const std::string dir = test::tempDir("cli_close");
+  saveMesh(dir + "/box.ply", primitives::makeBox({0.05, 0.09, 0.16}, 2));
+  // Gripper approaching along -y, jaws closing across the 5 cm width.
+  const std::string pose = "\"0 0.035 0 0.7071068 0.7071068 0 0\"";
+  const CliRun run =
+      runCli("close " + dir + "/box.ply --hand parallel_gripper --preshape precision --pose " +
+                 pose + " --json --render " + dir + "/grasp.png",
+             dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto j = nlohmann::json::parse(run.out);
+  EXPECT_EQ(j["status"], "closed");
+  EXPECT_EQ(j["contacts"].size(), 2u);
+  EXPECT_NEAR(j["joints"]["finger_left"].get<double>(), 0.025, 0.0006);
+  EXPECT_TRUE(j["force_closure"].get<bool>());  // soft pads
+  EXPECT_GT(std::filesystem::file_size(dir + "/grasp.png"), 1000u);
+
+  const CliRun unknown = runCli("close " + dir + "/box.ply --hand robotiq --pose " + pose, dir);
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.err.find("unknown hand 'robotiq'"), std::string::npos);
+  const CliRun bad_pose = runCli("close " + dir + "/box.ply --pose \"1 2 3\"", dir);
+  EXPECT_EQ(bad_pose.exit_code, 2);
+}
+
 TEST(Cli, UsageErrorsExitTwo) {
   const std::string dir = test::tempDir("cli_usage");
   EXPECT_EQ(runCli("skeleton", dir).exit_code, 2);

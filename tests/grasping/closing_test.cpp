@@ -1,0 +1,136 @@
+// Finger closing and contacts on generated shapes with known geometry.
+#include <gtest/gtest.h>
+
+#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/grasping/grasp_simulator.h"
+#include "skelgrasp/grasping/quality.h"
+
+namespace skelgrasp::grasping {
+namespace {
+
+// Grasp centre point at `position` with approach direction `approach` and finger-spread axis
+// close to `spread`.
+Pose gcpPose(const Eigen::Vector3d& position, const Eigen::Vector3d& approach,
+             const Eigen::Vector3d& spread) {
+  Pose pose = Pose::Identity();
+  pose.linear() = frameFromZY(approach, spread);
+  pose.translation() = position;
+  return pose;
+}
+
+TEST(Closing, ParallelGripperStopsAtTheBoxWidthWithOpposedContacts) {
+  const HandModel gripper = loadBuiltinHand("parallel_gripper");
+  const GraspObject box(primitives::makeBox({0.05, 0.09, 0.16}, 2));
+  GraspSimulator sim(gripper, box);
+  const auto& preshape = gripper.preshape("precision");
+  // Approach along -y onto the 9 cm face, jaws closing along x across the 5 cm width.
+  const Pose hand = sim.handPoseForGcp(gcpPose({0, 0.035, 0}, {0, -1, 0}, {0, 0, 1}), preshape);
+  const auto r = sim.close(hand, preshape);
+  ASSERT_TRUE(r.status.ok()) << r.status.message;
+  const double opening = 2 * r.joints[gripper.jointIndex("finger_left")];
+  EXPECT_NEAR(opening, 0.05, 2 * 0.0005 + 1e-9);  // within one step per jaw
+  ASSERT_EQ(r.contacts.size(), 2u);
+  EXPECT_NEAR(r.contacts[0].normal.dot(r.contacts[1].normal), -1.0, 1e-9);
+  for (const auto& c : r.contacts) {
+    EXPECT_NEAR(std::abs(c.point.x()), 0.025, 1e-6);
+    EXPECT_NEAR(std::abs(c.normal.x()), 1.0, 1e-9);
+    EXPECT_LE(c.distance, 0.0005 + 1e-9);
+  }
+  // Point contacts cannot hold the torque about the jaw axis; the gripper's soft pads can.
+  EXPECT_FALSE(evaluateGrasp(r.contacts, box).force_closure);
+  QualityParams soft;
+  soft.torsional_friction_m = gripper.closingDefaults().torsional_friction_m;
+  EXPECT_TRUE(evaluateGrasp(r.contacts, box, soft).force_closure);
+}
+
+TEST(Closing, RejectsAHandThatStartsInCollision) {
+  const HandModel gripper = loadBuiltinHand("parallel_gripper");
+  const GraspObject box(primitives::makeBox({0.05, 0.09, 0.16}, 2));
+  GraspSimulator sim(gripper, box);
+  const auto& preshape = gripper.preshape("precision");
+  const Pose hand = sim.handPoseForGcp(gcpPose({0, 0, 0}, {0, -1, 0}, {0, 0, 1}), preshape);
+  const auto r = sim.close(hand, preshape);
+  EXPECT_EQ(r.status.code, StatusCode::kNoResult);
+  EXPECT_EQ(r.reason, "start_collision");
+  EXPECT_EQ(r.colliding_link, "hand");
+}
+
+TEST(Closing, ReportsTooFewContactsWhenClosingOnNothing) {
+  const HandModel gripper = loadBuiltinHand("parallel_gripper");
+  const GraspObject box(primitives::makeBox({0.02, 0.02, 0.02}));
+  GraspSimulator sim(gripper, box);
+  const auto& preshape = gripper.preshape("precision");
+  const Pose hand = sim.handPoseForGcp(gcpPose({0.5, 0.5, 0.5}, {0, -1, 0}, {0, 0, 1}), preshape);
+  const auto r = sim.close(hand, preshape);
+  EXPECT_EQ(r.reason, "too_few_contacts");
+  EXPECT_TRUE(r.contacts.empty());
+  EXPECT_NEAR(r.joints[gripper.jointIndex("finger_left")], 0.0, 1e-12);  // fully closed
+}
+
+TEST(Closing, HandsWrapACylinderWithinTheirJointLimits) {
+  const GraspObject cylinder(primitives::makeCylinder(0.03, 0.2, 48, 10));
+  for (const std::string name : {"armar3", "sdh", "shadow"}) {
+    const HandModel hand = loadBuiltinHand(name);
+    GraspSimulator sim(hand, cylinder);
+    const auto& preshape = hand.preshape("power");
+    // Approach from +x along -x, fingers spread along the axis; back off until collision-free.
+    ClosingResult r;
+    Pose placed = Pose::Identity();
+    for (double x = 0.0; x < 0.15; x += 0.001) {
+      placed = sim.handPoseForGcp(gcpPose({x, 0, 0}, {-1, 0, 0}, {0, 0, 1}), preshape);
+      if (sim.inCollision(placed, preshape.joints)) continue;
+      r = sim.close(placed, preshape);
+      break;
+    }
+    ASSERT_TRUE(r.status.ok()) << name << ": " << r.reason;
+    EXPECT_GE(r.contacts.size(), 3u) << name;
+    for (std::size_t j = 0; j < hand.joints().size(); ++j) {
+      EXPECT_GE(r.joints[j], hand.joints()[j].lower - 1e-9) << name;
+      EXPECT_LE(r.joints[j], hand.joints()[j].upper + 1e-9) << name;
+    }
+    // The closed hand does not penetrate the object.
+    EXPECT_FALSE(sim.inCollision(placed, r.joints)) << name;
+    // Contacts lie on the cylinder surface with outward normals.
+    for (const auto& c : r.contacts) {
+      if (std::abs(c.point.z()) < 0.099) {
+        EXPECT_NEAR(c.point.head<2>().norm(), 0.03, 1e-3) << name << " " << c.link;
+        EXPECT_GT(c.normal.head<2>().dot(c.point.head<2>().normalized()), 0.9) << name;
+      }
+    }
+  }
+}
+
+TEST(Closing, ShadowTendonMovesTheDistalPhalanxWithTheMiddleOne) {
+  // J1 has no drive of its own: it follows J2 on the same tendon, and keeps going alone when the
+  // middle phalanx is blocked (here by the palm, closing on nothing).
+  const HandModel shadow = loadBuiltinHand("shadow");
+  const GraspObject far_away(primitives::makeBox({0.01, 0.01, 0.01}));
+  GraspSimulator sim(shadow, far_away);
+  Pose pose = Pose::Identity();
+  pose.translation() = Eigen::Vector3d(1, 1, 1);
+  const auto r = sim.close(pose, shadow.preshape("power"));
+  for (const std::string f : {"FF", "MF", "RF", "LF"}) {
+    const double j1 = r.joints[shadow.jointIndex(f + "J1")],
+                 j2 = r.joints[shadow.jointIndex(f + "J2")];
+    EXPECT_GT(j2, 0.5) << f;
+    EXPECT_GT(j1, 0.5) << f;                 // moved by J2's tendon
+    EXPECT_LT(std::abs(j1 - j2), 0.2) << f;  // mostly together
+    EXPECT_LE(j1, 1.571 + 1e-9) << f;
+  }
+}
+
+TEST(Closing, IsDeterministic) {
+  const HandModel hand = loadBuiltinHand("armar3");
+  const GraspObject capsule(primitives::makeCapsule(0.025, 0.12));
+  GraspSimulator a(hand, capsule), b(hand, capsule);
+  const auto& preshape = hand.preshape("power");
+  const Pose pose = a.handPoseForGcp(gcpPose({0.02, 0, 0}, {-1, 0, 0}, {0, 0, 1}), preshape);
+  const auto ra = a.close(pose, preshape), rb = b.close(pose, preshape);
+  EXPECT_EQ(ra.joints, rb.joints);
+  ASSERT_EQ(ra.contacts.size(), rb.contacts.size());
+  for (std::size_t i = 0; i < ra.contacts.size(); ++i)
+    EXPECT_EQ(ra.contacts[i].point, rb.contacts[i].point);
+}
+
+}  // namespace
+}  // namespace skelgrasp::grasping
