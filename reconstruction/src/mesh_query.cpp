@@ -55,6 +55,21 @@ Eigen::Vector3d MeshQuery::closestPoint(const Eigen::Vector3d& p) const {
   return internal::toEigen(impl_->tree.closest_point(internal::toCgal(p)));
 }
 
+std::optional<Eigen::Vector3d> MeshQuery::firstHit(const Eigen::Vector3d& origin,
+                                                   const Eigen::Vector3d& direction) const {
+  if (direction.norm() < 1e-15) return std::nullopt;
+  const CgalKernel::Ray_3 ray(internal::toCgal(origin),
+                              CgalKernel::Vector_3(direction.x(), direction.y(), direction.z()));
+  const auto hit = impl_->tree.first_intersection(ray);
+  if (!hit) return std::nullopt;
+  if (const auto* point = boost::get<CgalKernel::Point_3>(&hit->first))
+    return internal::toEigen(*point);
+  if (const auto* segment = boost::get<CgalKernel::Segment_3>(&hit->first)) {
+    return internal::toEigen(segment->source());
+  }
+  return std::nullopt;
+}
+
 std::pair<Eigen::Vector3d, std::size_t> MeshQuery::closestPointAndFace(
     const Eigen::Vector3d& p) const {
   const auto hit = impl_->tree.closest_point_and_primitive(internal::toCgal(p));

@@ -5,6 +5,7 @@
 #include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
+#include <CGAL/Random.h>
 #include <CGAL/alpha_wrap_3.h>
 
 #include "skelgrasp/common/logging.h"
@@ -104,6 +105,9 @@ RegularisationResult regularise(const TriangleMesh& input, const RegularisationP
     double dropped = 0;
     for (int attempt = 0;; ++attempt) {
       mesh.clear();
+      // CGAL's spatial sorting draws from a per-thread default generator whose state carries over
+      // between calls; reseeding makes the wrap depend on the input only.
+      CGAL::get_default_random() = CGAL::Random(0);
       try {
         CGAL::alpha_wrap_3(points, faces, report.alpha_m, report.offset_m, mesh);
       } catch (const std::exception& e) {

@@ -1,6 +1,12 @@
 // CGAL translation unit: mean-curvature-flow skeletonization and kd-tree nearest neighbours.
+// CGAL containers of this file allocate from an ordered arena while one is active (see
+// ordered_arena.h): it makes the contraction's address-ordered edge collapses deterministic.
+#include "ordered_arena.h"
+#define CGAL_ALLOCATOR(T) skelgrasp::internal::OrderedArenaAllocator<T>
+
 #include <CGAL/Mean_curvature_flow_skeletonization.h>
 #include <CGAL/Orthogonal_k_neighbor_search.h>
+#include <CGAL/Random.h>
 #include <CGAL/Search_traits_3.h>
 #include <CGAL/Search_traits_adapter.h>
 #include <CGAL/boost/graph/property_maps.h>
@@ -61,7 +67,10 @@ Contraction contractMesh(const TriangleMesh& closed_mesh, const ContractionParam
     return out;
   }
   using Skeletonization = CGAL::Mean_curvature_flow_skeletonization<CgalMesh>;
+  // The arena must outlive every CGAL object that allocates from it (mcs, its triangulations).
+  internal::OrderedArenaScope arena;
   Skeletonization::Skeleton graph;
+  CGAL::get_default_random() = CGAL::Random(0);  // results depend on the input only
   try {
     Skeletonization mcs(mesh);
     mcs.set_max_triangle_angle(params.max_triangle_angle_rad);

@@ -1,6 +1,7 @@
 #pragma once
 // Point queries against a closed triangle mesh (AABB tree built once).
 #include <memory>
+#include <optional>
 
 #include "skelgrasp/common/mesh.h"
 
@@ -19,6 +20,9 @@ class MeshQuery {
   // Unsigned distance to the surface.
   double distance(const Eigen::Vector3d& p) const;
   Eigen::Vector3d closestPoint(const Eigen::Vector3d& p) const;
+  // First surface point hit by the ray from `origin` along `direction`, if any.
+  std::optional<Eigen::Vector3d> firstHit(const Eigen::Vector3d& origin,
+                                          const Eigen::Vector3d& direction) const;
   // Closest point and the index of the face it lies on.
   std::pair<Eigen::Vector3d, std::size_t> closestPointAndFace(const Eigen::Vector3d& p) const;
 

@@ -1,0 +1,78 @@
+#include "ordered_arena.h"
+
+#include <sys/mman.h>
+
+#include <unordered_map>
+#include <vector>
+
+namespace skelgrasp::internal {
+
+class OrderedArena {
+ public:
+  // Address space only; pages are committed when touched.
+  static constexpr std::size_t kReserve = std::size_t(32) << 30;
+
+  OrderedArena() {
+    void* p = mmap(nullptr, kReserve, PROT_READ | PROT_WRITE,
+                   MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+    if (p == MAP_FAILED) throw std::bad_alloc();
+    base_ = static_cast<char*>(p);
+  }
+  ~OrderedArena() { munmap(base_, kReserve); }
+
+  void* allocate(std::size_t bytes) {
+    const std::size_t size = roundUp(bytes);
+    auto& list = free_[size];
+    if (!list.empty()) {
+      void* p = list.back();
+      list.pop_back();
+      return p;
+    }
+    if (used_ + size > kReserve) throw std::bad_alloc();
+    void* p = base_ + used_;
+    used_ += size;
+    return p;
+  }
+  void deallocate(void* p, std::size_t bytes) { free_[roundUp(bytes)].push_back(p); }
+  bool owns(const void* p) const {
+    const char* c = static_cast<const char*>(p);
+    return c >= base_ && c < base_ + kReserve;
+  }
+
+ private:
+  static std::size_t roundUp(std::size_t bytes) {
+    return (std::max<std::size_t>(bytes, 1) + 15) & ~std::size_t(15);
+  }
+
+  char* base_ = nullptr;
+  std::size_t used_ = 0;
+  std::unordered_map<std::size_t, std::vector<void*>> free_;
+};
+
+namespace {
+thread_local OrderedArena* current_arena = nullptr;
+}
+
+OrderedArena* currentOrderedArena() {
+  return current_arena;
+}
+void* arenaAllocate(OrderedArena& arena, std::size_t bytes) {
+  return arena.allocate(bytes);
+}
+void arenaDeallocate(OrderedArena& arena, void* p, std::size_t bytes) {
+  arena.deallocate(p, bytes);
+}
+bool arenaOwns(const OrderedArena& arena, const void* p) {
+  return arena.owns(p);
+}
+
+OrderedArenaScope::OrderedArenaScope()
+    : arena_(std::make_unique<OrderedArena>()), previous_(current_arena) {
+  current_arena = arena_.get();
+}
+
+OrderedArenaScope::~OrderedArenaScope() {
+  current_arena = previous_;
+}
+
+}  // namespace skelgrasp::internal
