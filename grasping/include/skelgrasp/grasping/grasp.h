@@ -1,0 +1,74 @@
+#pragma once
+// A planned grasp, the outcome of evaluating one hypothesis, and a planner's result.
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "skelgrasp/common/error.h"
+#include "skelgrasp/common/pose.h"
+#include "skelgrasp/grasping/contact.h"
+
+namespace skelgrasp::grasping {
+
+enum class GraspType { kPrecision, kPower };
+const char* toString(GraspType type);
+
+struct Grasp {
+  int id = -1;
+  GraspType type = GraspType::kPower;
+  std::string strategy;  // "1a" "1b" "2a" "2b" "3" "4" or "surface"
+  int segment = -1;      // skeleton segment (-1: none)
+  int skeleton_vertex = -1;
+  std::string preshape;
+  Pose gcp_pose = Pose::Identity();   // grasp centre point in the object frame, after retreat
+  Pose hand_pose = Pose::Identity();  // hand root in the object frame
+  double retreat_m = 0;               // distance backed off from the hypothesis' GCP
+  Eigen::VectorXd joints;             // closed configuration (all joints of the hand)
+  std::vector<Contact> contacts;
+  bool force_closure = false;
+  double epsilon = 0;
+  double volume = 0;
+};
+
+// Why a hypothesis did not become a grasp. Strategy-level codes (interval, thickness, ...) reject a
+// (vertex, grasp type) pair before any pose is generated; pose-level codes reject one pose.
+namespace reason {
+inline constexpr const char* kBranchVertex = "branch_vertex";
+inline constexpr const char* kGraspTypeDisabled = "grasp_type_disabled";
+inline constexpr const char* kIntervalTooShort = "interval_too_short";
+inline constexpr const char* kTooFewSurfacePoints = "too_few_surface_points";
+inline constexpr const char* kThicknessOutOfRange = "thickness_out_of_range";  // lambda2
+inline constexpr const char* kLengthOutOfRange = "length_out_of_range";        // lambda1
+inline constexpr const char* kRetreatExhausted = "retreat_exhausted";
+inline constexpr const char* kStartCollision = "start_collision";
+inline constexpr const char* kTooFewContacts = "too_few_contacts";
+inline constexpr const char* kNotForceClosure = "not_force_closure";
+inline constexpr const char* kEpsilonBelowMinimum = "epsilon_below_minimum";
+}  // namespace reason
+
+struct PlanSummary {
+  std::size_t hypotheses = 0;     // every (vertex, type) evaluation rejected + every pose tried
+  std::size_t poses = 0;          // hand poses tried (hypotheses that got past the strategy test)
+  std::size_t generated = 0;      // poses placed collision-free and closed (FC-rate denominator)
+  std::size_t force_closure = 0;  // generated grasps with force closure
+  double planning_s = 0;
+  std::map<std::string, std::size_t> rejections;
+  std::size_t precision = 0, power = 0;  // kept grasps by type
+  bool timed_out = false;
+  bool max_grasps_reached = false;
+
+  double forceClosureRate() const { return generated ? double(force_closure) / generated : 0.0; }
+  double msPerValidGrasp() const {
+    return force_closure ? 1000.0 * planning_s / force_closure : 0.0;
+  }
+};
+
+struct PlanResult {
+  Status status;  // kNoResult when no grasp was found (see summary.rejections for why)
+  std::string planner;
+  std::vector<Grasp> grasps;  // sorted by epsilon, best first
+  PlanSummary summary;
+};
+
+}  // namespace skelgrasp::grasping

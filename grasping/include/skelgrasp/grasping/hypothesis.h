@@ -1,0 +1,29 @@
+#pragma once
+// Turning one hand pose hypothesis into a grasp: back off until collision-free, optionally retreat
+// further, close the fingers, judge the contacts. Shared by the planners.
+#include "skelgrasp/grasping/grasp.h"
+#include "skelgrasp/grasping/grasp_simulator.h"
+#include "skelgrasp/grasping/quality.h"
+
+namespace skelgrasp::grasping {
+
+struct HypothesisParams {
+  double retreat_step_m = 0.001;  // back-off step along the approach direction
+  double max_retreat_m = 0.150;   // give up beyond this
+  double extra_retreat_m = 0;     // then this much further when still collision-free (power)
+  double min_epsilon = 0;
+  QualityParams quality;
+  ClosingParams closing;
+};
+
+struct HypothesisOutcome {
+  std::optional<Grasp> grasp;    // set when kept (force closure and epsilon >= minimum)
+  const char* reason = nullptr;  // set when not kept
+  bool generated = false;        // placed collision-free and closed
+};
+
+// `gcp` is the hypothesis' grasp centre point pose (object frame; z = approach direction).
+HypothesisOutcome evaluateHypothesis(GraspSimulator& simulator, const Pose& gcp,
+                                     const Preshape& preshape, const HypothesisParams& params);
+
+}  // namespace skelgrasp::grasping

@@ -1,0 +1,28 @@
+#pragma once
+// grasps.json (schema skelgrasp.grasps/1, docs/planning.md) and pictures of planned grasps.
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+#include "skelgrasp/grasping/grasp.h"
+#include "skelgrasp/grasping/hand_model.h"
+#include "skelgrasp/skeleton/skeleton.h"
+
+namespace skelgrasp::grasping {
+
+nlohmann::json graspToJson(const Grasp& grasp, const HandModel& hand);
+nlohmann::json planToJson(const PlanResult& result, const HandModel& hand,
+                          const std::string& object);
+
+// One-line summary: "<object> <hand> <planner>: N hypotheses, G generated, F force closure ...".
+std::string planSummaryLine(const PlanResult& result, const std::string& hand,
+                            const std::string& object);
+
+// The object (grey), its skeleton if given, and one short line per grasp along its approach
+// direction ending at the grasp centre point (like the paper's Fig. 9), from two sides; plus the
+// best grasp with the closed hand.
+void renderPlanPng(const std::string& path, const TriangleMesh& object,
+                   const skeleton::Skeleton* skeleton, const PlanResult& result,
+                   const HandModel& hand, int panel_size = 480);
+
+}  // namespace skelgrasp::grasping

@@ -1,0 +1,53 @@
+#pragma once
+// The skeleton grasp planner (paper Alg. 1, strategies 1a-4 of Table II) and the surface-normal
+// reference planner (the paper's baseline). Both return the same PlanResult; every hypothesis that
+// is not kept has a reason code (grasp.h), so a result without grasps explains itself.
+#include <cstdint>
+
+#include "skelgrasp/grasping/grasp.h"
+#include "skelgrasp/grasping/grasp_object.h"
+#include "skelgrasp/grasping/hand_model.h"
+#include "skelgrasp/grasping/hypothesis.h"
+#include "skelgrasp/grasping/local_shape.h"
+#include "skelgrasp/skeleton/skeleton.h"
+
+namespace skelgrasp::grasping {
+
+struct SkeletonPlannerParams {
+  double timeout_s = 0;          // 0: no limit
+  std::size_t max_grasps = 0;    // 0: no limit
+  std::uint64_t seed = 1;        // order in which vertices are visited (so an early stop covers
+                                 // the whole object); results are deterministic for a seed
+  bool shuffle_vertices = true;  // false: segment by segment, as the reference
+  double min_epsilon = 0;
+  double vertex_distance_m = 0;      // d: visit vertices at least this far apart; 0 = every vertex
+  double round_ratio = 0;            // 0: the hand's (1.2 for the built-ins)
+  double curvature_limit_per_m = 0;  // intervals cut above this curvature; 0: none
+  bool precision = true;             // strategies 1a, 1b, 3
+  bool power = true;                 // strategies 2a, 2b, 4
+  int round_connecting_directions = 16;  // approach directions around a round section
+  int round_endpoint_rolls = 8;          // hand rolls about the axis at a round end
+  HypothesisParams hypothesis;  // retreat, closing, quality (mu), min epsilon is taken from above
+};
+
+// `object.mesh()` must be the mesh whose vertices `skeleton.vertices[*].surface_points` index.
+PlanResult planSkeletonGrasps(const HandModel& hand, const GraspObject& object,
+                              const skeleton::Skeleton& skeleton,
+                              const SkeletonPlannerParams& params);
+
+struct SurfacePlannerParams {
+  double timeout_s = 0;              // 0: no limit
+  std::size_t max_hypotheses = 500;  // the skeleton planner's count when compared with it
+  std::size_t max_grasps = 0;
+  std::uint64_t seed = 1;
+  double min_epsilon = 0;
+  std::string preshape = "power";
+  HypothesisParams hypothesis;
+};
+
+// Random surface point (area-weighted), approach along the inverted surface normal, random roll,
+// power preshape, back off until collision-free, close, judge.
+PlanResult planSurfaceGrasps(const HandModel& hand, const GraspObject& object,
+                             const SurfacePlannerParams& params);
+
+}  // namespace skelgrasp::grasping

@@ -1,0 +1,86 @@
+#include "skelgrasp/grasping/hypothesis.h"
+
+namespace skelgrasp::grasping {
+
+const char* toString(GraspType type) {
+  return type == GraspType::kPower ? "power" : "precision";
+}
+
+HypothesisOutcome evaluateHypothesis(GraspSimulator& simulator, const Pose& gcp,
+                                     const Preshape& preshape, const HypothesisParams& params) {
+  HypothesisOutcome out;
+  const Eigen::Vector3d approach = gcp.rotation().col(2);
+  auto poseAt = [&](double retreat) {
+    Pose moved = gcp;
+    moved.translation() -= retreat * approach;
+    return moved;
+  };
+  // Back off until the open hand is free of the object: coarse steps of 8 retreat steps, then the
+  // first free fine step after the last colliding coarse one (a free gap narrower than a coarse
+  // step before it is not looked for).
+  auto freeAt = [&](int step) {
+    return !simulator.inCollision(
+        simulator.handPoseForGcp(poseAt(step * params.retreat_step_m), preshape), preshape.joints);
+  };
+  const int steps =
+      static_cast<int>(std::floor(params.max_retreat_m / params.retreat_step_m + 1e-9));
+  constexpr int kCoarse = 8;
+  int first_free = -1;
+  int last_colliding = -1;
+  for (int i = 0;; i = std::min(i + kCoarse, steps)) {
+    if (freeAt(i)) {
+      first_free = i;
+      break;
+    }
+    last_colliding = i;
+    if (i == steps) break;
+  }
+  if (first_free < 0) {
+    out.reason = reason::kRetreatExhausted;
+    return out;
+  }
+  for (int i = last_colliding + 1; i < first_free; ++i) {
+    if (freeAt(i)) {
+      first_free = i;
+      break;
+    }
+  }
+  double retreat = first_free * params.retreat_step_m;
+  if (params.extra_retreat_m > 0 &&
+      !simulator.inCollision(
+          simulator.handPoseForGcp(poseAt(retreat + params.extra_retreat_m), preshape),
+          preshape.joints)) {
+    retreat += params.extra_retreat_m;
+  }
+  Grasp grasp;
+  grasp.preshape = preshape.name;
+  grasp.gcp_pose = poseAt(retreat);
+  grasp.hand_pose = simulator.handPoseForGcp(grasp.gcp_pose, preshape);
+  grasp.retreat_m = retreat;
+  const ClosingResult closing = simulator.close(grasp.hand_pose, preshape, params.closing);
+  grasp.joints = closing.joints;
+  if (!closing.status.ok()) {
+    out.reason =
+        closing.reason == "start_collision" ? reason::kStartCollision : reason::kTooFewContacts;
+    return out;
+  }
+  out.generated = true;
+  grasp.contacts = closing.contacts;
+  const WrenchSpaceResult quality =
+      evaluateGrasp(grasp.contacts, simulator.object(), params.quality);
+  grasp.force_closure = quality.force_closure;
+  grasp.epsilon = quality.epsilon;
+  grasp.volume = quality.volume;
+  if (!quality.force_closure) {
+    out.reason = reason::kNotForceClosure;
+    return out;
+  }
+  if (quality.epsilon < params.min_epsilon) {
+    out.reason = reason::kEpsilonBelowMinimum;
+    return out;
+  }
+  out.grasp = std::move(grasp);
+  return out;
+}
+
+}  // namespace skelgrasp::grasping

@@ -1,0 +1,223 @@
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "skelgrasp/common/logging.h"
+#include "skelgrasp/grasping/planners.h"
+
+namespace skelgrasp::grasping {
+namespace {
+
+using skeleton::Skeleton;
+using skeleton::VertexType;
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Vertices to visit: along every segment, at least `distance` apart (endpoints always), then the
+// branch vertices (which no strategy applies to, reported as such).
+std::vector<int> selectVertices(const Skeleton& skel, double distance) {
+  std::vector<int> selected;
+  for (const auto& seg : skel.segments) {
+    double since = distance;  // the first vertex is always taken
+    for (std::size_t i = 0; i < seg.vertices.size(); ++i) {
+      const int v = seg.vertices[i];
+      if (i > 0)
+        since += (skel.vertices[v].position - skel.vertices[seg.vertices[i - 1]].position).norm();
+      if (since >= distance || skel.vertices[v].type == VertexType::kEndpoint) {
+        selected.push_back(v);
+        since = 0;
+      }
+    }
+  }
+  for (std::size_t v = 0; v < skel.vertices.size(); ++v) {
+    if (skel.vertices[v].type == VertexType::kBranch) selected.push_back(static_cast<int>(v));
+  }
+  return selected;
+}
+
+// Grasp centre point frame: z = approach, y = finger spread.
+Pose gcpFrame(const Eigen::Vector3d& position, const Eigen::Vector3d& approach,
+              const Eigen::Vector3d& spread) {
+  Pose pose = Pose::Identity();
+  pose.linear() = frameFromZY(approach, spread);
+  pose.translation() = position;
+  return pose;
+}
+
+// The hand poses of one strategy (paper Sec. IV-C; counts as the issue and reference).
+std::vector<Pose> hypothesisFrames(const Eigen::Vector3d& s, const LocalShape& shape, bool endpoint,
+                                   const SkeletonPlannerParams& params) {
+  std::vector<Pose> frames;
+  const Eigen::Vector3d& t = shape.tangent;
+  if (endpoint) {
+    // The hand comes in along the skeleton from outside; rolls about that axis.
+    if (shape.round) {
+      for (int k = 0; k < params.round_endpoint_rolls; ++k) {
+        const double a = 2 * kPi * k / params.round_endpoint_rolls;
+        frames.push_back(gcpFrame(s, t, std::cos(a) * shape.ev1 + std::sin(a) * shape.ev2));
+      }
+    } else {
+      frames.push_back(gcpFrame(s, t, shape.ev1));
+      frames.push_back(gcpFrame(s, t, -shape.ev1));
+    }
+    return frames;
+  }
+  // Connecting: approach within the grasping plane, fingers spread along the skeleton; the roll
+  // alternates so both hand orientations are tried.
+  if (shape.round) {
+    const int n = params.round_connecting_directions;
+    for (int k = 0; k < n; ++k) {
+      const double a = 2 * kPi * k / n;
+      const Eigen::Vector3d approach = -(std::cos(a) * shape.ev1 + std::sin(a) * shape.ev2);
+      frames.push_back(gcpFrame(s, approach, k % 2 == 0 ? t : Eigen::Vector3d(-t)));
+    }
+  } else {
+    // Rectangular: approach along the long section axis so the hand closes across the thin one.
+    for (const Eigen::Vector3d& approach :
+         {Eigen::Vector3d(shape.ev1), Eigen::Vector3d(-shape.ev1)}) {
+      frames.push_back(gcpFrame(s, approach, t));
+      frames.push_back(gcpFrame(s, approach, -t));
+    }
+  }
+  return frames;
+}
+
+// Table II: the strategy that applies to this vertex and grasp type, or the failed property.
+const char* strategyFor(GraspType type, bool endpoint, const LocalShape& shape,
+                        const ShapeThresholds& limits, std::string& strategy) {
+  const bool precision = type == GraspType::kPrecision;
+  if (shape.lambda2 < limits.lambda2_min_m || shape.lambda2 > limits.lambda2_max_m)
+    return reason::kThicknessOutOfRange;
+  if (endpoint) {
+    strategy = precision ? "3" : "4";
+    return nullptr;
+  }
+  if (shape.round) {
+    strategy = precision ? "1a" : "2a";
+    return nullptr;
+  }
+  const bool length_ok =
+      precision ? shape.lambda1 >= limits.lambda1_min_m && shape.lambda1 <= limits.lambda1_max_m
+                : shape.lambda1 > limits.lambda1_min_m;
+  if (!length_ok) return reason::kLengthOutOfRange;
+  strategy = precision ? "1b" : "2b";
+  return nullptr;
+}
+
+}  // namespace
+
+PlanResult planSkeletonGrasps(const HandModel& hand, const GraspObject& object,
+                              const Skeleton& skel, const SkeletonPlannerParams& params) {
+  if (params.vertex_distance_m < 0 || params.round_connecting_directions < 1 ||
+      params.round_endpoint_rolls < 1) {
+    throw InvalidArgument("planSkeletonGrasps: negative vertex distance or no approach directions");
+  }
+  for (const auto& v : skel.vertices) {
+    for (int p : v.surface_points) {
+      if (p < 0 || static_cast<std::size_t>(p) >= object.mesh().numVertices()) {
+        throw InvalidArgument(
+            "planSkeletonGrasps: skeleton surface points do not index the object mesh");
+      }
+    }
+  }
+  Stopwatch watch;
+  PlanResult result;
+  result.planner = "skeleton";
+  auto& summary = result.summary;
+  GraspSimulator simulator(hand, object);
+  LocalShapeParams shape_params;
+  shape_params.curvature_limit_per_m = params.curvature_limit_per_m;
+  shape_params.round_ratio =
+      params.round_ratio > 0 ? params.round_ratio : hand.thresholds().round_ratio;
+
+  std::vector<int> order = selectVertices(skel, params.vertex_distance_m);
+  if (params.shuffle_vertices)
+    std::shuffle(order.begin(), order.end(), std::mt19937_64(params.seed));
+  auto reject = [&](const char* why) {
+    ++summary.hypotheses;
+    ++summary.rejections[why];
+  };
+  auto stop = [&] {
+    if (params.timeout_s > 0 && watch.seconds() > params.timeout_s) summary.timed_out = true;
+    if (params.max_grasps > 0 && result.grasps.size() >= params.max_grasps)
+      summary.max_grasps_reached = true;
+    return summary.timed_out || summary.max_grasps_reached;
+  };
+  ProgressReporter progress("skeleton planner", order.size(), 5.0);
+  std::size_t visited = 0;
+  for (int vertex : order) {
+    if (stop()) break;
+    progress.step(++visited);
+    const auto& v = skel.vertices[vertex];
+    for (GraspType type : {GraspType::kPrecision, GraspType::kPower}) {
+      if (stop()) break;
+      const bool precision = type == GraspType::kPrecision;
+      if ((precision && !params.precision) || (!precision && !params.power)) continue;
+      if (v.type == VertexType::kBranch) {
+        reject(reason::kBranchVertex);
+        continue;
+      }
+      const auto& limits = precision ? hand.thresholds().precision : hand.thresholds().power;
+      if (!limits) {
+        reject(reason::kGraspTypeDisabled);
+        continue;
+      }
+      const double half = 0.5 * (precision ? hand.precisionIntervalM() : hand.powerIntervalM());
+      const LocalShape shape =
+          analyzeLocalShape(skel, object.mesh().vertices, vertex, half, shape_params);
+      if (shape.reason) {
+        reject(shape.reason);
+        continue;
+      }
+      const bool endpoint = v.type == VertexType::kEndpoint;
+      std::string strategy;
+      if (const char* why = strategyFor(type, endpoint, shape, *limits, strategy)) {
+        reject(why);
+        continue;
+      }
+      const Preshape& preshape = hand.preshape(precision ? "precision" : "power");
+      HypothesisParams hp = params.hypothesis;
+      hp.min_epsilon = params.min_epsilon;
+      // The hand's contact model unless the caller chose one.
+      if (hp.quality.torsional_friction_m == 0)
+        hp.quality.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
+      hp.extra_retreat_m = precision ? 0.0 : hand.thresholds().power_retreat_m;
+      for (const Pose& frame : hypothesisFrames(v.position, shape, endpoint, params)) {
+        if (stop()) break;
+        ++summary.hypotheses;
+        ++summary.poses;
+        auto outcome = evaluateHypothesis(simulator, frame, preshape, hp);
+        summary.generated += outcome.generated;
+        if (outcome.generated && (outcome.grasp || outcome.reason != reason::kNotForceClosure)) {
+          ++summary.force_closure;
+        }
+        if (!outcome.grasp) {
+          ++summary.rejections[outcome.reason];
+          continue;
+        }
+        Grasp grasp = std::move(*outcome.grasp);
+        grasp.type = type;
+        grasp.strategy = strategy;
+        grasp.segment = v.segment;
+        grasp.skeleton_vertex = vertex;
+        (precision ? summary.precision : summary.power) += 1;
+        result.grasps.push_back(std::move(grasp));
+      }
+    }
+  }
+  std::stable_sort(result.grasps.begin(), result.grasps.end(),
+                   [](const Grasp& a, const Grasp& b) { return a.epsilon > b.epsilon; });
+  for (std::size_t i = 0; i < result.grasps.size(); ++i) result.grasps[i].id = static_cast<int>(i);
+  summary.planning_s = watch.seconds();
+  if (result.grasps.empty()) {
+    result.status = Status::Make(StatusCode::kNoResult, "no grasp found; see the rejection counts");
+  }
+  log().info(
+      "skeleton planner ({}): {} hypotheses, {} generated, {} force closure ({:.0f}%), {} kept, "
+      "{:.2f} s",
+      hand.name(), summary.hypotheses, summary.generated, summary.force_closure,
+      100 * summary.forceClosureRate(), result.grasps.size(), summary.planning_s);
+  return result;
+}
+
+}  // namespace skelgrasp::grasping
