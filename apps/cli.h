@@ -20,6 +20,8 @@ void registerShapeCommand(CLI::App& app, Action& action);
 void registerBenchCommand(CLI::App& app, Action& action);
 void registerDemoCommand(CLI::App& app, Action& action);
 void registerHandCommands(CLI::App& app, Action& action);
+void registerPlanCommand(CLI::App& app, Action& action);
+void registerBenchPlanCommand(CLI::App& bench, Action& action);
 
 // Prints "skelgrasp: error: <message>" to stderr and returns kExitBadInput.
 int fail(const std::string& message);

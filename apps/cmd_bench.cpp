@@ -120,6 +120,7 @@ void registerBenchCommand(CLI::App& app, Action& action) {
   skel->add_option("--json", args->json_out, "Also write the rows as JSON");
   args->options.addTo(*skel);
   skel->callback([=, &action] { action = [=] { return runBenchSkeleton(*args); }; });
+  registerBenchPlanCommand(*bench, action);
 }
 
 }  // namespace skelgrasp::cli

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   cli::registerBenchCommand(app, action);
   cli::registerDemoCommand(app, action);
   cli::registerHandCommands(app, action);
+  cli::registerPlanCommand(app, action);
 
   try {
     app.parse(argc, argv);

@@ -18,7 +18,8 @@ struct SkeletonOptions {
   bool write_regularised = false;
   std::string render_path;
 
-  void addTo(CLI::App& cmd) {
+  // `outputs`: also the options that write extra files (for the skeleton command itself).
+  void addTo(CLI::App& cmd, bool outputs = true) {
     cmd.add_option("--units", units, "Input length unit: auto (diagonal > 5 means mm), m or mm")
         ->check(CLI::IsMember({"auto", "m", "mm"}))
         ->capture_default_str();
@@ -44,6 +45,7 @@ struct SkeletonOptions {
                    "Prune terminal branches shorter than this times the local radius (0 = off)")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
+    if (!outputs) return;
     cmd.add_flag("--write-regularised", write_regularised, "Also write regularised.ply");
     cmd.add_option("--render", render_path, "Also render segmentation and skeleton to this PNG");
   }

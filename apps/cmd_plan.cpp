@@ -1,0 +1,65 @@
+// skelgrasp plan MESH --hand H [--planner skeleton|surface]: grasps for one object.
+#include <filesystem>
+#include <iostream>
+
+#include "cli.h"
+#include "hand_options.h"
+#include "planner_options.h"
+#include "skeleton_options.h"
+#include "skelgrasp/common/json.h"
+#include "skelgrasp/grasping/plan_output.h"
+
+namespace skelgrasp::cli {
+namespace {
+
+struct PlanArgs {
+  std::string mesh;
+  std::string out = "grasps.json";
+  std::string render;
+  HandOptions hand;
+  PlannerOptions planner;
+  SkeletonOptions skeleton;
+};
+
+int runPlan(const PlanArgs& args) {
+  const auto hand = args.hand.load();
+  MeshLoadInfo info;
+  TriangleMesh mesh = loadMesh(args.mesh, args.skeleton.loadOptions(), &info);
+  const std::string name = std::filesystem::path(args.mesh).filename().string();
+  const grasping::GraspObject object(mesh);
+  grasping::PlanResult result;
+  std::optional<skeleton::SkeletonResult> skel;
+  if (args.planner.planner == "skeleton") {
+    skel = skeleton::extractSkeleton(mesh, args.skeleton.params());
+    if (!skel->status.ok()) return fail(args.mesh + ": " + skel->status.message);
+    result =
+        grasping::planSkeletonGrasps(hand, object, skel->skeleton, args.planner.skeletonParams());
+  } else {
+    result = grasping::planSurfaceGrasps(hand, object, args.planner.surfaceParams());
+  }
+  writeJsonFile(args.out, grasping::planToJson(result, hand, name));
+  if (!args.render.empty()) {
+    grasping::renderPlanPng(args.render, mesh, skel ? &skel->skeleton : nullptr, result, hand);
+  }
+  std::cout << grasping::planSummaryLine(result, hand.name(), name) << std::endl;
+  return kExitOk;
+}
+
+}  // namespace
+
+void registerPlanCommand(CLI::App& app, Action& action) {
+  auto* cmd =
+      app.add_subcommand("plan", "Plan grasps for a mesh (skeleton or surface-normal planner)");
+  auto args = std::make_shared<PlanArgs>();
+  cmd->add_option("MESH", args->mesh, "Object mesh (.ply .obj .off .stl)")->required();
+  args->hand.addTo(*cmd);
+  args->planner.addTo(*cmd);
+  cmd->add_option("--out", args->out, "Output grasps JSON (docs/planning.md)")
+      ->capture_default_str();
+  cmd->add_option("--render", args->render,
+                  "Render object, skeleton and approach lines to this PNG");
+  args->skeleton.addTo(*cmd, false);
+  cmd->callback([args, &action] { action = [args] { return runPlan(*args); }; });
+}
+
+}  // namespace skelgrasp::cli
