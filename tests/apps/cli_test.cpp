@@ -135,6 +135,53 @@ TEST(Cli, CloseReportsJointsContactsAndQuality) {
   EXPECT_EQ(bad_pose.exit_code, 2);
 }
 
+TEST(Cli, PlanWritesTheDocumentedGraspsJson) {
+  const std::string dir = test::tempDir("cli_plan");
+  saveMesh(dir + "/bottle.ply", primitives::makeNamedShape("bottle"));
+  const CliRun run = runCli("plan " + dir + "/bottle.ply --hand sdh --max-grasps 5 --out " + dir +
+                                "/grasps.json --render " + dir + "/grasps.png",
+                            dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(countLines(run.out), 1);
+  const auto j = readJsonFile(dir + "/grasps.json");
+  EXPECT_EQ(j["schema"], "skelgrasp.grasps/1");
+  EXPECT_EQ(j["planner"], "skeleton");
+  EXPECT_EQ(j["hand"], "sdh");
+  EXPECT_EQ(j["units"], "m");
+  for (const char* key : {"hypotheses", "generated", "force_closure", "force_closure_rate",
+                          "planning_s", "ms_per_valid_grasp", "rejections", "by_type"}) {
+    EXPECT_TRUE(j["summary"].contains(key)) << key;
+  }
+  ASSERT_EQ(j["grasps"].size(), 5u);
+  for (const auto& g : j["grasps"]) {
+    for (const char* key :
+         {"id", "type", "strategy", "segment", "skeleton_vertex", "gcp_pose", "hand_pose", "joints",
+          "contacts", "force_closure", "epsilon", "volume"}) {
+      EXPECT_TRUE(g.contains(key)) << key;
+    }
+    EXPECT_EQ(g["gcp_pose"]["quaternion_wxyz"].size(), 4u);
+    EXPECT_TRUE(g["force_closure"].get<bool>());
+  }
+  EXPECT_GT(std::filesystem::file_size(dir + "/grasps.png"), 1000u);
+
+  const CliRun surface =
+      runCli("plan " + dir + "/bottle.ply --hand sdh --planner surface --hypotheses 20 --out " +
+                 dir + "/surface.json",
+             dir);
+  ASSERT_EQ(surface.exit_code, 0) << surface.err;
+  EXPECT_EQ(readJsonFile(dir + "/surface.json")["summary"]["hypotheses"], 20);
+}
+
+TEST(Cli, EveryCommandHasHelp) {
+  const std::string dir = test::tempDir("cli_help");
+  for (const char* command : {"skeleton", "shape", "bench skeleton", "bench plan", "demo", "hands",
+                              "close", "quality", "plan"}) {
+    const CliRun run = runCli(std::string(command) + " --help", dir);
+    EXPECT_EQ(run.exit_code, 0) << command << ": " << run.err;
+    EXPECT_NE(run.out.find("--"), std::string::npos) << command;
+  }
+}
+
 TEST(Cli, UsageErrorsExitTwo) {
   const std::string dir = test::tempDir("cli_usage");
   EXPECT_EQ(runCli("skeleton", dir).exit_code, 2);

@@ -18,6 +18,10 @@ TEST(MeshQuery, InsideOutsideAndDistanceOfABox) {
   const auto [point, face] = query.closestPointAndFace({0, 0, 0.5});
   EXPECT_NEAR(point.z(), 0.1, 1e-12);
   EXPECT_LT(face, primitives::makeBox({0.2, 0.2, 0.2}, 2).numFaces());
+  const auto hit = query.firstHit({0.5, 0.01, 0.02}, {-1, 0, 0});
+  ASSERT_TRUE(hit.has_value());
+  EXPECT_TRUE(hit->isApprox(Eigen::Vector3d(0.1, 0.01, 0.02), 1e-12));
+  EXPECT_FALSE(query.firstHit({0.5, 0.01, 0.02}, {1, 0, 0}).has_value());
 }
 
 }  // namespace
