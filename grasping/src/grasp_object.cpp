@@ -2,12 +2,14 @@
 
 #include "fcl_conversions.h"
 #include "skelgrasp/common/error.h"
+#include "skelgrasp/common/mesh_topology.h"
 
 namespace skelgrasp::grasping {
 
 GraspObject::GraspObject(TriangleMesh mesh) : mesh_(std::move(mesh)) {
   if (mesh_.empty()) throw InvalidArgument("GraspObject: empty mesh");
   bounds_ = mesh_.bounds();
+  closed_ = analyzeTopology(mesh_).closed;
   for (const auto& v : mesh_.vertices) vertex_mean_ += v;
   vertex_mean_ /= static_cast<double>(mesh_.vertices.size());
   // Centroid of the enclosed volume (signed tetrahedra from the origin); falls back to the area

@@ -146,6 +146,18 @@ int GraspSimulator::firstLinkInCollision(const Pose& hand_pose, const Eigen::Vec
   for (std::size_t l = 0; l < impl_->shapes.size(); ++l) {
     if (linkHitsObject(impl_->shapes[l], object, queries_)) return static_cast<int>(l);
   }
+  if (object_.closed()) {
+    const auto& inside = object_.surfaceQuery();
+    const auto& box = object_.bounds();
+    for (std::size_t l = 0; l < impl_->shapes.size(); ++l) {
+      if (impl_->shapes[l].empty()) continue;
+      const Eigen::Vector3d centre =
+          impl_->link_poses[l] * impl_->shapes[l].front().origin.translation();
+      const bool in_box =
+          (centre.array() >= box.min.array()).all() && (centre.array() <= box.max.array()).all();
+      if (in_box && inside.contains(centre)) return static_cast<int>(l);
+    }
+  }
   return -1;
 }
 

@@ -55,6 +55,17 @@ TEST(Closing, RejectsAHandThatStartsInCollision) {
   EXPECT_EQ(r.colliding_link, "hand");
 }
 
+TEST(Closing, AHandEntirelyInsideAClosedObjectCollides) {
+  // No link touches a triangle, but every link is inside: that is a collision, not a free pose.
+  const HandModel hand = loadBuiltinHand("armar3");
+  const GraspObject block(primitives::makeBox({1.0, 1.0, 1.0}));
+  GraspSimulator sim(hand, block);
+  EXPECT_GE(sim.firstLinkInCollision(Pose::Identity(), hand.preshape("power").joints), 0);
+  Pose outside = Pose::Identity();
+  outside.translation() = Eigen::Vector3d(2, 0, 0);
+  EXPECT_EQ(sim.firstLinkInCollision(outside, hand.preshape("power").joints), -1);
+}
+
 TEST(Closing, ReportsTooFewContactsWhenClosingOnNothing) {
   const HandModel gripper = loadBuiltinHand("parallel_gripper");
   const GraspObject box(primitives::makeBox({0.02, 0.02, 0.02}));

@@ -33,6 +33,8 @@ class GraspObject {
   Eigen::Vector3d surfaceNormal(const Eigen::Vector3d& point, std::size_t face,
                                 const Eigen::Vector3d& towards) const;
 
+  // True when the mesh is closed (every edge shared by two faces): then inside/outside is defined.
+  bool closed() const { return closed_; }
   // Closest-point queries on the surface (AABB tree, built on first use, thread-safe).
   const reconstruction::MeshQuery& surfaceQuery() const;
 
@@ -45,6 +47,7 @@ class GraspObject {
   Eigen::Vector3d center_of_mass_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d vertex_mean_ = Eigen::Vector3d::Zero();
   double max_radius_ = 0;
+  bool closed_ = false;
   std::vector<Eigen::Vector3d> face_normals_;
   std::vector<std::vector<int>> vertex_faces_;
   std::unique_ptr<CollisionData> collision_;

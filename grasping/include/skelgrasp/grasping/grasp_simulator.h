@@ -51,7 +51,9 @@ class GraspSimulator {
   const GraspObject& object() const { return object_; }
 
   // `hand_pose` is the pose of the hand's root link in the object frame.
-  // First link (index) of the hand intersecting the object, or -1.
+  // First link (index) of the hand intersecting the object, or -1. A link entirely inside a closed
+  // object touches no triangle; it counts as a collision too (the centre of its first shape is
+  // tested for containment).
   int firstLinkInCollision(const Pose& hand_pose, const Eigen::VectorXd& joints);
   bool inCollision(const Pose& hand_pose, const Eigen::VectorXd& joints) {
     return firstLinkInCollision(hand_pose, joints) >= 0;
