@@ -25,6 +25,7 @@ ProgressReporter::ProgressReporter(std::string what, std::size_t total, double m
     : what_(std::move(what)), total_(total), min_interval_s_(min_interval_s) {}
 
 void ProgressReporter::step(std::size_t done) {
+  std::lock_guard<std::mutex> lock(mutex_);
   const double now = watch_.seconds();
   if (now - last_report_s_ < min_interval_s_ && done < total_) return;
   last_report_s_ = now;

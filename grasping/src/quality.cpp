@@ -177,7 +177,7 @@ WrenchSpaceResult evaluateWrenchSpace(const std::vector<Contact>& contacts,
       return result;
     }
   }
-  const Hull hull = convexHull<6>(wrenches, true);
+  const Hull hull = convexHull<6>(wrenches, params.compute_volume);
   if (!hull.ok) {
     result.note = "qhull failed: " + hull.error.substr(0, hull.error.find('\n'));
     return result;

@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
+#include <mutex>
 #include <string>
 
 namespace skelgrasp {
@@ -27,7 +28,7 @@ class Stopwatch {
   std::chrono::steady_clock::time_point start_;
 };
 
-// Reports progress of long batch work at most every `min_interval_s` seconds:
+// Reports progress of long batch work at most every `min_interval_s` seconds (thread-safe):
 // "<what>: 12/40 (30%), ETA 14 s".
 class ProgressReporter {
  public:
@@ -41,6 +42,7 @@ class ProgressReporter {
   double min_interval_s_;
   double last_report_s_ = -1e9;
   Stopwatch watch_;
+  std::mutex mutex_;  // step() may be called from worker threads
 };
 
 }  // namespace skelgrasp

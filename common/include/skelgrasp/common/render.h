@@ -58,4 +58,14 @@ class Canvas {
   std::unique_ptr<Impl> impl_;
 };
 
+// A grouped bar chart as PNG: one group per x label, one bar per series in each group.
+struct BarSeries {
+  std::string label;
+  Rgb colour;
+  std::vector<double> values;  // one per x label
+};
+void saveBarChartPng(const std::string& path, const std::string& title,
+                     const std::vector<std::string>& x_labels, const std::vector<BarSeries>& series,
+                     const std::string& y_label, int width = 900, int height = 420);
+
 }  // namespace skelgrasp::render

@@ -18,6 +18,8 @@ struct QualityParams {
   // (2/3 mu a for a circular patch of radius a); 0 = point contacts. Two point contacts can never
   // hold a torque about the line through them, so a parallel gripper needs this to reach closure.
   double torsional_friction_m = 0;
+  // false: skip the hull volume (force closure and epsilon only), e.g. for robustness samples.
+  bool compute_volume = true;
   // Reproduce the reference implementation (fact sheet §9): every cone edge 45 degrees off the
   // normal whatever mu, epsilon measured from the hull centre (mean of hull vertices), force
   // closure when every facet is within 1e-4 of containing the origin.
