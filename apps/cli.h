@@ -22,6 +22,7 @@ void registerDemoCommand(CLI::App& app, Action& action);
 void registerHandCommands(CLI::App& app, Action& action);
 void registerPlanCommand(CLI::App& app, Action& action);
 void registerBenchPlanCommand(CLI::App& bench, Action& action);
+void registerEvaluateCommands(CLI::App& app, Action& action);
 
 // Prints "skelgrasp: error: <message>" to stderr and returns kExitBadInput.
 int fail(const std::string& message);

@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   cli::registerDemoCommand(app, action);
   cli::registerHandCommands(app, action);
   cli::registerPlanCommand(app, action);
+  cli::registerEvaluateCommands(app, action);
 
   try {
     app.parse(argc, argv);

@@ -1,0 +1,57 @@
+#pragma once
+// Batch evaluation: every object x hand x planner, robustness of the planned grasps, the paper's
+// table and histograms. Resumable, shardable, parallel (TBB). File formats: docs/evaluation.md.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "skelgrasp/common/mesh_io.h"
+#include "skelgrasp/evaluation/robustness.h"
+#include "skelgrasp/skeleton/extraction.h"
+
+namespace skelgrasp::evaluation {
+
+struct BatchParams {
+  std::vector<std::string> objects;                              // mesh files
+  std::vector<std::string> hands = {"armar3", "sdh", "shadow"};  // built-in hand names
+  std::vector<std::string> planners = {"skeleton", "surface"};
+  std::string out_dir = "evaluation";
+  int jobs = 1;                          // objects evaluated in parallel
+  int shard_index = 0, shard_count = 1;  // this process runs objects k with k % count == index
+  double timeout_s = 30;                 // per planner run
+  double vertex_distance_m = 0;          // skeleton planner d
+  std::size_t surface_hypotheses = 500;  // used when no skeleton run gives the pose count
+  // Robustness for up to this many grasps per run, drawn uniformly (seeded) from the kept grasps;
+  // 0 = all of them.
+  std::size_t robustness_grasps = 20;
+  RobustnessParams robustness;      // samples (100), variant
+  grasping::QualityParams quality;  // mu, reference_compat
+  skeleton::SkeletonParams skeleton;
+  MeshLoadOptions load;
+  std::uint64_t seed = 1;
+  // Stop after this many newly evaluated objects (0: no limit); lets tests interrupt a batch.
+  std::size_t max_objects = 0;
+};
+
+struct BatchStats {
+  std::size_t objects_total = 0;    // in this shard
+  std::size_t objects_skipped = 0;  // already finished in out_dir (resumed)
+  std::size_t objects_run = 0;
+  std::size_t runs_failed = 0;
+  double time_s = 0;
+};
+
+// Throws InvalidArgument for bad parameters (unknown hand or planner, shard out of range) and
+// IoError when out_dir cannot be written. Objects that cannot be loaded or processed are recorded
+// as failed runs with their error.
+BatchStats runBatch(const BatchParams& params);
+
+// Rewrites summary.md, summary.csv and the robustness histograms (one PNG per hand) of out_dir
+// from its runs.jsonl and results.jsonl.
+void writeSummary(const std::string& out_dir);
+
+// Joins the runs.jsonl and results.jsonl of shard directories into out_dir (duplicates of a run
+// are kept once) and writes its summary. Throws IoError for a missing or malformed input.
+void mergeBatches(const std::vector<std::string>& shard_dirs, const std::string& out_dir);
+
+}  // namespace skelgrasp::evaluation

@@ -1,0 +1,51 @@
+#pragma once
+// Robustness score r of a grasp (paper Sec. V-B, after Weisz & Allen): the fraction of perturbed
+// hand poses that still close to a force-closure grasp.
+#include <cstdint>
+
+#include "skelgrasp/grasping/grasp.h"
+#include "skelgrasp/grasping/grasp_simulator.h"
+#include "skelgrasp/grasping/quality.h"
+
+namespace skelgrasp::evaluation {
+
+enum class RobustnessVariant {
+  kPaper,      // the hand is moved; sigma 10 mm and 5 degrees; fresh samples per grasp
+  kReference,  // the reference code: the object is moved; sigma 5 mm and 2.5 degrees; the same
+               // samples for every grasp (fact sheet §11)
+};
+RobustnessVariant parseRobustnessVariant(const std::string& text);  // "paper" | "reference"
+const char* toString(RobustnessVariant variant);
+
+struct RobustnessParams {
+  int samples = 100;
+  RobustnessVariant variant = RobustnessVariant::kPaper;
+  // Standard deviations of the pose error; negative: the variant's defaults.
+  double position_sigma_m = -1;
+  double orientation_sigma_rad = -1;
+  std::uint64_t seed = 1;
+  grasping::QualityParams quality;
+  grasping::ClosingParams closing;
+};
+
+struct RobustnessResult {
+  int samples = 0;
+  int force_closure = 0;  // samples that closed to force closure
+  int collisions = 0;     // samples whose perturbed preshape pose hit the object (failures)
+  double score = 0;       // r = force_closure / samples
+  double wilson_low = 0, wilson_high = 0;  // 95 % Wilson score interval of r
+  double time_s = 0;
+};
+
+// Wilson score interval for k successes in n trials (z = 1.96).
+std::pair<double, double> wilsonInterval(int successes, int trials, double z = 1.959964);
+
+// The perturbations are applied about the centre of the grasp's contacts (their mean point),
+// rotation axes along the object frame. `grasp_index` decorrelates the paper variant's samples
+// between grasps while keeping them a function of (seed, grasp_index). Throws InvalidArgument for
+// samples < 1 or a grasp without contacts.
+RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
+                                    const grasping::Grasp& grasp, const RobustnessParams& params,
+                                    std::uint64_t grasp_index = 0);
+
+}  // namespace skelgrasp::evaluation

@@ -1,0 +1,84 @@
+#include "skelgrasp/evaluation/robustness.h"
+
+#include <cmath>
+#include <random>
+
+#include "skelgrasp/common/logging.h"
+
+namespace skelgrasp::evaluation {
+
+RobustnessVariant parseRobustnessVariant(const std::string& text) {
+  if (text == "paper") return RobustnessVariant::kPaper;
+  if (text == "reference") return RobustnessVariant::kReference;
+  throw InvalidArgument("unknown robustness variant '" + text + "' (use paper or reference)");
+}
+
+const char* toString(RobustnessVariant variant) {
+  return variant == RobustnessVariant::kPaper ? "paper" : "reference";
+}
+
+std::pair<double, double> wilsonInterval(int successes, int trials, double z) {
+  if (trials <= 0) return {0.0, 1.0};
+  const double n = trials, p = successes / n, z2 = z * z;
+  const double centre = (p + z2 / (2 * n)) / (1 + z2 / n);
+  const double half = z * std::sqrt(p * (1 - p) / n + z2 / (4 * n * n)) / (1 + z2 / n);
+  return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
+}
+
+RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
+                                    const grasping::Grasp& grasp, const RobustnessParams& params,
+                                    std::uint64_t grasp_index) {
+  if (params.samples < 1) throw InvalidArgument("robustness: need at least one sample");
+  if (grasp.contacts.empty()) throw InvalidArgument("robustness: the grasp has no contacts");
+  Stopwatch watch;
+  const bool paper = params.variant == RobustnessVariant::kPaper;
+  const double sigma_p =
+      params.position_sigma_m >= 0 ? params.position_sigma_m : (paper ? 0.010 : 0.005);
+  const double sigma_r = params.orientation_sigma_rad >= 0
+                             ? params.orientation_sigma_rad
+                             : (paper ? 5.0 : 2.5) * 3.14159265358979323846 / 180;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (const auto& c : grasp.contacts)
+    centre += c.point / static_cast<double>(grasp.contacts.size());
+  const auto& preshape = simulator.hand().preshape(grasp.preshape);
+  grasping::ClosingParams closing = params.closing;
+  if (!paper) closing.palm_contacts = false;  // the reference adds no palm contacts here
+  grasping::QualityParams quality = params.quality;
+  quality.compute_volume = false;  // only force closure counts
+  // Paper: fresh samples per grasp; reference: one default-seeded sequence for every grasp.
+  std::mt19937_64 rng(paper ? params.seed * 0x9E3779B97F4A7C15ULL + grasp_index : params.seed);
+  std::normal_distribution<double> position(0.0, sigma_p), angle(0.0, sigma_r);
+
+  RobustnessResult result;
+  result.samples = params.samples;
+  for (int i = 0; i < params.samples; ++i) {
+    const Eigen::Vector3d dp(position(rng), position(rng), position(rng));
+    const double roll = angle(rng), pitch = angle(rng), yaw = angle(rng);
+    Pose error = Pose::Identity();
+    error.linear() = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+                      Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+                      Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
+                         .toRotationMatrix();
+    error.translation() = dp;
+    // The error acts about the contact centre: x -> c + R (x - c) + dp. Moving the object by that
+    // error is moving the hand by its inverse.
+    const Pose about = Eigen::Translation3d(centre) * error * Eigen::Translation3d(-centre);
+    const Pose hand_pose = paper ? about * grasp.hand_pose : about.inverse() * grasp.hand_pose;
+    if (simulator.inCollision(hand_pose, preshape.joints)) {
+      ++result.collisions;
+      continue;
+    }
+    const auto closed = simulator.close(hand_pose, preshape, closing);
+    if (!closed.status.ok()) continue;
+    if (grasping::evaluateGrasp(closed.contacts, simulator.object(), quality).force_closure) {
+      ++result.force_closure;
+    }
+  }
+  result.score = static_cast<double>(result.force_closure) / result.samples;
+  std::tie(result.wilson_low, result.wilson_high) =
+      wilsonInterval(result.force_closure, result.samples);
+  result.time_s = watch.seconds();
+  return result;
+}
+
+}  // namespace skelgrasp::evaluation

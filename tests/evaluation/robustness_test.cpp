@@ -1,0 +1,128 @@
+#include "skelgrasp/evaluation/robustness.h"
+
+#include <gtest/gtest.h>
+
+#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/grasping/planners.h"
+#include "skelgrasp/skeleton/extraction.h"
+
+namespace skelgrasp::evaluation {
+namespace {
+
+using grasping::Grasp;
+
+// A kept grasp at a known pose: closes the hand there and scores it.
+Grasp graspAt(grasping::GraspSimulator& sim, const Pose& gcp, const std::string& preshape_name) {
+  const auto& preshape = sim.hand().preshape(preshape_name);
+  Grasp g;
+  g.preshape = preshape_name;
+  g.gcp_pose = gcp;
+  g.hand_pose = sim.handPoseForGcp(gcp, preshape);
+  const auto closed = sim.close(g.hand_pose, preshape);
+  g.joints = closed.joints;
+  g.contacts = closed.contacts;
+  return g;
+}
+
+Pose frame(const Eigen::Vector3d& position, const Eigen::Vector3d& approach,
+           const Eigen::Vector3d& spread) {
+  Pose p = Pose::Identity();
+  p.linear() = frameFromZY(approach, spread);
+  p.translation() = position;
+  return p;
+}
+
+TEST(Robustness, WilsonIntervalBracketsTheRate) {
+  const auto [low, high] = wilsonInterval(90, 100);
+  EXPECT_LT(low, 0.9);
+  EXPECT_GT(high, 0.9);
+  EXPECT_NEAR(low, 0.825, 0.005);  // textbook value for 90/100
+  EXPECT_NEAR(high, 0.945, 0.005);
+  EXPECT_EQ(wilsonInterval(0, 10).first, 0.0);
+  EXPECT_NEAR(wilsonInterval(10, 10).second, 1.0, 1e-12);
+}
+
+TEST(Robustness, DeepPowerGraspAroundACylinderIsRobust) {
+  const auto hand = grasping::loadBuiltinHand("armar3");
+  const TriangleMesh mesh = primitives::makeCylinder(0.035, 0.2, 48, 10);
+  const grasping::GraspObject object(mesh);
+  const auto skel = skeleton::extractSkeleton(mesh);
+  grasping::SkeletonPlannerParams params;
+  params.max_grasps = 1;
+  params.power = true;
+  params.precision = false;
+  const auto plan = grasping::planSkeletonGrasps(hand, object, skel.skeleton, params);
+  ASSERT_FALSE(plan.grasps.empty());
+  grasping::GraspSimulator sim(hand, object);
+  RobustnessParams rp;
+  rp.samples = 60;
+  const auto r = evaluateRobustness(sim, plan.grasps.front(), rp);
+  EXPECT_GT(r.score, 0.7) << r.force_closure << " of " << r.samples << ", " << r.collisions
+                          << " collisions";
+  EXPECT_LE(r.wilson_low, r.score);
+  EXPECT_GE(r.wilson_high, r.score);
+}
+
+TEST(Robustness, FingertipGraspOnAThinEdgeIsFragile) {
+  // Gripper jaws overlapping a 6 mm plate by only 4 mm at its edge: a 10 mm error loses it.
+  const auto hand = grasping::loadBuiltinHand("parallel_gripper");
+  const grasping::GraspObject plate(primitives::makeBox({0.12, 0.12, 0.006}, 4));
+  grasping::GraspSimulator sim(hand, plate);
+  const double tip_beyond_gcp = 0.1121 - 0.1034;  // fingertip reach past the gcp (m)
+  const Grasp g = graspAt(sim, frame({0.06 - 0.004 + tip_beyond_gcp, 0, 0}, {-1, 0, 0}, {0, 1, 0}),
+                          "precision");
+  ASSERT_EQ(g.contacts.size(), 2u);
+  grasping::QualityParams soft;
+  soft.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
+  ASSERT_TRUE(grasping::evaluateGrasp(g.contacts, plate, soft).force_closure);
+  RobustnessParams rp;
+  rp.samples = 60;
+  rp.quality = soft;
+  const auto r = evaluateRobustness(sim, g, rp);
+  EXPECT_LT(r.score, 0.5) << r.force_closure << " of " << r.samples;
+}
+
+TEST(Robustness, IsZeroWhenEveryPerturbedPoseCollides) {
+  // The hand sits in the middle of a large block: every perturbation still intersects it.
+  const auto hand = grasping::loadBuiltinHand("sdh");
+  const grasping::GraspObject block(primitives::makeBox({1.0, 1.0, 1.0}));
+  grasping::GraspSimulator sim(hand, block);
+  Grasp g;
+  g.preshape = "power";
+  g.hand_pose = Pose::Identity();
+  grasping::Contact c;
+  c.point = Eigen::Vector3d(0.5, 0, 0);
+  g.contacts = {c};
+  RobustnessParams rp;
+  rp.samples = 25;
+  const auto r = evaluateRobustness(sim, g, rp);
+  EXPECT_EQ(r.collisions, 25);
+  EXPECT_EQ(r.score, 0.0);
+}
+
+TEST(Robustness, IsIdenticalForTheSameSeed) {
+  const auto hand = grasping::loadBuiltinHand("armar3");
+  const TriangleMesh mesh = primitives::makeCapsule(0.025, 0.12);
+  const grasping::GraspObject object(mesh);
+  grasping::SkeletonPlannerParams params;
+  params.max_grasps = 1;
+  const auto plan =
+      grasping::planSkeletonGrasps(hand, object, skeleton::extractSkeleton(mesh).skeleton, params);
+  ASSERT_FALSE(plan.grasps.empty());
+  grasping::GraspSimulator sim(hand, object);
+  const Grasp& g = plan.grasps.front();
+  RobustnessParams rp;
+  rp.samples = 30;
+  rp.seed = 11;
+  const auto a = evaluateRobustness(sim, g, rp, 3), b = evaluateRobustness(sim, g, rp, 3);
+  EXPECT_EQ(a.force_closure, b.force_closure);
+  EXPECT_EQ(a.collisions, b.collisions);
+  rp.variant = RobustnessVariant::kReference;  // the reference's smaller errors on the object
+  const auto ref = evaluateRobustness(sim, g, rp, 3);
+  EXPECT_EQ(ref.samples, 30);
+  EXPECT_EQ(ref.force_closure,
+            evaluateRobustness(sim, g, rp, 4).force_closure);  // same samples per grasp
+}
+
+}  // namespace
+}  // namespace skelgrasp::evaluation
