@@ -57,6 +57,14 @@ HypothesisOutcome evaluateHypothesis(GraspSimulator& simulator, const Pose& gcp,
   grasp.gcp_pose = poseAt(retreat);
   grasp.hand_pose = simulator.handPoseForGcp(grasp.gcp_pose, preshape);
   grasp.retreat_m = retreat;
+  if (params.scene) {
+    const SceneCheckResult scene = params.scene->check(grasp.hand_pose, preshape.joints, approach);
+    if (scene.collision) {
+      out.reason = reason::kSceneCollision;
+      out.scene_link = scene.link;
+      return out;
+    }
+  }
   const ClosingResult closing = simulator.close(grasp.hand_pose, preshape, params.closing);
   grasp.joints = closing.joints;
   if (!closing.status.ok()) {

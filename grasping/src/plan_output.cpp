@@ -60,6 +60,7 @@ nlohmann::json planToJson(const PlanResult& r, const HandModel& hand, const std:
             {"ms_per_valid_grasp",
              s.force_closure ? nlohmann::json(s.msPerValidGrasp()) : nlohmann::json(nullptr)},
             {"rejections", s.rejections},
+            {"scene_collision_links", s.scene_collision_links},
             {"by_type", {{"power", s.power}, {"precision", s.precision}}},
             {"kept", r.grasps.size()},
             {"timed_out", s.timed_out},

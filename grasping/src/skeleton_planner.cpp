@@ -193,6 +193,7 @@ PlanResult planSkeletonGrasps(const HandModel& hand, const GraspObject& object,
         }
         if (!outcome.grasp) {
           ++summary.rejections[outcome.reason];
+          if (!outcome.scene_link.empty()) ++summary.scene_collision_links[outcome.scene_link];
           continue;
         }
         Grasp grasp = std::move(*outcome.grasp);

@@ -72,6 +72,7 @@ PlanResult planSurfaceGrasps(const HandModel& hand, const GraspObject& object,
       ++summary.force_closure;
     if (!outcome.grasp) {
       ++summary.rejections[outcome.reason];
+      if (!outcome.scene_link.empty()) ++summary.scene_collision_links[outcome.scene_link];
       continue;
     }
     Grasp grasp = std::move(*outcome.grasp);

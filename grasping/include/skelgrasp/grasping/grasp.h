@@ -54,7 +54,8 @@ struct PlanSummary {
   std::size_t force_closure = 0;  // generated grasps with force closure
   double planning_s = 0;
   std::map<std::string, std::size_t> rejections;
-  std::size_t precision = 0, power = 0;  // kept grasps by type
+  std::map<std::string, std::size_t> scene_collision_links;  // first colliding link per rejection
+  std::size_t precision = 0, power = 0;                      // kept grasps by type
   bool timed_out = false;
   bool max_grasps_reached = false;
 

@@ -4,6 +4,7 @@
 #include "skelgrasp/grasping/grasp.h"
 #include "skelgrasp/grasping/grasp_simulator.h"
 #include "skelgrasp/grasping/quality.h"
+#include "skelgrasp/grasping/scene.h"
 
 namespace skelgrasp::grasping {
 
@@ -14,12 +15,16 @@ struct HypothesisParams {
   double min_epsilon = 0;
   QualityParams quality;
   ClosingParams closing;
+  // When set, poses whose open hand or straight approach hits the scene are rejected
+  // (scene_collision) before closing. Object and scene share one frame (the scan's).
+  const SceneChecker* scene = nullptr;
 };
 
 struct HypothesisOutcome {
   std::optional<Grasp> grasp;    // set when kept (force closure and epsilon >= minimum)
   const char* reason = nullptr;  // set when not kept
   bool generated = false;        // placed collision-free and closed
+  std::string scene_link;        // scene_collision: the first colliding link
 };
 
 // `gcp` is the hypothesis' grasp centre point pose (object frame; z = approach direction).

@@ -1,0 +1,92 @@
+#pragma once
+// The grasp's surroundings: an occupancy octree (OctoMap) of the scene points that are not the
+// target object, built by inserting them as rays from the sensor so free space is known, plus the
+// support plane as a half-space. Grasps whose hand hits either — at the final pose or along the
+// approach from a pre-grasp distance — are rejected with reason "scene_collision".
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "skelgrasp/common/error.h"
+#include "skelgrasp/common/point_cloud.h"
+#include "skelgrasp/grasping/grasp.h"
+#include "skelgrasp/grasping/hand_model.h"
+
+namespace skelgrasp::grasping {
+
+namespace reason {
+inline constexpr const char* kSceneCollision = "scene_collision";
+}
+
+enum class UnknownSpace {
+  kFree,      // cells no ray has seen count as free (default: the occluded back of the target and
+              // the space under an unseen part of the table would otherwise block most grasps)
+  kOccupied,  // cautious: unseen cells within the scene's bounding box count as occupied, except
+              // within `target_clearance_m` of the target box (which holds the unseen back side)
+};
+
+struct SceneOccupancyParams {
+  double resolution_m = 0.005;
+  double max_range_m = 4.0;  // rays longer than this are cut (free up to the range, no hit)
+  UnknownSpace unknown = UnknownSpace::kFree;
+  double target_clearance_m = 0.03;
+};
+
+class SceneOccupancy {
+ public:
+  // `obstacles` in the scan frame; rays start at `sensor_origin`. `target_box` (scan frame) is only
+  // used for UnknownSpace::kOccupied. Throws InvalidArgument for a non-positive resolution.
+  SceneOccupancy(const PointCloud& obstacles, const Eigen::Vector3d& sensor_origin,
+                 const SceneOccupancyParams& params = {}, const AxisAlignedBox& target_box = {});
+  ~SceneOccupancy();
+  SceneOccupancy(const SceneOccupancy&) = delete;
+  SceneOccupancy& operator=(const SceneOccupancy&) = delete;
+
+  std::size_t occupiedLeaves() const;
+  std::size_t freeLeaves() const;
+  double resolution() const;
+  bool isOccupied(const Eigen::Vector3d& point) const;
+  // OctoMap binary file (.bt). Throws IoError.
+  void writeBinary(const std::string& path) const;
+
+  struct Impl;
+  const Impl& impl() const { return *impl_; }
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+// A support plane a x + b y + c z + d = 0 with the object on the positive side.
+struct SupportPlane {
+  Eigen::Vector4d coefficients = Eigen::Vector4d(0, 0, 1, 0);
+};
+
+struct SceneCheckParams {
+  double pregrasp_distance_m = 0.10;  // the approach starts this far back along -approach
+  double path_step_m = 0.005;
+  double plane_tolerance_m = 0.002;  // hand geometry may dip this far below the plane
+};
+
+struct SceneCheckResult {
+  bool collision = false;
+  std::string link;       // first colliding link
+  std::string obstacle;   // "octree" or "support_plane"
+  double distance_m = 0;  // along the approach path, from the final pose back
+};
+
+// Checks a hand (in the scan frame, at `hand_pose` in configuration `q`) and its straight approach
+// from the pre-grasp distance. Either of occupancy / plane may be absent.
+class SceneChecker {
+ public:
+  SceneChecker(const HandModel& hand, const SceneOccupancy* occupancy,
+               std::optional<SupportPlane> plane, const SceneCheckParams& params = {});
+  ~SceneChecker();
+  SceneCheckResult check(const Pose& hand_pose, const Eigen::VectorXd& q,
+                         const Eigen::Vector3d& approach) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace skelgrasp::grasping

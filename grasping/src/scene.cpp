@@ -1,0 +1,176 @@
+// OctoMap is used only in this file; FCL checks the hand against its octree and a half-space.
+#include "skelgrasp/grasping/scene.h"
+
+#include <fcl/geometry/octree/octree.h>
+#include <fcl/geometry/shape/halfspace.h>
+#include <octomap/OcTree.h>
+
+#include "fcl_conversions.h"
+#include "skelgrasp/common/logging.h"
+
+namespace skelgrasp::grasping {
+
+struct SceneOccupancy::Impl {
+  std::shared_ptr<octomap::OcTree> tree;
+};
+
+SceneOccupancy::SceneOccupancy(const PointCloud& obstacles, const Eigen::Vector3d& sensor_origin,
+                               const SceneOccupancyParams& params, const AxisAlignedBox& target_box)
+    : impl_(std::make_unique<Impl>()) {
+  if (!(params.resolution_m > 0))
+    throw InvalidArgument("scene occupancy: resolution must be positive");
+  Stopwatch watch;
+  impl_->tree = std::make_shared<octomap::OcTree>(params.resolution_m);
+  octomap::Pointcloud cloud;
+  cloud.reserve(obstacles.size());
+  for (const auto& p : obstacles.points) {
+    if (p.allFinite())
+      cloud.push_back(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                      static_cast<float>(p.z()));
+  }
+  const octomap::point3d origin(static_cast<float>(sensor_origin.x()),
+                                static_cast<float>(sensor_origin.y()),
+                                static_cast<float>(sensor_origin.z()));
+  impl_->tree->insertPointCloud(cloud, origin, params.max_range_m, /*lazy_eval=*/false,
+                                /*discretize=*/true);
+  if (params.unknown == UnknownSpace::kOccupied && !obstacles.empty()) {
+    // Unseen cells of the scene's box become occupied, away from the target.
+    AxisAlignedBox region = obstacles.bounds();
+    if (!target_box.empty()) {
+      region.extend(target_box.min);
+      region.extend(target_box.max);
+    }
+    const double r = params.resolution_m;
+    const Eigen::Vector3d lo =
+        target_box.empty() ? Eigen::Vector3d::Constant(1e9)
+                           : Eigen::Vector3d(target_box.min.array() - params.target_clearance_m);
+    const Eigen::Vector3d hi =
+        target_box.empty() ? Eigen::Vector3d::Constant(-1e9)
+                           : Eigen::Vector3d(target_box.max.array() + params.target_clearance_m);
+    std::size_t filled = 0;
+    for (double x = region.min.x(); x <= region.max.x(); x += r) {
+      for (double y = region.min.y(); y <= region.max.y(); y += r) {
+        for (double z = region.min.z(); z <= region.max.z(); z += r) {
+          const Eigen::Vector3d p(x, y, z);
+          if ((p.array() >= lo.array()).all() && (p.array() <= hi.array()).all()) continue;
+          const octomap::point3d q(static_cast<float>(x), static_cast<float>(y),
+                                   static_cast<float>(z));
+          if (impl_->tree->search(q) == nullptr) {
+            impl_->tree->updateNode(q, true, true);
+            ++filled;
+          }
+        }
+      }
+    }
+    impl_->tree->updateInnerOccupancy();
+    log().debug("scene occupancy: {} unseen cells marked occupied", filled);
+  }
+  impl_->tree->prune();
+  log().debug("scene occupancy: {} points -> {} occupied / {} free leaves in {:.2f} s",
+              cloud.size(), occupiedLeaves(), freeLeaves(), watch.seconds());
+}
+
+SceneOccupancy::~SceneOccupancy() = default;
+
+std::size_t SceneOccupancy::occupiedLeaves() const {
+  std::size_t n = 0;
+  for (auto it = impl_->tree->begin_leafs(); it != impl_->tree->end_leafs(); ++it)
+    n += impl_->tree->isNodeOccupied(*it);
+  return n;
+}
+
+std::size_t SceneOccupancy::freeLeaves() const {
+  std::size_t n = 0;
+  for (auto it = impl_->tree->begin_leafs(); it != impl_->tree->end_leafs(); ++it)
+    n += !impl_->tree->isNodeOccupied(*it);
+  return n;
+}
+
+double SceneOccupancy::resolution() const {
+  return impl_->tree->getResolution();
+}
+
+bool SceneOccupancy::isOccupied(const Eigen::Vector3d& p) const {
+  const auto* node = impl_->tree->search(static_cast<double>(p.x()), static_cast<double>(p.y()),
+                                         static_cast<double>(p.z()));
+  return node != nullptr && impl_->tree->isNodeOccupied(node);
+}
+
+void SceneOccupancy::writeBinary(const std::string& path) const {
+  if (!impl_->tree->writeBinaryConst(path)) throw IoError(path, "cannot write OctoMap file");
+}
+
+struct SceneChecker::Impl {
+  const HandModel* hand = nullptr;
+  SceneCheckParams params;
+  std::unique_ptr<fcl::CollisionObjectd> octree;
+  std::unique_ptr<fcl::CollisionObjectd> halfspace;
+  std::vector<std::vector<std::pair<std::unique_ptr<fcl::CollisionObjectd>, Pose>>>
+      shapes;  // per link
+};
+
+SceneChecker::SceneChecker(const HandModel& hand, const SceneOccupancy* occupancy,
+                           std::optional<SupportPlane> plane, const SceneCheckParams& params)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->hand = &hand;
+  impl_->params = params;
+  if (occupancy) {
+    auto geometry = std::make_shared<fcl::OcTreed>(occupancy->impl().tree);
+    impl_->octree = std::make_unique<fcl::CollisionObjectd>(geometry);
+    impl_->octree->computeAABB();
+  }
+  if (plane) {
+    // The obstacle is the half-space below the plane: n . x <= -d - tolerance.
+    Eigen::Vector3d n = plane->coefficients.head<3>();
+    const double norm = n.norm();
+    if (norm < 1e-12) throw InvalidArgument("scene check: degenerate support plane");
+    n /= norm;
+    const double offset = -plane->coefficients[3] / norm - params.plane_tolerance_m;
+    impl_->halfspace =
+        std::make_unique<fcl::CollisionObjectd>(std::make_shared<fcl::Halfspaced>(n, offset));
+  }
+  impl_->shapes.resize(hand.links().size());
+  for (std::size_t l = 0; l < hand.links().size(); ++l) {
+    for (const auto& shape : hand.links()[l].shapes) {
+      impl_->shapes[l].emplace_back(
+          std::make_unique<fcl::CollisionObjectd>(internal::toFclGeometry(shape)), shape.origin);
+    }
+  }
+}
+
+SceneChecker::~SceneChecker() = default;
+
+SceneCheckResult SceneChecker::check(const Pose& hand_pose, const Eigen::VectorXd& q,
+                                     const Eigen::Vector3d& approach) const {
+  SceneCheckResult result;
+  const auto link_poses = impl_->hand->linkPoses(q);
+  const Eigen::Vector3d dir = approach.normalized();
+  const int steps =
+      static_cast<int>(std::ceil(impl_->params.pregrasp_distance_m / impl_->params.path_step_m));
+  for (int i = 0; i <= steps; ++i) {
+    const double back = std::min(impl_->params.pregrasp_distance_m, i * impl_->params.path_step_m);
+    const Pose pose = Eigen::Translation3d(-back * dir) * hand_pose;
+    for (std::size_t l = 0; l < impl_->shapes.size(); ++l) {
+      for (auto& [object, origin] : impl_->shapes[l]) {
+        object->setTransform(internal::toFcl(pose * link_poses[l] * origin));
+        object->computeAABB();
+        for (const auto* obstacle : {impl_->octree.get(), impl_->halfspace.get()}) {
+          if (!obstacle) continue;
+          fcl::CollisionRequestd request;
+          fcl::CollisionResultd hit;
+          fcl::collide(object.get(), obstacle, request, hit);
+          if (hit.isCollision()) {
+            result.collision = true;
+            result.link = impl_->hand->links()[l].name;
+            result.obstacle = obstacle == impl_->octree.get() ? "octree" : "support_plane";
+            result.distance_m = back;
+            return result;
+          }
+        }
+      }
+    }
+  }
+  return result;
+}
+
+}  // namespace skelgrasp::grasping

@@ -1,0 +1,89 @@
+// Scene occupancy and the approach check.
+#include "skelgrasp/grasping/scene.h"
+
+#include <gtest/gtest.h>
+
+#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/grasping/planners.h"
+#include "skelgrasp/skeleton/extraction.h"
+#include "test_support.h"
+
+namespace skelgrasp::grasping {
+namespace {
+
+// A wall of points: the plane x = `x`, |y| <= half, 0 <= z <= height, 4 mm spacing.
+PointCloud wall(double x, double half, double height) {
+  PointCloud cloud;
+  for (double y = -half; y <= half; y += 0.004) {
+    for (double z = 0; z <= height; z += 0.004) cloud.points.emplace_back(x, y, z);
+  }
+  return cloud;
+}
+
+TEST(SceneOccupancy, RaysMarkFreeSpaceAndHitsOccupied) {
+  const SceneOccupancy scene(wall(0.5, 0.1, 0.2), Eigen::Vector3d(0, 0, 0.1));
+  EXPECT_TRUE(scene.isOccupied({0.5, 0.0, 0.1}));
+  EXPECT_FALSE(scene.isOccupied({0.25, 0.0, 0.1}));  // seen free along the rays
+  EXPECT_GT(scene.occupiedLeaves(), 1000u);
+  EXPECT_GT(scene.freeLeaves(), 0u);
+  const std::string path = test::tempDir("scene_bt") + "/scene.bt";
+  scene.writeBinary(path);
+  EXPECT_GT(std::filesystem::file_size(path), 100u);
+}
+
+TEST(SceneOccupancy, UnknownSpaceCanCountAsOccupied) {
+  PointCloud floor;
+  for (double x = -0.2; x <= 0.2; x += 0.004) {
+    for (double y = -0.2; y <= 0.2; y += 0.004) floor.points.emplace_back(x, y, 0.0);
+  }
+  SceneOccupancyParams cautious;
+  cautious.resolution_m = 0.01;
+  cautious.unknown = UnknownSpace::kOccupied;
+  AxisAlignedBox target;
+  target.extend({-0.03, -0.03, 0.0});
+  target.extend({0.03, 0.03, 0.1});
+  // The sensor looks straight down: below the floor is unseen -> occupied; near the target: free.
+  const SceneOccupancy scene(floor, Eigen::Vector3d(0, 0, 0.6), cautious, target);
+  EXPECT_TRUE(scene.isOccupied({0.15, 0.15, -0.0}));
+  EXPECT_FALSE(scene.isOccupied({0.0, 0.0, 0.05}));
+}
+
+TEST(SceneCheck, ApproachesThroughAWallAreRejected) {
+  // A cylinder standing on z = 0 with a wall 6 cm beyond its +x side; the sensor is at -x.
+  const auto hand = loadBuiltinHand("armar3");
+  TriangleMesh mesh = primitives::makeCylinder(0.035, 0.2, 48, 10);
+  mesh.transform(Eigen::Isometry3d(Eigen::Translation3d(0, 0, 0.1)));
+  const GraspObject object(mesh);
+  const SceneOccupancy scene(wall(0.095, 0.3, 0.35), Eigen::Vector3d(-0.8, 0, 0.3));
+  const SceneChecker checker(hand, &scene, SupportPlane{Eigen::Vector4d(0, 0, 1, 0)});
+  SkeletonPlannerParams params;
+  params.hypothesis.scene = &checker;
+  const auto plan =
+      planSkeletonGrasps(hand, object, skeleton::extractSkeleton(mesh).skeleton, params);
+  ASSERT_FALSE(plan.grasps.empty());
+  EXPECT_GT(plan.summary.rejections.at(reason::kSceneCollision), 10u);
+  EXPECT_FALSE(plan.summary.scene_collision_links.empty());
+  for (const auto& g : plan.grasps) {
+    // No kept grasp comes from the wall side, none from below the table, and none is in collision.
+    const Eigen::Vector3d approach = g.gcp_pose.rotation().col(2);
+    EXPECT_GT(approach.x(), -0.5) << "grasp " << g.id << " approaches from the wall side";
+    EXPECT_FALSE(checker.check(g.hand_pose, g.joints, approach).collision);
+  }
+}
+
+TEST(SceneCheck, TheSupportPlaneBlocksHandsBelowIt) {
+  const auto hand = loadBuiltinHand("sdh");
+  const SceneChecker checker(hand, nullptr, SupportPlane{Eigen::Vector4d(0, 0, 1, 0)});
+  Pose above = Pose::Identity(), below = Pose::Identity();
+  above.translation() = Eigen::Vector3d(0, 0, 0.3);
+  below.translation() = Eigen::Vector3d(0, 0, -0.05);
+  const auto q = hand.preshape("power").joints;
+  // Approaching downwards from above: the pre-grasp path goes up, away from the table.
+  EXPECT_FALSE(checker.check(above, q, Eigen::Vector3d(0, 0, -1)).collision);
+  const auto hit = checker.check(below, q, Eigen::Vector3d(0, 0, -1));
+  EXPECT_TRUE(hit.collision);
+  EXPECT_EQ(hit.obstacle, "support_plane");
+}
+
+}  // namespace
+}  // namespace skelgrasp::grasping
