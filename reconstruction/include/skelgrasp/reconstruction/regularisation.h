@@ -13,9 +13,13 @@ namespace skelgrasp::reconstruction {
 enum class RegularisationMethod {
   kAlphaWrap,  // CGAL 3D alpha wrapping of the triangle soup (default)
   kNone,       // use the input as is; it must already be a closed single-part 2-manifold
+  // Use the input as is when it already is a closed, consistently oriented, self-intersection-free
+  // 2-manifold (parts beyond the largest holding at most join_area_fraction of the area are
+  // dropped as debris), else alpha wrap. For surfaces such as Poisson's that usually need nothing.
+  kAuto,
 };
 
-RegularisationMethod parseRegularisationMethod(const std::string& text);  // "alpha_wrap" | "none"
+RegularisationMethod parseRegularisationMethod(const std::string& text);  // alpha_wrap|none|auto
 const char* toString(RegularisationMethod method);
 
 struct RegularisationParams {
@@ -41,7 +45,7 @@ struct RegularisationParams {
 };
 
 struct RegularisationReport {
-  std::string method;
+  std::string method;  // as requested; kAuto reports "auto/as_is" or "auto/alpha_wrap"
   MeshTopology input;
   MeshTopology output;
   double bbox_diagonal_m = 0;
