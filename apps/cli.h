@@ -19,6 +19,11 @@ void registerSkeletonCommand(CLI::App& app, Action& action);
 void registerShapeCommand(CLI::App& app, Action& action);
 void registerBenchCommand(CLI::App& app, Action& action);
 void registerDemoCommand(CLI::App& app, Action& action);
+void registerReconstructCommand(CLI::App& app, Action& action);
+void registerIngestCommand(CLI::App& app, Action& action);
+void registerDatasetsCommand(CLI::App& app, Action& action);
+// Adds `bench reconstruct`; call after registerBenchCommand.
+void registerBenchReconstructCommand(CLI::App& app, Action& action);
 
 // Prints "skelgrasp: error: <message>" to stderr and returns kExitBadInput.
 int fail(const std::string& message);

@@ -28,6 +28,10 @@ int main(int argc, char** argv) {
   cli::registerShapeCommand(app, action);
   cli::registerBenchCommand(app, action);
   cli::registerDemoCommand(app, action);
+  cli::registerReconstructCommand(app, action);
+  cli::registerIngestCommand(app, action);
+  cli::registerDatasetsCommand(app, action);
+  cli::registerBenchReconstructCommand(app, action);
 
   try {
     app.parse(argc, argv);
