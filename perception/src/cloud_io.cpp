@@ -36,6 +36,28 @@ void checkReadable(const std::string& path) {
   if (fs::file_size(path, ec) == 0) throw IoError(path, "file is empty");
 }
 
+// PCDReader::read trusts a header that readHeader accepted, and readHeader accepts text without
+// a single PCD keyword (no fields, no points), on which read then crashes: check it first.
+void checkPcdHeader(pcl::PCDReader& reader, const std::string& path) {
+  pcl::PCLPointCloud2 header;
+  Eigen::Vector4f origin;
+  Eigen::Quaternionf orientation;
+  int version = 0, data_type = 0;
+  unsigned int data_start = 0;
+  if (reader.readHeader(path, header, origin, orientation, version, data_type, data_start) < 0) {
+    throw IoError(path, "cannot parse pcd header");
+  }
+  if (header.fields.empty()) throw IoError(path, "cannot parse pcd header: no FIELDS");
+  for (const auto& f : header.fields) {
+    const bool size_ok = f.datatype >= pcl::PCLPointField::INT8 &&
+                         f.datatype <= pcl::PCLPointField::FLOAT64 && f.count >= 1;
+    if (!size_ok) throw IoError(path, "cannot parse pcd header: bad field '" + f.name + "'");
+  }
+  if (std::size_t{header.width} * header.height == 0)
+    throw IoError(path, "point cloud has no points");
+  if (data_start == 0) throw IoError(path, "cannot parse pcd header: no DATA line");
+}
+
 }  // namespace
 
 double normaliseUnits(PointCloud& cloud, const CloudLoadOptions& options, const std::string& source,
@@ -81,6 +103,7 @@ PointCloud loadPointCloud(const std::string& path, const CloudLoadOptions& optio
     if (ext == "pcd") {
       pcl::PCDReader reader;
       int version = 0;
+      checkPcdHeader(reader, path);
       status = reader.read(path, blob, origin, orientation, version);
     } else {
       pcl::PLYReader reader;

@@ -130,8 +130,8 @@ void validate(const DepthCameraParams& p) {
 }  // namespace
 
 Pose lookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target, const Eigen::Vector3d& up) {
+  if (!((target - eye).norm() > 0)) throw InvalidArgument("lookAt: eye and target coincide");
   const Eigen::Vector3d z = (target - eye).normalized();
-  if (!z.allFinite()) throw InvalidArgument("lookAt: eye and target coincide");
   Eigen::Vector3d x = z.cross(up);
   if (x.norm() < 1e-9) x = anyPerpendicular(z);  // looking along `up`
   x.normalize();

@@ -63,36 +63,40 @@ std::optional<SupportPlane> ransacPlane(const PointCloud& cloud, const std::vect
   return plane;
 }
 
-// Extracts up to params.plane_candidates large planes and returns the one nearest to the sensor.
+// Share of a plane's inliers within half the inlier distance: sensor noise on a real plane keeps
+// it high, a band around a curved surface spreads the residuals evenly (about one half).
+double flatness(const PointCloud& cloud, const std::vector<int>& inliers, const SupportPlane& plane,
+                double distance) {
+  std::size_t core = 0;
+  for (int i : inliers) core += std::abs(plane.signedDistance(cloud.points[i])) <= 0.5 * distance;
+  return inliers.empty() ? 0.0 : static_cast<double>(core) / static_cast<double>(inliers.size());
+}
+
+// Extracts up to params.plane_candidates large planes one after the other, keeps the flat ones
+// and returns, among those nearly as large as the largest, the one nearest to the sensor.
 std::optional<SupportPlane> fitPlane(const PointCloud& cloud, const std::vector<int>& indices,
                                      const SceneParams& params, std::vector<int>& inliers_out) {
   const double needed = params.min_plane_fraction * static_cast<double>(indices.size());
   std::vector<int> remaining = indices;
-  std::optional<SupportPlane> best;
-  double best_distance = std::numeric_limits<double>::infinity();
-  std::size_t largest = 0;
+  struct Candidate {
+    SupportPlane plane;
+    std::vector<int> inliers;
+    double distance;
+  };
+  std::vector<Candidate> flat;
   for (int k = 0; k < params.plane_candidates; ++k) {
     std::vector<int> inliers;
     const auto plane = ransacPlane(cloud, remaining, params, inliers);
-    largest = std::max(largest, inliers.size());
-    if (!plane || static_cast<double>(inliers.size()) < needed ||
-        static_cast<double>(inliers.size()) <
-            params.plane_candidate_ratio * static_cast<double>(largest)) {
-      if (k == 0) {
-        log().info(
-            "support plane: the largest plane holds {} of {} points, below the {:.0f} needed",
-            plane ? inliers.size() : 0, indices.size(), needed);
-      }
+    if (!plane || static_cast<double>(inliers.size()) < needed) {
+      log().debug("plane candidate {}: {} points, below the {:.0f} needed", k,
+                  plane ? inliers.size() : 0, needed);
       break;
     }
+    const double f = flatness(cloud, inliers, *plane, params.plane_distance_m);
     const double distance = plane->signedDistance(cloud.sensor_origin);
-    log().debug("plane candidate {}: {} inliers, {:.3f} m from the sensor", k, inliers.size(),
-                distance);
-    if (distance < best_distance) {
-      best = plane;
-      best_distance = distance;
-      inliers_out = inliers;
-    }
+    log().debug("plane candidate {}: {} inliers, {:.3f} m from the sensor, flatness {:.2f}", k,
+                inliers.size(), distance, f);
+    if (f >= params.min_plane_flatness) flat.push_back({*plane, inliers, distance});
     std::vector<char> is_inlier(cloud.size(), 0);
     for (int i : inliers) is_inlier[i] = 1;
     std::vector<int> rest;
@@ -101,7 +105,20 @@ std::optional<SupportPlane> fitPlane(const PointCloud& cloud, const std::vector<
     }
     remaining.swap(rest);
   }
-  return best;
+  if (flat.empty()) {
+    log().info("support plane: no flat plane holds {:.0f} of the {} points", needed,
+               indices.size());
+    return std::nullopt;
+  }
+  std::size_t largest = 0;
+  for (const auto& c : flat) largest = std::max(largest, c.inliers.size());
+  const Candidate* best = nullptr;
+  for (const auto& c : flat) {
+    if (static_cast<double>(c.inliers.size()) < params.plane_candidate_ratio * largest) continue;
+    if (!best || c.distance < best->distance) best = &c;
+  }
+  inliers_out = best->inliers;
+  return best->plane;
 }
 
 // Indices (into `cloud`) of candidate points inside the prism over the convex hull of the plane
@@ -367,7 +384,14 @@ SceneResult parseScene(const PointCloud& cloud, const SceneParams& params,
     candidates = scene_indices;
   }
   result.candidate_points = candidates.size();
-  const auto clusters = euclideanClusters(cloud, candidates, params);
+  auto clusters = euclideanClusters(cloud, candidates, params);
+  if (masked && clusters.size() > 1) {
+    for (std::size_t c = 1; c < clusters.size(); ++c) {
+      clusters[0].insert(clusters[0].end(), clusters[c].begin(), clusters[c].end());
+    }
+    log().debug("scene: {} mask clusters kept together as one object", clusters.size());
+    clusters.resize(1);
+  }
   result.cluster_time_s = watch.seconds();
   if (clusters.empty()) {
     result.status = Status::Make(
