@@ -336,7 +336,9 @@ SceneResult parseScene(const PointCloud& cloud, const SceneParams& params,
 
   Stopwatch watch;
   std::vector<int> plane_inliers;
-  if (masked || params.plane != PlaneRequirement::kNone) {
+  // With a mask the scene part may be empty (fused object-only captures): nothing to fit then.
+  if ((masked && scene_indices.size() >= params.min_cluster_points) ||
+      (!masked && params.plane != PlaneRequirement::kNone)) {
     result.plane = fitPlane(cloud, scene_indices, params, plane_inliers);
   }
   result.plane_time_s = watch.seconds();
