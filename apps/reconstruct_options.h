@@ -38,7 +38,8 @@ struct ReconstructOptions {
     cmd.add_option("--units", units, "Input length unit: auto (diagonal > 20 means mm), m or mm")
         ->check(CLI::IsMember({"auto", "m", "mm"}))
         ->capture_default_str();
-    cmd.add_option("--cameras", cameras, "YCB raw: NP units to fuse (1-5)")
+    cmd.add_option("--cameras", cameras,
+                   "YCB raw: NP units to fuse, e.g. 1,3,5 (default: all present)")
         ->check(CLI::Range(1, 5))
         ->delimiter(',');
     cmd.add_option("--angle-step", angle_step, "YCB raw: use turntable angles that are multiples")

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <regex>
 
 #include "hdf5_io.h"
@@ -86,6 +87,7 @@ ViewResult loadView(const std::string& folder, const detail::Hdf5Reader& calibra
   for (std::size_t i = 0; i < raw.data.size(); ++i) {
     depth.data[i] = static_cast<float>(raw.data[i] * scale);
   }
+  const perception::DepthImage unfiltered = depth;
   depth = perception::removeDepthDiscontinuities(depth, params.discontinuity_window,
                                                  params.discontinuity_jump_m);
 
@@ -106,24 +108,45 @@ ViewResult loadView(const std::string& folder, const detail::Hdf5Reader& calibra
   const Pose table_from_ir = table_from_ref * ir_from_ref.inverse();
 
   // The mask lives in the RGB image: a depth pixel is object when its 3-D point projects onto an
-  // object pixel there.
+  // object pixel there and is not hidden from the RGB camera by a nearer point (the two cameras
+  // are a few centimetres apart, so the IR camera sees turntable behind the object's silhouette
+  // that projects into the mask). Occlusion is tested on a half-resolution depth buffer of the
+  // RGB view (about one cell per depth pixel) filled from the unfiltered depth, so that the
+  // silhouette pixels the discontinuity filter drops still hide what lies behind them.
   const std::uint8_t object_value = params.mask_object_is_black ? 0 : 255;
-  perception::MaskImage ir_mask(raw.width, raw.height, 0);
+  struct Projected {
+    int u, v;  // full-resolution RGB pixel
+    float z;   // depth in the RGB camera
+  };
+  std::vector<Projected> projected(raw.data.size(), Projected{-1, -1, 0.0f});
+  perception::Image<float> nearest((mask.width + 1) / 2, (mask.height + 1) / 2,
+                                   std::numeric_limits<float>::infinity());
   ViewResult view;
   view.info.camera = camera;
   view.info.angle = angle;
   for (int v = 0; v < depth.height; ++v) {
     for (int u = 0; u < depth.width; ++u) {
-      const double z = depth.at(u, v);
+      const double z = unfiltered.at(u, v);
       if (!(z > 0)) continue;
       ++view.info.valid_pixels;
       const Eigen::Vector3d p = rgb_from_ir * ir.backProject(u, v, z);
       if (p.z() <= 0) continue;
       const int mu = static_cast<int>(std::lround(rgb.fx * p.x() / p.z() + rgb.cx));
       const int mv = static_cast<int>(std::lround(rgb.fy * p.y() / p.z() + rgb.cy));
-      const bool object = mask.contains(mu, mv) && (mask.at(mu, mv) != 0) == (object_value != 0);
-      ir_mask.at(u, v) = object ? 1 : 0;
+      if (!mask.contains(mu, mv)) continue;
+      projected[static_cast<std::size_t>(v) * depth.width + u] = {mu, mv,
+                                                                  static_cast<float>(p.z())};
+      float& cell = nearest.at(mu / 2, mv / 2);
+      cell = std::min(cell, static_cast<float>(p.z()));
     }
+  }
+  perception::MaskImage ir_mask(raw.width, raw.height, 0);
+  for (std::size_t i = 0; i < projected.size(); ++i) {
+    const Projected& q = projected[i];
+    if (q.u < 0 || !(depth.data[i] > 0)) continue;
+    const bool in_mask = (mask.at(q.u, q.v) != 0) == (object_value != 0);
+    const bool visible = q.z <= nearest.at(q.u / 2, q.v / 2) + std::max(0.01f, 0.02f * q.z);
+    ir_mask.data[i] = in_mask && visible ? 1 : 0;
   }
   perception::DepthConversion range;
   range.min_depth_m = params.min_depth_m;
@@ -156,8 +179,7 @@ std::string findYcbRawFolder(const std::string& path) {
 }
 
 YcbRawCapture loadYcbRaw(const std::string& path, const YcbRawParams& params) {
-  if (params.cameras.empty() || params.discontinuity_window < 3 ||
-      !(params.max_depth_m > params.min_depth_m)) {
+  if (params.discontinuity_window < 3 || !(params.max_depth_m > params.min_depth_m)) {
     throw InvalidArgument("loadYcbRaw: need cameras, a window >= 3 and max depth > min depth");
   }
   for (int c : params.cameras) {
@@ -177,15 +199,24 @@ YcbRawCapture loadYcbRaw(const std::string& path, const YcbRawParams& params) {
                                          "_<angle>_pose.h5 at a multiple of " +
                                          std::to_string(params.angle_step_deg) + " degrees");
   }
+  std::vector<int> cameras = params.cameras;
+  if (cameras.empty()) {
+    for (int k = 1; k <= 5; ++k) {
+      if (fs::exists(fmt::format("{}/NP{}_{}.h5", folder, k, angles.front()))) cameras.push_back(k);
+    }
+    if (cameras.empty()) {
+      throw IoError(folder, fmt::format("no NP<k>_{}.h5 depth image", angles.front()));
+    }
+  }
   const std::string calibration_path = folder + "/calibration.h5";
   const detail::Hdf5Reader calibration(calibration_path);
 
   YcbRawCapture capture;
   capture.folder = folder;
   std::vector<PointCloud> views;
-  const std::size_t total = params.cameras.size() * angles.size();
+  const std::size_t total = cameras.size() * angles.size();
   ProgressReporter progress("YCB raw views", total, 5.0);
-  for (int camera : params.cameras) {
+  for (int camera : cameras) {
     for (int angle : angles) {
       ViewResult view = loadView(folder, calibration, calibration_path, camera, angle, params);
       capture.views.push_back(view.info);
@@ -201,7 +232,7 @@ YcbRawCapture loadYcbRaw(const std::string& path, const YcbRawParams& params) {
   scan.source = folder;
   if (scan.cloud.empty()) throw IoError(folder, "no depth pixel falls inside the object masks");
   log().info("{}: {} views ({} cameras x {} angles) fused into {} object points", folder,
-             capture.views.size(), params.cameras.size(), angles.size(), scan.cloud.size());
+             capture.views.size(), cameras.size(), angles.size(), scan.cloud.size());
   return capture;
 }
 

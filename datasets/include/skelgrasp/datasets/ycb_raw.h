@@ -20,7 +20,8 @@
 namespace skelgrasp::datasets {
 
 struct YcbRawParams {
-  std::vector<int> cameras = {1, 2, 3, 4, 5};
+  // NP units to fuse; empty = every unit with a depth image at the first chosen angle.
+  std::vector<int> cameras;
   // Angles in degrees; empty = every angle on disk that is a multiple of angle_step_deg.
   std::vector<int> angles;
   int angle_step_deg = 15;  // 24 turntable positions x 5 cameras by default
