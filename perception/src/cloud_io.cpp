@@ -110,6 +110,8 @@ PointCloud loadPointCloud(const std::string& path, const CloudLoadOptions& optio
       int version = 0;
       status = reader.read(path, blob, origin, orientation, version);
     }
+  } catch (const IoError&) {
+    throw;
   } catch (const std::exception& e) {
     throw IoError(path, std::string("cannot parse ") + ext + " file: " + e.what());
   }
