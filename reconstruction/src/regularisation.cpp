@@ -1,11 +1,13 @@
 // CGAL translation unit: alpha wrapping, component selection and isotropic remeshing.
 #include "skelgrasp/reconstruction/regularisation.h"
 
+#include <CGAL/Polygon_mesh_processing/border.h>
 #include <CGAL/Polygon_mesh_processing/connected_components.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 #include <CGAL/alpha_wrap_3.h>
 
 #include "skelgrasp/common/logging.h"
@@ -65,8 +67,21 @@ std::pair<std::size_t, double> keepLargestComponent(CgalMesh& mesh) {
 bool acceptAsIs(const TriangleMesh& input, const RegularisationParams& params,
                 RegularisationReport& report, CgalMesh& mesh) {
   const auto& t = report.input;
-  if (!t.closed || t.inconsistently_oriented_edges > 0) return false;
+  if (t.non_manifold_edges > 0 || t.inconsistently_oriented_edges > 0) return false;
+  if (t.boundary_edges > params.auto_max_hole_edges) return false;
   if (!internal::toCgalMesh(input, mesh)) return false;
+  if (t.boundary_edges > 0) {
+    // Marching cubes leaves a few pinholes now and then (PCL's Poisson reports "vertex pair not
+    // in list"); closing them costs microseconds, a wrap a second.
+    std::vector<CgalMesh::Halfedge_index> holes;
+    PMP::extract_boundary_cycles(mesh, std::back_inserter(holes));
+    for (auto h : holes) {
+      std::vector<CgalMesh::Face_index> patch;
+      PMP::triangulate_hole(mesh, h, std::back_inserter(patch));
+    }
+    if (!CGAL::is_closed(mesh)) return false;
+    report.filled_holes = holes.size();
+  }
   if (PMP::does_self_intersect(mesh)) return false;
   if (t.components > 1) {
     const auto [parts, dropped] = keepLargestComponent(mesh);

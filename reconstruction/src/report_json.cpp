@@ -12,6 +12,7 @@ nlohmann::json toJson(const RegularisationReport& reg) {
           {"offset_m", reg.offset_m},
           {"remeshed", reg.remeshed},
           {"orientation_flipped", reg.orientation_flipped},
+          {"filled_holes", reg.filled_holes},
           {"wrap_components", reg.wrap_components},
           {"join_retries", reg.join_retries},
           {"dropped_area_fraction", reg.dropped_area_fraction},

@@ -102,7 +102,7 @@ TEST(YcbRaw, NoisyCaptureReconstructsTheCylinder) {
   const auto chamfer = reconstruction::chamferDistance(m.mesh, noisy.object, 10000);
   std::cout << "[ ycb raw  ] fixture cylinder: chamfer " << 1000 * chamfer.symmetric_m << " mm, "
             << 100 * m.report.observed_fraction << "% observed" << std::endl;
-  // Measured 0.98 mm: the turntable hides the bottom, which the surface closes flat.
+  // Measured 1.0 mm: the turntable hides the bottom, which the surface closes flat.
   EXPECT_LT(chamfer.symmetric_m, 0.003);
 }
 

@@ -141,9 +141,20 @@ TEST(Regularisation, AutoKeepsClosedManifoldsAndWrapsTheRest) {
   EXPECT_EQ(flipped.report.method, "auto/as_is");
   EXPECT_TRUE(flipped.report.orientation_flipped);
   EXPECT_GT(flipped.report.output.signed_volume, 0);
-  // An open mesh is wrapped.
+  // A pinhole is filled; a wide opening is wrapped.
+  TriangleMesh pinhole = sphere;
+  pinhole.faces.resize(pinhole.faces.size() - 3);
+  const auto filled = regularise(pinhole, p);
+  ASSERT_TRUE(filled.status.ok());
+  EXPECT_EQ(filled.report.method, "auto/as_is");
+  EXPECT_EQ(filled.report.filled_holes, 1u);
+  EXPECT_TRUE(filled.report.output.closed);
+  EXPECT_EQ(filled.mesh.numVertices(), sphere.numVertices());
   TriangleMesh open = sphere;
-  open.faces.resize(open.faces.size() - 10);
+  open.faces.clear();
+  for (std::size_t f = 0; f < sphere.faces.size(); ++f) {
+    if (f % 7 != 0) open.faces.push_back(sphere.faces[f]);  // holes everywhere
+  }
   const auto wrapped = regularise(open, p);
   ASSERT_TRUE(wrapped.status.ok());
   EXPECT_EQ(wrapped.report.method, "auto/alpha_wrap");
