@@ -70,6 +70,7 @@ bool acceptAsIs(const TriangleMesh& input, const RegularisationParams& params,
   if (t.non_manifold_edges > 0 || t.inconsistently_oriented_edges > 0) return false;
   if (t.boundary_edges > params.auto_max_hole_edges) return false;
   if (!internal::toCgalMesh(input, mesh)) return false;
+  std::size_t filled = 0;
   if (t.boundary_edges > 0) {
     // Marching cubes leaves a few pinholes now and then (PCL's Poisson reports "vertex pair not
     // in list"); closing them costs microseconds, a wrap a second.
@@ -80,7 +81,7 @@ bool acceptAsIs(const TriangleMesh& input, const RegularisationParams& params,
       PMP::triangulate_hole(mesh, h, std::back_inserter(patch));
     }
     if (!CGAL::is_closed(mesh)) return false;
-    report.filled_holes = holes.size();
+    filled = holes.size();
   }
   if (PMP::does_self_intersect(mesh)) return false;
   if (t.components > 1) {
@@ -89,6 +90,7 @@ bool acceptAsIs(const TriangleMesh& input, const RegularisationParams& params,
     report.wrap_components = parts;
     report.dropped_area_fraction = dropped;
   }
+  report.filled_holes = filled;
   return true;
 }
 
