@@ -34,30 +34,33 @@ Fixture writeFixture(const std::string& name, bool noise) {
   return f;
 }
 
-const Fixture& clean() {
-  static const Fixture f = writeFixture("ycb_raw_clean", false);
-  return f;
+// ctest runs every test in its own process, in parallel: each test writes its own fixture.
+Fixture clean() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  return writeFixture(std::string("ycb_raw_") + info->name(), false);
 }
 
 TEST(YcbRaw, FixtureHasTheYcbLayout) {
   const fs::path dir = clean().dir;
+  const std::string elsewhere = test::tempDir("not_ycb");
   for (const char* f : {"calibration.h5", "NP1_0.h5", "NP5_270.h5", "NP3_90.jpg",
                         "masks/NP3_180_mask.pbm", "poses/NP5_90_pose.h5", "poses/turntable.h5"}) {
     EXPECT_TRUE(fs::exists(dir / f)) << f;
   }
   EXPECT_EQ(findYcbRawFolder(dir.string()), dir.string());
   EXPECT_EQ(findYcbRawFolder(dir.parent_path().string()), dir.string());  // "<id>/" inside
-  EXPECT_EQ(findYcbRawFolder(test::tempDir("not_ycb")), "");
+  EXPECT_EQ(findYcbRawFolder(elsewhere), "");
 }
 
 TEST(YcbRaw, FusedPointsLieOnTheKnownShapeFromAllSides) {
-  const YcbRawCapture capture = loadYcbRaw(clean().dir);
+  const Fixture fixture = clean();
+  const YcbRawCapture capture = loadYcbRaw(fixture.dir);
   ASSERT_EQ(capture.views.size(), 12u);  // the three units present, four angles
   const PointCloud& cloud = capture.scan.cloud;
   ASSERT_GT(cloud.size(), 20000u);
   ASSERT_TRUE(cloud.hasNormals());
   EXPECT_TRUE(capture.scan.per_view_normals);
-  const reconstruction::MeshQuery truth(clean().object);
+  const reconstruction::MeshQuery truth(fixture.object);
   double worst = 0;
   int sectors[8] = {0};
   std::size_t side = 0, outward = 0, close = 0;
@@ -128,7 +131,7 @@ TEST(YcbRaw, MissingOrBrokenPiecesAreNamed) {
   EXPECT_THROW(loadYcbRaw(test::tempDir("ycb_raw_empty")), IoError);
   YcbRawParams bad;
   bad.cameras = {6};
-  EXPECT_THROW(loadYcbRaw(clean().dir, bad), InvalidArgument);
+  EXPECT_THROW(loadYcbRaw(f.dir, bad), InvalidArgument);
 }
 
 }  // namespace
