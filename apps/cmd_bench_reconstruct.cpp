@@ -31,7 +31,9 @@ int runBenchReconstruct(const BenchReconstructArgs& args) {
       "input (best of " + std::to_string(args.repeat) + ", s)", "points", "load", "filter", "scene",
       "normal", "compl", "poisson", "trim", "wrap", "obs", "total");
   nlohmann::json rows = nlohmann::json::array();
+  ProgressReporter progress("bench reconstruct", args.inputs.size(), 10.0);
   for (const auto& input : args.inputs) {
+    progress.step(static_cast<std::size_t>(rows.size()));
     StageTimes best;
     best.total = std::numeric_limits<double>::infinity();
     std::size_t points = 0;
@@ -86,6 +88,7 @@ int runBenchReconstruct(const BenchReconstructArgs& args) {
                     {"observed_s", best.observed},
                     {"total_s", best.total}});
   }
+  progress.finish();
   if (!args.json_out.empty()) {
     writeJsonFile(args.json_out, {{"rows", rows}, {"threads", args.options.threads}});
   }
