@@ -23,6 +23,11 @@ void registerHandCommands(CLI::App& app, Action& action);
 void registerPlanCommand(CLI::App& app, Action& action);
 void registerBenchPlanCommand(CLI::App& bench, Action& action);
 void registerEvaluateCommands(CLI::App& app, Action& action);
+void registerReconstructCommand(CLI::App& app, Action& action);
+void registerIngestCommand(CLI::App& app, Action& action);
+void registerDatasetsCommand(CLI::App& app, Action& action);
+// Adds `bench reconstruct`; call after registerBenchCommand.
+void registerBenchReconstructCommand(CLI::App& app, Action& action);
 
 // Prints "skelgrasp: error: <message>" to stderr and returns kExitBadInput.
 int fail(const std::string& message);

@@ -31,6 +31,10 @@ int main(int argc, char** argv) {
   cli::registerHandCommands(app, action);
   cli::registerPlanCommand(app, action);
   cli::registerEvaluateCommands(app, action);
+  cli::registerReconstructCommand(app, action);
+  cli::registerIngestCommand(app, action);
+  cli::registerDatasetsCommand(app, action);
+  cli::registerBenchReconstructCommand(app, action);
 
   try {
     app.parse(argc, argv);

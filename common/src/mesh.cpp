@@ -4,7 +4,9 @@ namespace skelgrasp {
 
 AxisAlignedBox boundingBox(const std::vector<Eigen::Vector3d>& points) {
   AxisAlignedBox box;
-  for (const auto& p : points) box.extend(p);
+  for (const auto& p : points) {
+    if (p.allFinite()) box.extend(p);  // organised clouds hold NaN for pixels without depth
+  }
   return box;
 }
 

@@ -3,6 +3,7 @@
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/IO/polygon_soup_io.h>
+#include <CGAL/Surface_mesh.h>
 
 #include <algorithm>
 #include <cctype>
@@ -34,7 +35,8 @@ void checkReadable(const std::string& path) {
   if (fs::file_size(path, ec) == 0) throw IoError(path, "file is empty");
 }
 
-void writePlyBinary(const std::string& path, const TriangleMesh& mesh) {
+void writePlyBinary(const std::string& path, const TriangleMesh& mesh,
+                    const std::vector<PlyVertexProperty>& extra = {}) {
   std::ofstream out(path, std::ios::binary);
   if (!out) throw IoError(path, "cannot open for writing");
   const bool colors = mesh.vertex_colors.size() == mesh.vertices.size() && !mesh.vertices.empty();
@@ -42,6 +44,7 @@ void writePlyBinary(const std::string& path, const TriangleMesh& mesh) {
       << "element vertex " << mesh.vertices.size() << "\n"
       << "property float x\nproperty float y\nproperty float z\n";
   if (colors) out << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+  for (const auto& property : extra) out << "property uchar " << property.name << "\n";
   out << "element face " << mesh.faces.size() << "\nproperty list uchar int vertex_indices\n"
       << "end_header\n";
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
@@ -50,6 +53,9 @@ void writePlyBinary(const std::string& path, const TriangleMesh& mesh) {
                           static_cast<float>(mesh.vertices[i].z())};
     out.write(reinterpret_cast<const char*>(xyz), sizeof(xyz));
     if (colors) out.write(reinterpret_cast<const char*>(mesh.vertex_colors[i].data()), 3);
+    for (const auto& property : extra) {
+      out.write(reinterpret_cast<const char*>(&property.values[i]), 1);
+    }
   }
   for (const auto& f : mesh.faces) {
     const unsigned char n = 3;
@@ -236,6 +242,48 @@ void saveMesh(const std::string& path, const TriangleMesh& mesh) {
                                     CGAL::parameters::stream_precision(9))) {
     throw IoError(path, "write failed");
   }
+}
+
+void saveMesh(const std::string& path, const TriangleMesh& mesh,
+              const std::vector<PlyVertexProperty>& extra_properties) {
+  if (fileExtension(path) != "ply") {
+    throw InvalidArgument(path + ": extra vertex properties can only be written to .ply files");
+  }
+  for (const auto& property : extra_properties) {
+    const bool name_ok = !property.name.empty() &&
+                         std::all_of(property.name.begin(), property.name.end(),
+                                     [](unsigned char c) { return std::isalnum(c) || c == '_'; });
+    if (!name_ok) throw InvalidArgument("bad PLY property name '" + property.name + "'");
+    if (property.values.size() != mesh.vertices.size()) {
+      throw InvalidArgument("PLY property '" + property.name + "' has " +
+                            std::to_string(property.values.size()) + " values for " +
+                            std::to_string(mesh.vertices.size()) + " vertices");
+    }
+  }
+  writePlyBinary(path, mesh, extra_properties);
+}
+
+std::vector<std::uint8_t> loadPlyVertexProperty(const std::string& path, const std::string& name) {
+  checkReadable(path);
+  if (fileExtension(path) != "ply") throw IoError(path, "not a .ply file");
+  CGAL::Surface_mesh<CgalPoint> mesh;
+  std::ifstream in(path, std::ios::binary);
+  bool ok = false;
+  try {
+    ok = CGAL::IO::read_PLY(in, mesh);
+  } catch (const std::exception& e) {
+    throw IoError(path, std::string("cannot parse ply file: ") + e.what());
+  }
+  if (!ok) {
+    throw IoError(path, "cannot read as a 2-manifold PLY mesh (needed for vertex properties)");
+  }
+  using VertexIndex = CGAL::Surface_mesh<CgalPoint>::Vertex_index;
+  const auto [map, found] = mesh.property_map<VertexIndex, std::uint8_t>("v:" + name);
+  if (!found) throw IoError(path, "no uchar vertex property '" + name + "'");
+  std::vector<std::uint8_t> values;
+  values.reserve(mesh.number_of_vertices());
+  for (VertexIndex v : mesh.vertices()) values.push_back(map[v]);
+  return values;
 }
 
 }  // namespace skelgrasp

@@ -1,11 +1,14 @@
 // CGAL translation unit: alpha wrapping, component selection and isotropic remeshing.
 #include "skelgrasp/reconstruction/regularisation.h"
 
+#include <CGAL/Polygon_mesh_processing/border.h>
 #include <CGAL/Polygon_mesh_processing/connected_components.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
 #include <CGAL/Random.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 #include <CGAL/alpha_wrap_3.h>
 
 #include "skelgrasp/common/logging.h"
@@ -18,11 +21,21 @@ using internal::CgalMesh;
 RegularisationMethod parseRegularisationMethod(const std::string& text) {
   if (text == "alpha_wrap") return RegularisationMethod::kAlphaWrap;
   if (text == "none") return RegularisationMethod::kNone;
-  throw InvalidArgument("unknown regularisation method '" + text + "' (use alpha_wrap or none)");
+  if (text == "auto") return RegularisationMethod::kAuto;
+  throw InvalidArgument("unknown regularisation method '" + text +
+                        "' (use alpha_wrap, none or auto)");
 }
 
 const char* toString(RegularisationMethod method) {
-  return method == RegularisationMethod::kAlphaWrap ? "alpha_wrap" : "none";
+  switch (method) {
+    case RegularisationMethod::kAlphaWrap:
+      return "alpha_wrap";
+    case RegularisationMethod::kNone:
+      return "none";
+    case RegularisationMethod::kAuto:
+      return "auto";
+  }
+  return "?";
 }
 
 namespace {
@@ -50,10 +63,42 @@ std::pair<std::size_t, double> keepLargestComponent(CgalMesh& mesh) {
   return {parts, total > 0 ? 1.0 - area[keep] / total : 0.0};
 }
 
+// kAuto: a closed, consistently oriented, self-intersection-free 2-manifold whose parts other than
+// the largest are debris (at most join_area_fraction of the area) needs no wrap.
+bool acceptAsIs(const TriangleMesh& input, const RegularisationParams& params,
+                RegularisationReport& report, CgalMesh& mesh) {
+  const auto& t = report.input;
+  if (t.non_manifold_edges > 0 || t.inconsistently_oriented_edges > 0) return false;
+  if (t.boundary_edges > params.auto_max_hole_edges) return false;
+  if (!internal::toCgalMesh(input, mesh)) return false;
+  std::size_t filled = 0;
+  if (t.boundary_edges > 0) {
+    // Marching cubes leaves a few pinholes now and then (PCL's Poisson reports "vertex pair not
+    // in list"); closing them costs microseconds, a wrap a second.
+    std::vector<CgalMesh::Halfedge_index> holes;
+    PMP::extract_boundary_cycles(mesh, std::back_inserter(holes));
+    for (auto h : holes) {
+      std::vector<CgalMesh::Face_index> patch;
+      PMP::triangulate_hole(mesh, h, std::back_inserter(patch));
+    }
+    if (!CGAL::is_closed(mesh)) return false;
+    filled = holes.size();
+  }
+  if (PMP::does_self_intersect(mesh)) return false;
+  if (t.components > 1) {
+    const auto [parts, dropped] = keepLargestComponent(mesh);
+    if (dropped > params.join_area_fraction) return false;
+    report.wrap_components = parts;
+    report.dropped_area_fraction = dropped;
+  }
+  report.filled_holes = filled;
+  return true;
+}
+
 }  // namespace
 
 RegularisationResult regularise(const TriangleMesh& input, const RegularisationParams& params) {
-  if (params.method == RegularisationMethod::kAlphaWrap &&
+  if (params.method != RegularisationMethod::kNone &&
       (!(params.alpha_divisor > 0) || !(params.offset_divisor > 0))) {
     throw InvalidArgument("regularise: alpha_divisor and offset_divisor must be positive");
   }
@@ -72,7 +117,18 @@ RegularisationResult regularise(const TriangleMesh& input, const RegularisationP
   }
 
   CgalMesh mesh;
-  if (params.method == RegularisationMethod::kNone) {
+  bool as_is = false;
+  if (params.method == RegularisationMethod::kAuto) {
+    as_is = acceptAsIs(input, params, report, mesh);
+    report.method = as_is ? "auto/as_is" : "auto/alpha_wrap";
+    if (as_is && PMP::volume(mesh) < 0) {
+      PMP::reverse_face_orientations(mesh);
+      report.orientation_flipped = true;
+    }
+  }
+  if (as_is) {
+    // accepted above
+  } else if (params.method == RegularisationMethod::kNone) {
     const auto& t = report.input;
     std::string problem;
     if (!t.closed) {

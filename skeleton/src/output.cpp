@@ -4,6 +4,7 @@
 
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/render.h"
+#include "skelgrasp/reconstruction/report_json.h"
 
 namespace skelgrasp::skeleton {
 
@@ -21,18 +22,7 @@ nlohmann::json skeletonToJson(const SkeletonResult& result, const TriangleMesh& 
                 {"units", "m"},
                 {"scale_to_meters", load_info.scale_to_meters},
                 {"units_guessed", load_info.units_guessed}};
-  j["regularisation"] = {{"method", reg.method},
-                         {"bbox_diagonal_m", reg.bbox_diagonal_m},
-                         {"alpha_m", reg.alpha_m},
-                         {"offset_m", reg.offset_m},
-                         {"remeshed", reg.remeshed},
-                         {"orientation_flipped", reg.orientation_flipped},
-                         {"wrap_components", reg.wrap_components},
-                         {"join_retries", reg.join_retries},
-                         {"dropped_area_fraction", reg.dropped_area_fraction},
-                         {"input", toJson(reg.input)},
-                         {"output", toJson(reg.output)},
-                         {"time_s", reg.time_s}};
+  j["regularisation"] = reconstruction::toJson(reg);
   j["status"] = {{"code", toString(result.status.code)}, {"message", result.status.message}};
   j["summary"] = {{"vertices", skel.vertices.size()},
                   {"edges", skel.edges.size()},

@@ -49,6 +49,42 @@ TEST(MeshIo, PlyKeepsVertexColours) {
   EXPECT_EQ(loadMesh(path).numVertices(), mesh.numVertices());
 }
 
+TEST(MeshIo, ExtraUcharVertexPropertiesRoundTripInVertexOrder) {
+  TriangleMesh mesh = primitives::makeSphere(0.05, 16, 8);
+  mesh.vertex_colors.assign(mesh.numVertices(), Rgb{1, 2, 3});
+  std::vector<std::uint8_t> observed(mesh.numVertices()), parity(mesh.numVertices());
+  for (std::size_t i = 0; i < observed.size(); ++i) {
+    observed[i] = mesh.vertices[i].z() > 0 ? 1 : 0;  // a pattern tied to the vertex order
+    parity[i] = static_cast<std::uint8_t>(i % 7);
+  }
+  const std::string path = test::tempDir("io_props") + "/flags.ply";
+  saveMesh(path, mesh, {{"observed", observed}, {"parity", parity}});
+
+  const TriangleMesh loaded = loadMesh(path);  // readers that ignore the properties still work
+  ASSERT_EQ(loaded.numVertices(), mesh.numVertices());
+  EXPECT_LT((loaded.vertices[5] - mesh.vertices[5]).norm(), 1e-6);
+  EXPECT_EQ(loadPlyVertexProperty(path, "observed"), observed);
+  EXPECT_EQ(loadPlyVertexProperty(path, "parity"), parity);
+  EXPECT_THROW(loadPlyVertexProperty(path, "missing"), IoError);
+}
+
+TEST(MeshIo, ExtraVertexPropertiesAreValidated) {
+  const TriangleMesh mesh = primitives::makeBox({0.1, 0.1, 0.1});
+  const std::string dir = test::tempDir("io_props_bad");
+  const std::vector<std::uint8_t> short_values(mesh.numVertices() - 1, 1);
+  const std::vector<std::uint8_t> values(mesh.numVertices(), 1);
+  EXPECT_THROW(saveMesh(dir + "/a.ply", mesh, {{"observed", short_values}}), InvalidArgument);
+  EXPECT_THROW(saveMesh(dir + "/a.ply", mesh, {{"bad name", values}}), InvalidArgument);
+  EXPECT_THROW(saveMesh(dir + "/a.obj", mesh, {{"observed", values}}), InvalidArgument);
+}
+
+TEST(MeshIo, BoundsSkipNonFinitePoints) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const auto box = boundingBox({{0, 0, 0}, {nan, nan, nan}, {1, 2, 3}});
+  EXPECT_EQ(box.max, Eigen::Vector3d(1, 2, 3));
+  EXPECT_EQ(box.min, Eigen::Vector3d(0, 0, 0));
+}
+
 TEST(MeshIo, MillimetreInputIsDetectedAndScaled) {
   TriangleMesh mesh = primitives::makeBox({80, 60, 120});  // a box in mm
   const std::string path = test::tempDir("io_mm") + "/mm.obj";

@@ -120,6 +120,48 @@ TEST(Regularisation, RemeshingProducesTheTargetEdgeLength) {
   EXPECT_NEAR(sum / count, 0.004, 0.0015);
 }
 
+TEST(Regularisation, AutoKeepsClosedManifoldsAndWrapsTheRest) {
+  RegularisationParams p;
+  p.method = RegularisationMethod::kAuto;
+  // A closed sphere with a speck of debris: kept as is, the speck dropped, nothing wrapped.
+  TriangleMesh sphere = primitives::makeSphere(0.05, 32, 16);
+  TriangleMesh speck = primitives::makeSphere(0.002, 8, 4);
+  speck.transform(Eigen::Isometry3d(Eigen::Translation3d(0.2, 0, 0)));
+  TriangleMesh both = sphere;
+  both.append(speck);
+  const auto kept = regularise(both, p);
+  ASSERT_TRUE(kept.status.ok()) << kept.status.message;
+  EXPECT_EQ(kept.report.method, "auto/as_is");
+  EXPECT_EQ(kept.mesh.numVertices(), sphere.numVertices());
+  EXPECT_EQ(kept.report.wrap_components, 2u);
+  // Inward winding is turned outward without a wrap.
+  TriangleMesh inward = sphere;
+  inward.flipOrientation();
+  const auto flipped = regularise(inward, p);
+  EXPECT_EQ(flipped.report.method, "auto/as_is");
+  EXPECT_TRUE(flipped.report.orientation_flipped);
+  EXPECT_GT(flipped.report.output.signed_volume, 0);
+  // A pinhole is filled; a wide opening is wrapped.
+  TriangleMesh pinhole = sphere;
+  pinhole.faces.resize(pinhole.faces.size() - 3);
+  const auto filled = regularise(pinhole, p);
+  ASSERT_TRUE(filled.status.ok());
+  EXPECT_EQ(filled.report.method, "auto/as_is");
+  EXPECT_EQ(filled.report.filled_holes, 1u);
+  EXPECT_TRUE(filled.report.output.closed);
+  EXPECT_EQ(filled.mesh.numVertices(), sphere.numVertices());
+  TriangleMesh open = sphere;
+  open.faces.clear();
+  for (std::size_t f = 0; f < sphere.faces.size(); ++f) {
+    if (f % 7 != 0) open.faces.push_back(sphere.faces[f]);  // holes everywhere
+  }
+  const auto wrapped = regularise(open, p);
+  ASSERT_TRUE(wrapped.status.ok());
+  EXPECT_EQ(wrapped.report.method, "auto/alpha_wrap");
+  EXPECT_TRUE(wrapped.report.output.closed);
+  EXPECT_EQ(parseRegularisationMethod("auto"), RegularisationMethod::kAuto);
+}
+
 TEST(Regularisation, RejectsBadParameters) {
   RegularisationParams bad;
   bad.alpha_divisor = 0;

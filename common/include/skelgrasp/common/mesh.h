@@ -27,6 +27,7 @@ struct AxisAlignedBox {
   }
 };
 
+// Box of the finite points (NaN or inf entries are skipped).
 AxisAlignedBox boundingBox(const std::vector<Eigen::Vector3d>& points);
 
 // An indexed triangle mesh. Faces are counter-clockwise seen from outside (outward normals) when

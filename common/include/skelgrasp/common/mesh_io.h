@@ -2,7 +2,9 @@
 // Reading and writing triangle meshes: PLY (ASCII and binary), OBJ, OFF, STL.
 // Vertex order of PLY, OBJ and OFF files is preserved, so vertex indices in skelgrasp's outputs
 // refer to the file's own vertices; STL (a triangle soup) is welded by exact position.
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "skelgrasp/common/mesh.h"
 
@@ -38,6 +40,23 @@ TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options = 
 // Writes a mesh; the format follows the extension. PLY is written binary little-endian with
 // per-vertex colours when the mesh has them. Throws IoError on failure.
 void saveMesh(const std::string& path, const TriangleMesh& mesh);
+
+// One extra per-vertex PLY property of type uchar (e.g. "observed"), one value per vertex.
+struct PlyVertexProperty {
+  std::string name;
+  std::vector<std::uint8_t> values;
+};
+
+// Writes a binary PLY with the extra uchar vertex properties after x y z (and colours). Readers
+// that do not know them (loadMesh, most viewers) ignore them; vertex order is kept. Throws
+// InvalidArgument for a non-PLY path, a bad name or a size mismatch, IoError on failure.
+void saveMesh(const std::string& path, const TriangleMesh& mesh,
+              const std::vector<PlyVertexProperty>& extra_properties);
+
+// Reads one uchar vertex property from a PLY mesh (through CGAL's Surface_mesh PLY reader, which
+// keeps vertex order, so value i belongs to vertex i of loadMesh(path)). Throws IoError when the
+// file cannot be read as a 2-manifold PLY mesh or has no such uchar property.
+std::vector<std::uint8_t> loadPlyVertexProperty(const std::string& path, const std::string& name);
 
 // Lower-cased extension without the dot ("" if none).
 std::string fileExtension(const std::string& path);

@@ -13,9 +13,14 @@ namespace skelgrasp::reconstruction {
 enum class RegularisationMethod {
   kAlphaWrap,  // CGAL 3D alpha wrapping of the triangle soup (default)
   kNone,       // use the input as is; it must already be a closed single-part 2-manifold
+  // Use the input as is when it already is a closed, consistently oriented, self-intersection-free
+  // 2-manifold (pinholes of at most auto_max_hole_edges boundary edges in all are filled first;
+  // parts beyond the largest holding at most join_area_fraction of the area are dropped as
+  // debris), else alpha wrap. For surfaces such as Poisson's that usually need nothing.
+  kAuto,
 };
 
-RegularisationMethod parseRegularisationMethod(const std::string& text);  // "alpha_wrap" | "none"
+RegularisationMethod parseRegularisationMethod(const std::string& text);  // alpha_wrap|none|auto
 const char* toString(RegularisationMethod method);
 
 struct RegularisationParams {
@@ -38,10 +43,13 @@ struct RegularisationParams {
   // Parts still separate after that: the largest (by area) is kept when true, otherwise the result
   // is kInvalidInput.
   bool keep_largest_component = true;
+  // kAuto: an input with at most this many boundary edges is closed by hole filling instead of
+  // being wrapped.
+  std::size_t auto_max_hole_edges = 64;
 };
 
 struct RegularisationReport {
-  std::string method;
+  std::string method;  // as requested; kAuto reports "auto/as_is" or "auto/alpha_wrap"
   MeshTopology input;
   MeshTopology output;
   double bbox_diagonal_m = 0;
@@ -49,6 +57,7 @@ struct RegularisationReport {
   double offset_m = 0;
   bool remeshed = false;
   bool orientation_flipped = false;  // method none: inward input turned outward
+  std::size_t filled_holes = 0;      // method auto: pinholes closed by hole filling
   std::size_t wrap_components = 0;   // parts the final wrap produced before selection
   int join_retries = 0;              // wraps repeated with a doubled alpha
   double dropped_area_fraction = 0;  // area of discarded parts / total wrap area

@@ -1,0 +1,178 @@
+// PCL translation unit: PCD and PLY point cloud files.
+#include "skelgrasp/perception/cloud_io.h"
+
+#include <pcl/console/print.h>
+#include <pcl/io/pcd_io.h>
+#include <pcl/io/ply_io.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "skelgrasp/common/error.h"
+#include "skelgrasp/common/logging.h"
+#include "skelgrasp/internal/pcl_conversions.h"
+#include "skelgrasp/perception/cloud_ops.h"
+
+namespace skelgrasp::perception {
+namespace {
+
+// PCL reports problems on its own console; skelgrasp reports them as one IoError line instead.
+void silencePcl() {
+  static const bool once = [] {
+    pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
+    return true;
+  }();
+  (void)once;
+}
+
+void checkReadable(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw IoError(path, "no such file");
+  if (fs::is_directory(path, ec))
+    throw IoError(path, "is a directory, expected a point cloud file");
+  std::ifstream probe(path, std::ios::binary);
+  if (!probe) throw IoError(path, "cannot open for reading");
+  if (fs::file_size(path, ec) == 0) throw IoError(path, "file is empty");
+}
+
+// PCDReader::read trusts a header that readHeader accepted, and readHeader accepts text without
+// a single PCD keyword (no fields, no points), on which read then crashes: check it first.
+void checkPcdHeader(pcl::PCDReader& reader, const std::string& path) {
+  pcl::PCLPointCloud2 header;
+  Eigen::Vector4f origin;
+  Eigen::Quaternionf orientation;
+  int version = 0, data_type = 0;
+  unsigned int data_start = 0;
+  if (reader.readHeader(path, header, origin, orientation, version, data_type, data_start) < 0) {
+    throw IoError(path, "cannot parse pcd header");
+  }
+  if (header.fields.empty()) throw IoError(path, "cannot parse pcd header: no FIELDS");
+  for (const auto& f : header.fields) {
+    const bool size_ok = f.datatype >= pcl::PCLPointField::INT8 &&
+                         f.datatype <= pcl::PCLPointField::FLOAT64 && f.count >= 1;
+    if (!size_ok) throw IoError(path, "cannot parse pcd header: bad field '" + f.name + "'");
+  }
+  if (std::size_t{header.width} * header.height == 0)
+    throw IoError(path, "point cloud has no points");
+  if (data_start == 0) throw IoError(path, "cannot parse pcd header: no DATA line");
+}
+
+}  // namespace
+
+double normaliseUnits(PointCloud& cloud, const CloudLoadOptions& options, const std::string& source,
+                      bool* guessed) {
+  if (guessed) *guessed = false;
+  double scale = 1.0;
+  switch (options.units) {
+    case LengthUnit::kMeters:
+      return 1.0;
+    case LengthUnit::kMillimeters:
+      scale = 1e-3;
+      break;
+    case LengthUnit::kAuto: {
+      const double diagonal = cloud.bounds().diagonal();
+      if (!(diagonal > options.auto_millimetre_diagonal)) return 1.0;
+      scale = 1e-3;
+      if (guessed) *guessed = true;
+      log().warn(
+          "{}: bounding-box diagonal {:.4g} exceeds {:.4g}, assuming millimetres and scaling to "
+          "metres (pass --units m to keep the values)",
+          source, diagonal, options.auto_millimetre_diagonal);
+      break;
+    }
+  }
+  for (auto& p : cloud.points) p *= scale;
+  cloud.sensor_origin *= scale;
+  return scale;
+}
+
+PointCloud loadPointCloud(const std::string& path, const CloudLoadOptions& options,
+                          CloudLoadInfo* info) {
+  silencePcl();
+  checkReadable(path);
+  const std::string ext = fileExtension(path);
+  if (ext != "pcd" && ext != "ply") {
+    throw IoError(path, "unknown point cloud format '." + ext + "' (supported: .pcd .ply)");
+  }
+  pcl::PCLPointCloud2 blob;
+  Eigen::Vector4f origin = Eigen::Vector4f::Zero();
+  Eigen::Quaternionf orientation = Eigen::Quaternionf::Identity();
+  int status = -1;
+  try {
+    if (ext == "pcd") {
+      pcl::PCDReader reader;
+      int version = 0;
+      checkPcdHeader(reader, path);
+      status = reader.read(path, blob, origin, orientation, version);
+    } else {
+      pcl::PLYReader reader;
+      int version = 0;
+      status = reader.read(path, blob, origin, orientation, version);
+    }
+  } catch (const IoError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw IoError(path, std::string("cannot parse ") + ext + " file: " + e.what());
+  }
+  if (status < 0) {
+    throw IoError(path, "cannot parse " + ext +
+                            " file (malformed header, truncated or corrupt data, or unsupported "
+                            "encoding)");
+  }
+  if (std::size_t{blob.width} * blob.height == 0 || blob.data.empty()) {
+    throw IoError(path, "point cloud has no points");
+  }
+  if (blob.data.size() < std::size_t{blob.row_step} * blob.height) {
+    throw IoError(path, "point data is truncated");
+  }
+  PointCloud cloud;
+  std::string problem;
+  if (!internal::fromBlob(blob, cloud, problem)) throw IoError(path, problem);
+  cloud.sensor_origin = origin.head<3>().cast<double>();
+  cloud.sensor_orientation = orientation.cast<double>().normalized();
+
+  CloudLoadInfo local;
+  local.path = path;
+  local.format = ext;
+  local.points = cloud.size();
+  local.finite_points = countFinite(cloud);
+  local.organized = cloud.isOrganized();
+  local.scale_to_meters = normaliseUnits(cloud, options, path, &local.units_guessed);
+  log().debug("{}: {} points ({} finite){}", path, local.points, local.finite_points,
+              local.organized ? fmt::format(", organised {}x{}", cloud.width, cloud.height) : "");
+  if (info) *info = local;
+  return cloud;
+}
+
+void savePointCloud(const std::string& path, const PointCloud& cloud, PcdEncoding encoding) {
+  silencePcl();
+  if (fileExtension(path) != "pcd") throw IoError(path, "point clouds are written as .pcd");
+  const pcl::PCLPointCloud2 blob = internal::toBlob(cloud);
+  const Eigen::Vector4f origin(static_cast<float>(cloud.sensor_origin.x()),
+                               static_cast<float>(cloud.sensor_origin.y()),
+                               static_cast<float>(cloud.sensor_origin.z()), 0.0f);
+  const Eigen::Quaternionf orientation = cloud.sensor_orientation.cast<float>();
+  const auto parent = std::filesystem::path(path).parent_path();
+  if (!parent.empty()) std::filesystem::create_directories(parent);
+  pcl::PCDWriter writer;
+  int status = -1;
+  try {
+    switch (encoding) {
+      case PcdEncoding::kAscii:
+        status = writer.writeASCII(path, blob, origin, orientation, 8);
+        break;
+      case PcdEncoding::kBinary:
+        status = writer.writeBinary(path, blob, origin, orientation);
+        break;
+      case PcdEncoding::kBinaryCompressed:
+        status = writer.writeBinaryCompressed(path, blob, origin, orientation);
+        break;
+    }
+  } catch (const std::exception& e) {
+    throw IoError(path, std::string("write failed: ") + e.what());
+  }
+  if (status < 0) throw IoError(path, "write failed");
+}
+
+}  // namespace skelgrasp::perception

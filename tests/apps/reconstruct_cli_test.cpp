@@ -1,0 +1,202 @@
+// skelgrasp reconstruct / ingest / datasets: outputs for good input, exit 2 and one error line for
+// bad input.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "perception/synthetic_scenes.h"
+#include "skelgrasp/common/json.h"
+#include "skelgrasp/common/mesh_io.h"
+#include "skelgrasp/perception/cloud_io.h"
+#include "skelgrasp/perception/image_io.h"
+#include "skelgrasp/reconstruction/meshing.h"
+#include "test_support.h"
+
+namespace skelgrasp {
+namespace {
+
+struct CliResult {
+  int exit_code;
+  std::string out;
+  std::string err;
+};
+
+CliResult run(const std::string& args, const std::string& dir) {
+  const std::string out = dir + "/stdout.txt", err = dir + "/stderr.txt";
+  const std::string cmd = std::string(SKELGRASP_CLI_PATH) + " " + args + " > " + out + " 2> " + err;
+  const int status = std::system(cmd.c_str());
+  auto slurp = [](const std::string& p) {
+    std::ifstream in(p);
+    return std::string((std::istreambuf_iterator<char>(in)), {});
+  };
+  return {WEXITSTATUS(status), slurp(out), slurp(err)};
+}
+
+std::size_t lines(const std::string& text) {
+  return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+}
+
+std::string lastLine(const std::string& text) {
+  const auto end = text.find_last_not_of('\n');
+  if (end == std::string::npos) return {};
+  const auto start = text.rfind('\n', end);
+  return text.substr(start == std::string::npos ? 0 : start + 1,
+                     end - (start == std::string::npos ? 0 : start + 1) + 1);
+}
+
+// The rendered table-top scene as a binary-compressed PCD with its viewpoint.
+std::string writeScene(const std::string& dir, bool with_objects = true) {
+  const std::string path = dir + "/scene.pcd";
+  perception::savePointCloud(path,
+                             test::renderTableScene(41, {0.55, 0.05, 0.6}, with_objects).cloud);
+  return path;
+}
+
+TEST(ReconstructCli, WritesMeshFlagsAndReport) {
+  const std::string dir = test::tempDir("cli_reconstruct");
+  const std::string scene = writeScene(dir);
+  const CliResult r = run(
+      "reconstruct " + scene + " --out " + dir + "/mug.ply --report " + dir + "/report.json", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(lines(r.out), 1u) << r.out;
+  EXPECT_NE(r.out.find("mug.ply"), std::string::npos);
+  const TriangleMesh mesh = loadMesh(dir + "/mug.ply");
+  const auto observed = reconstruction::loadObservedFlags(dir + "/mug.ply");
+  ASSERT_EQ(observed.size(), mesh.numVertices());
+  const auto j = readJsonFile(dir + "/report.json");
+  EXPECT_EQ(j["schema"], "skelgrasp.reconstruction/1");
+  EXPECT_EQ(j["status"]["code"], "ok");
+  EXPECT_EQ(j["clusters"].size(), 2u);
+  EXPECT_GT(j["plane"]["coefficients"][2].get<double>(), 0.99);
+  EXPECT_EQ(j["filters"]["steps"][0]["name"], "non_finite");
+  const auto& object = j["objects"][0];
+  EXPECT_TRUE(object["mesh"]["closed"].get<bool>());
+  EXPECT_EQ(object["mesh"]["vertices"], mesh.numVertices());
+  EXPECT_EQ(object["mesh_file"], dir + "/mug.ply");
+  std::size_t count = 0;
+  for (auto f : observed) count += f;
+  EXPECT_EQ(object["observed"]["vertices"], count);
+  EXPECT_GT(object["poisson"]["faces"].get<int>(), 0);
+  EXPECT_GT(j["timings"]["total_s"].get<double>(), 0.0);
+}
+
+TEST(ReconstructCli, AllObjectsAndIngest) {
+  const std::string dir = test::tempDir("cli_all");
+  const std::string scene = writeScene(dir);
+  const CliResult all =
+      run("-q reconstruct " + scene + " --object all --out " + dir + "/m.ply", dir);
+  ASSERT_EQ(all.exit_code, 0) << all.err;
+  EXPECT_EQ(lines(all.out), 2u);
+  EXPECT_TRUE(std::filesystem::exists(dir + "/m_0.ply"));
+  EXPECT_TRUE(std::filesystem::exists(dir + "/m_1.ply"));
+  const CliResult ingest =
+      run("-q ingest " + scene + " --object nearest:-0.06,0.1,0.04 --out " + dir + "/box.pcd", dir);
+  ASSERT_EQ(ingest.exit_code, 0) << ingest.err;
+  const PointCloud box = perception::loadPointCloud(dir + "/box.pcd");
+  EXPECT_TRUE(box.hasNormals());
+  EXPECT_NEAR(box.bounds().center().y(), 0.10, 0.02);
+}
+
+TEST(ReconstructCli, CaptureDescriptionAndYcbRawFolder) {
+  const std::string dir = test::tempDir("cli_inputs");
+  // A capture made with the simulated camera: depth .npy, mask .png, intrinsics, pose.
+  const auto scene = test::renderTableScene(42);
+  perception::DepthImage depth(640, 480);
+  perception::MaskImage mask(640, 480, 0);
+  const Pose camera = perception::lookAt({0.55, 0.05, 0.6}, {0, 0, 0.05});
+  for (std::size_t i = 0; i < depth.data.size(); ++i) {
+    const auto& p = scene.cloud.points[i];
+    depth.data[i] = p.allFinite() ? static_cast<float>((camera.inverse() * p).z()) : 0.0f;
+    mask.data[i] = scene.cloud.labels[i] == 2 ? 255 : 0;  // the cylinder
+  }
+  perception::writeDepthNpy(dir + "/depth.npy", depth);
+  perception::writeMaskImage(dir + "/mask.png", mask);
+  const auto xyzq = toXyzQuatWxyz(camera);
+  std::ofstream(dir + "/capture.json")
+      << "{\"depth\": \"depth.npy\", \"mask\": \"mask.png\", \"intrinsics\": {\"fx\": 525, "
+         "\"fy\": 525, \"cx\": 319.5, \"cy\": 239.5, \"width\": 640, \"height\": 480}, "
+         "\"camera_to_world\": \""
+      << xyzq[0] << " " << xyzq[1] << " " << xyzq[2] << " " << xyzq[3] << " " << xyzq[4] << " "
+      << xyzq[5] << " " << xyzq[6] << "\"}";
+  const CliResult capture =
+      run("-q reconstruct " + dir + "/capture.json --out " + dir + "/c.ply", dir);
+  ASSERT_EQ(capture.exit_code, 0) << capture.err;
+  EXPECT_NEAR(loadMesh(dir + "/c.ply").bounds().max.z(), 0.10, 0.01);  // the cylinder's top
+
+  const CliResult fixture = run("datasets fixture ycb-raw " + dir + "/ycb/000_test", dir);
+  ASSERT_EQ(fixture.exit_code, 0) << fixture.err;
+  const CliResult raw = run("-q reconstruct " + dir + "/ycb --out " + dir + "/y.ply", dir);
+  ASSERT_EQ(raw.exit_code, 0) << raw.err;
+  EXPECT_NEAR(loadMesh(dir + "/y.ply").bounds().extent().z(), 0.10, 0.01);
+}
+
+struct BadInput {
+  std::string name;
+  std::string args;  // {dir} is replaced by the test's folder
+  std::string expected;
+};
+
+class ReconstructCliBadInput : public ::testing::TestWithParam<BadInput> {};
+
+TEST_P(ReconstructCliBadInput, ExitsTwoWithTheReasonOnTheLastLine) {
+  const auto& c = GetParam();
+  const std::string dir = test::tempDir("cli_bad_reconstruct_" + c.name);
+  std::ofstream(dir + "/garbage.pcd") << "this is not a point cloud\n";
+  std::ofstream(dir + "/empty.pcd") << "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n"
+                                       "COUNT 1 1 1\nWIDTH 0\nHEIGHT 1\nPOINTS 0\nDATA ascii\n";
+  PointCloud nan;
+  nan.points.assign(100, Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
+  perception::savePointCloud(dir + "/nan.pcd", nan);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-0.15, 0.15);
+  PointCloud volume;  // fills a cube: no plane anywhere
+  for (int i = 0; i < 20000; ++i) volume.points.emplace_back(u(rng), u(rng), 0.8 + u(rng));
+  perception::savePointCloud(dir + "/volume.pcd", volume);
+  if (c.name == "no_object") writeScene(dir, false);
+
+  std::string args = c.args;
+  for (std::size_t at; (at = args.find("{dir}")) != std::string::npos;) args.replace(at, 5, dir);
+  for (const std::string quiet : {"", "-q "}) {
+    const CliResult r = run(quiet + args, dir);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    const std::string line = lastLine(r.err);
+    EXPECT_EQ(line.rfind("skelgrasp: error: ", 0), 0u) << r.err;
+    EXPECT_NE(line.find(c.expected), std::string::npos) << r.err;
+    if (!quiet.empty()) {
+      EXPECT_EQ(lines(r.err), 1u) << r.err;  // -q: nothing but the error
+    }
+    EXPECT_TRUE(r.out.empty()) << r.out;
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir + "/out.ply"));
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, ReconstructCliBadInput,
+    ::testing::Values(
+        BadInput{"missing", "reconstruct {dir}/none.pcd --out {dir}/out.ply",
+                 "none.pcd: no such file"},
+        BadInput{"corrupt", "reconstruct {dir}/garbage.pcd --out {dir}/out.ply",
+                 "garbage.pcd: cannot parse"},
+        BadInput{"empty", "reconstruct {dir}/empty.pcd --out {dir}/out.ply",
+                 "empty.pcd: point cloud has no points"},
+        BadInput{"all_nan", "reconstruct {dir}/nan.pcd --out {dir}/out.ply",
+                 "nan.pcd: all 100 points are NaN"},
+        BadInput{"no_plane", "reconstruct {dir}/volume.pcd --out {dir}/out.ply",
+                 "volume.pcd: no support plane found"},
+        BadInput{"no_object", "reconstruct {dir}/scene.pcd --out {dir}/out.ply",
+                 "scene.pcd: no object above the support plane"},
+        BadInput{"ingest_no_plane", "ingest {dir}/volume.pcd --out {dir}/out.pcd",
+                 "no support plane found"},
+        BadInput{"bad_target", "reconstruct {dir}/volume.pcd --object biggest --out {dir}/out.ply",
+                 "bad object selection"},
+        BadInput{"bad_output", "reconstruct {dir}/volume.pcd --out {dir}/out.obj",
+                 "--out must be a .ply file"},
+        BadInput{"not_ycb", "reconstruct {dir} --out {dir}/out.ply", "not a YCB raw capture"},
+        BadInput{"bad_ycb_id", "datasets fetch ycb 003_cracker_box ../etc --dir {dir}",
+                 "not a YCB object id"}),
+    [](const auto& info) { return info.param.name; });
+
+}  // namespace
+}  // namespace skelgrasp

@@ -1,0 +1,167 @@
+#include "skelgrasp/perception/cloud_io.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "skelgrasp/common/error.h"
+#include "skelgrasp/perception/cloud_ops.h"
+#include "test_support.h"
+
+namespace skelgrasp::perception {
+namespace {
+
+PointCloud organisedGrid() {
+  PointCloud cloud;
+  cloud.width = 4;
+  cloud.height = 3;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (int v = 0; v < 3; ++v) {
+    for (int u = 0; u < 4; ++u) {
+      const bool hole = u == 1 && v == 2;
+      cloud.points.push_back(hole ? Eigen::Vector3d::Constant(nan)
+                                  : Eigen::Vector3d(0.01 * u, 0.01 * v, 0.5 + 0.001 * u));
+      cloud.colors.push_back({static_cast<std::uint8_t>(10 * u), static_cast<std::uint8_t>(v), 7});
+      cloud.labels.push_back(static_cast<std::uint32_t>(100 + u + 4 * v));
+      cloud.normals.push_back(Eigen::Vector3d(0, 0, -1));
+    }
+  }
+  cloud.sensor_origin = {0.1, 0.2, 0.3};
+  cloud.sensor_orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitX()));
+  return cloud;
+}
+
+class PcdRoundTrip : public ::testing::TestWithParam<PcdEncoding> {};
+
+TEST_P(PcdRoundTrip, KeepsFieldsOrganisationAndViewpoint) {
+  const PointCloud cloud = organisedGrid();
+  const std::string path =
+      test::tempDir("pcd_" + std::to_string(static_cast<int>(GetParam()))) + "/grid.pcd";
+  savePointCloud(path, cloud, GetParam());
+  CloudLoadInfo info;
+  const PointCloud loaded = loadPointCloud(path, {}, &info);
+  EXPECT_TRUE(loaded.isOrganized());
+  EXPECT_EQ(loaded.width, 4u);
+  EXPECT_EQ(loaded.height, 3u);
+  EXPECT_EQ(info.points, 12u);
+  EXPECT_EQ(info.finite_points, 11u);
+  ASSERT_TRUE(loaded.hasColors() && loaded.hasLabels() && loaded.hasNormals());
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    if (!cloud.points[i].allFinite()) {
+      EXPECT_FALSE(loaded.points[i].allFinite());
+      continue;
+    }
+    EXPECT_LT((loaded.points[i] - cloud.points[i]).norm(), 1e-6);
+    EXPECT_EQ(loaded.colors[i], cloud.colors[i]);
+    EXPECT_EQ(loaded.labels[i], cloud.labels[i]);
+    EXPECT_LT((loaded.normals[i] - cloud.normals[i]).norm(), 1e-6);
+  }
+  EXPECT_LT((loaded.sensor_origin - cloud.sensor_origin).norm(), 1e-6);
+  EXPECT_LT(loaded.sensor_orientation.angularDistance(cloud.sensor_orientation), 1e-6);
+}
+
+INSTANTIATE_TEST_SUITE_P(Encodings, PcdRoundTrip,
+                         ::testing::Values(PcdEncoding::kAscii, PcdEncoding::kBinary,
+                                           PcdEncoding::kBinaryCompressed));
+
+TEST(CloudIo, ReadsPlyVertices) {
+  const std::string path = test::tempDir("ply_cloud") + "/pts.ply";
+  std::ofstream(path)
+      << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+         "property float y\nproperty float z\nend_header\n0 0 0\n0.1 0 0\n0 0.2 0\n";
+  const PointCloud cloud = loadPointCloud(path);
+  ASSERT_EQ(cloud.size(), 3u);
+  EXPECT_NEAR(cloud.points[2].y(), 0.2, 1e-6);
+  EXPECT_FALSE(cloud.isOrganized());
+}
+
+TEST(CloudIo, MillimetreCloudsAreDetectedAndScaled) {
+  PointCloud cloud;
+  for (int i = 0; i < 10; ++i) cloud.points.emplace_back(30.0 * i, 10.0, 700.0 + i);  // mm
+  cloud.sensor_origin = {0, 0, 0};
+  const std::string path = test::tempDir("mm_cloud") + "/mm.pcd";
+  savePointCloud(path, cloud);
+  CloudLoadInfo info;
+  const PointCloud metres = loadPointCloud(path, {}, &info);
+  EXPECT_TRUE(info.units_guessed);
+  EXPECT_DOUBLE_EQ(info.scale_to_meters, 1e-3);
+  EXPECT_NEAR(metres.points[9].x(), 0.27, 1e-6);
+  CloudLoadOptions keep;
+  keep.units = LengthUnit::kMeters;
+  EXPECT_NEAR(loadPointCloud(path, keep).points[9].x(), 270.0, 1e-4);
+}
+
+struct BadCloud {
+  std::string name;
+  std::string file;
+  std::string content;
+  std::string expected;
+};
+
+class CloudIoBadInput : public ::testing::TestWithParam<BadCloud> {};
+
+TEST_P(CloudIoBadInput, ThrowsIoErrorNamingFileAndProblem) {
+  const auto& c = GetParam();
+  const std::string path = test::tempDir("bad_cloud_" + c.name) + "/" + c.file;
+  if (!c.content.empty()) std::ofstream(path, std::ios::binary) << c.content;
+  try {
+    loadPointCloud(path);
+    FAIL() << "expected IoError";
+  } catch (const IoError& e) {
+    EXPECT_EQ(e.path(), path);
+    EXPECT_NE(e.problem().find(c.expected), std::string::npos) << e.problem();
+  }
+}
+
+const std::string kHeader =
+    "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n";
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, CloudIoBadInput,
+    ::testing::Values(
+        BadCloud{"missing", "nothing.pcd", "", "no such file"},
+        BadCloud{"format", "cloud.xyz", "1 2 3\n", "unknown point cloud format"},
+        BadCloud{"garbage", "garbage.pcd", "this is not a point cloud\n", "cannot parse"},
+        BadCloud{"truncated_binary", "short.pcd",
+                 kHeader + "WIDTH 100\nHEIGHT 1\nPOINTS 100\nDATA binary\n" + std::string(40, 'x'),
+                 "cannot parse"},
+        BadCloud{"truncated_compressed", "short_lzf.pcd",
+                 kHeader + "WIDTH 100\nHEIGHT 1\nPOINTS 100\nDATA binary_compressed\n" +
+                     std::string(6, '\x01'),
+                 "cannot parse"},
+        BadCloud{"no_points", "empty.pcd", kHeader + "WIDTH 0\nHEIGHT 1\nPOINTS 0\nDATA ascii\n",
+                 "no points"},
+        BadCloud{"no_xyz", "labels.pcd",
+                 "VERSION 0.7\nFIELDS label\nSIZE 4\nTYPE U\nCOUNT 1\nWIDTH 2\nHEIGHT 1\n"
+                 "POINTS 2\nDATA ascii\n1\n2\n",
+                 "no 'x' field"}),
+    [](const auto& info) { return info.param.name; });
+
+TEST(CloudIo, RealScansKeepLayoutLabelsAndViewpoint) {
+  SKELGRASP_REQUIRE_SHARED_DATA();
+  const std::string root = test::sharedDataDir() + "/scans/pcd/";
+  // Counts from the data's SOURCES.md.
+  CloudLoadInfo info;
+  const PointCloud osd = loadPointCloud(root + "osd_test2.pcd", {}, &info);
+  EXPECT_EQ(osd.width, 640u);
+  EXPECT_EQ(osd.height, 480u);
+  EXPECT_EQ(info.finite_points, 188026u);
+  ASSERT_TRUE(osd.hasLabels() && osd.hasColors());
+  std::size_t object_one = 0;
+  for (auto l : osd.labels) object_one += l == 20 ? 1 : 0;
+  EXPECT_EQ(object_one, 15612u);
+  EXPECT_FALSE(info.units_guessed);
+
+  const PointCloud mug =
+      loadPointCloud(root + "pcl_table_scene_mug_stereo_textured.pcd", {}, &info);
+  EXPECT_EQ(info.finite_points, 209280u);
+  // VIEWPOINT 0 0 0 0 1 0 0: a half turn about x, kept as the sensor orientation.
+  EXPECT_NEAR(std::abs(mug.sensor_orientation.x()), 1.0, 1e-6);
+
+  const PointCloud krylon = loadPointCloud(root + "gpd_krylon.pcd");  // ascii, rgb as integer
+  EXPECT_EQ(krylon.size(), 4467u);
+  EXPECT_FALSE(krylon.isOrganized());
+}
+
+}  // namespace
+}  // namespace skelgrasp::perception
