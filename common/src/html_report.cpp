@@ -11,12 +11,23 @@ std::string escapeHtml(const std::string& text) {
   out.reserve(text.size());
   for (char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&#39;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&#39;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -29,7 +40,9 @@ void HtmlReport::heading(const std::string& text, int level) {
   body_ += "<" + tag + ">" + escapeHtml(text) + "</" + tag + ">\n";
 }
 
-void HtmlReport::paragraph(const std::string& text) { body_ += "<p>" + escapeHtml(text) + "</p>\n"; }
+void HtmlReport::paragraph(const std::string& text) {
+  body_ += "<p>" + escapeHtml(text) + "</p>\n";
+}
 
 void HtmlReport::image(const std::string& file, const std::string& caption, int width_px) {
   images_.push_back(file);
@@ -38,7 +51,8 @@ void HtmlReport::image(const std::string& file, const std::string& caption, int 
            "><figcaption>" + escapeHtml(caption) + "</figcaption></figure>\n";
 }
 
-void HtmlReport::table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows) {
+void HtmlReport::table(const std::vector<std::string>& header,
+                       const std::vector<std::vector<std::string>>& rows) {
   body_ += "<table>\n<tr>";
   for (const auto& h : header) body_ += "<th>" + escapeHtml(h) + "</th>";
   body_ += "</tr>\n";
@@ -51,14 +65,20 @@ void HtmlReport::table(const std::vector<std::string>& header, const std::vector
 }
 
 std::string HtmlReport::html() const {
-  return "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" + escapeHtml(title_) +
-         "</title>\n<style>body{font-family:sans-serif;max-width:1500px;margin:1em auto;padding:0 1em}"
-         "table{border-collapse:collapse;margin:0.5em 0}td,th{border:1px solid #bbb;padding:3px 8px;"
+  return "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" +
+         escapeHtml(title_) +
+         "</title>\n<style>body{font-family:sans-serif;max-width:1500px;margin:1em auto;padding:0 "
+         "1em}"
+         "table{border-collapse:collapse;margin:0.5em 0}td,th{border:1px solid #bbb;padding:3px "
+         "8px;"
          "text-align:left}th{background:#eee}figure{display:inline-block;margin:0.5em}"
-         "img{border:1px solid #ccc}figcaption{font-size:90%;color:#444}</style>\n</head>\n<body>\n<h1>" +
+         "img{border:1px solid "
+         "#ccc}figcaption{font-size:90%;color:#444}</style>\n</head>\n<body>\n<h1>" +
          escapeHtml(title_) + "</h1>\n" + body_ + "</body>\n</html>\n";
 }
 
-void HtmlReport::write(const std::string& path) const { writeFileAtomically(path, html()); }
+void HtmlReport::write(const std::string& path) const {
+  writeFileAtomically(path, html());
+}
 
 }  // namespace skelgrasp

@@ -14,7 +14,8 @@ class HtmlReport {
   void paragraph(const std::string& text);
   // `file` relative to the page's directory.
   void image(const std::string& file, const std::string& caption, int width_px = 0);
-  void table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows);
+  void table(const std::vector<std::string>& header,
+             const std::vector<std::vector<std::string>>& rows);
   // Written atomically; throws IoError.
   void write(const std::string& path) const;
   std::string html() const;
