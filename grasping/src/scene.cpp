@@ -5,6 +5,8 @@
 #include <fcl/geometry/shape/halfspace.h>
 #include <octomap/OcTree.h>
 
+#include <fstream>
+
 #include "fcl_conversions.h"
 #include "skelgrasp/common/logging.h"
 
@@ -23,22 +25,52 @@ SceneOccupancy::SceneOccupancy(const PointCloud& obstacles, const Eigen::Vector3
   impl_->tree = std::make_shared<octomap::OcTree>(params.resolution_m);
   octomap::Pointcloud cloud;
   cloud.reserve(obstacles.size());
+  // With unknown space occupied, rays to points beyond the region still clear cells inside it.
+  const bool clipped = !params.region.empty();
+  const bool clip_points = clipped && params.unknown == UnknownSpace::kFree;
   for (const auto& p : obstacles.points) {
-    if (p.allFinite())
-      cloud.push_back(static_cast<float>(p.x()), static_cast<float>(p.y()),
-                      static_cast<float>(p.z()));
+    if (!p.allFinite()) continue;
+    if (clip_points && !((p.array() >= params.region.min.array()).all() &&
+                         (p.array() <= params.region.max.array()).all()))
+      continue;
+    cloud.push_back(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                    static_cast<float>(p.z()));
   }
   const octomap::point3d origin(static_cast<float>(sensor_origin.x()),
                                 static_cast<float>(sensor_origin.y()),
                                 static_cast<float>(sensor_origin.z()));
-  impl_->tree->insertPointCloud(cloud, origin, params.max_range_m, /*lazy_eval=*/false,
-                                /*discretize=*/true);
+  if (params.unknown == UnknownSpace::kOccupied) {
+    // Every ray: unseen space counts as an obstacle here, so free space must be exact.
+    impl_->tree->insertPointCloud(cloud, origin, params.max_range_m, /*lazy_eval=*/false,
+                                  /*discretize=*/true);
+  } else {
+    // Free space only informs the map here (unknown counts as free anyway): rays to one point per
+    // 4 x 4 x 4-cell block (0.35 s instead of 1.76 s for 300k table points), then every observed
+    // cell set occupied at full resolution so no ray can have cleared an obstacle.
+    octomap::Pointcloud sparse;
+    octomap::KeySet blocks, cells;
+    for (const auto& p : cloud) {
+      if (blocks.insert(impl_->tree->coordToKey(p, impl_->tree->getTreeDepth() - 2)).second)
+        sparse.push_back(p);
+      octomap::OcTreeKey key;
+      if (impl_->tree->coordToKeyChecked(p, key)) cells.insert(key);
+    }
+    impl_->tree->insertPointCloud(sparse, origin, params.max_range_m, /*lazy_eval=*/false,
+                                  /*discretize=*/true);
+    for (const auto& key : cells)
+      impl_->tree->setNodeValue(key, impl_->tree->getClampingThresMaxLog(), true);
+    impl_->tree->updateInnerOccupancy();
+  }
   if (params.unknown == UnknownSpace::kOccupied && !obstacles.empty()) {
     // Unseen cells of the scene's box become occupied, away from the target.
     AxisAlignedBox region = obstacles.bounds();
     if (!target_box.empty()) {
       region.extend(target_box.min);
       region.extend(target_box.max);
+    }
+    if (clipped) {
+      region.min = region.min.cwiseMax(params.region.min);
+      region.max = region.max.cwiseMin(params.region.max);
     }
     const double r = params.resolution_m;
     const Eigen::Vector3d lo =
@@ -97,7 +129,11 @@ bool SceneOccupancy::isOccupied(const Eigen::Vector3d& p) const {
 }
 
 void SceneOccupancy::writeBinary(const std::string& path) const {
-  if (!impl_->tree->writeBinaryConst(path)) throw IoError(path, "cannot write OctoMap file");
+  // The stream overload: the file-name one prints progress on stdout.
+  std::ofstream out(path, std::ios::binary);
+  if (!out) throw IoError(path, "cannot open for writing");
+  impl_->tree->writeBinaryConst(out);
+  if (!out) throw IoError(path, "cannot write OctoMap file");
 }
 
 struct SceneChecker::Impl {

@@ -30,6 +30,10 @@ struct SceneOccupancyParams {
   double max_range_m = 4.0;  // rays longer than this are cut (free up to the range, no hit)
   UnknownSpace unknown = UnknownSpace::kFree;
   double target_clearance_m = 0.03;
+  // Only obstacle points inside this box are inserted (empty box: all). A hand grasping the target
+  // never reaches farther than its size plus the pre-grasp distance, and ray casting the whole
+  // scene cost 1.8 s of a 3.5 s run on the demo scene.
+  AxisAlignedBox region;
 };
 
 class SceneOccupancy {
