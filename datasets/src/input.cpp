@@ -36,6 +36,9 @@ perception::Scan loadInput(const std::string& path, const InputOptions& options,
     perception::Scan scan;
     scan.cloud = perception::loadPointCloud(path, options.units);
     scan.source = path;
+    // Normals stored with a cloud were oriented by whoever fused it (several views): keep them
+    // rather than turning them all towards the one viewpoint the file names.
+    scan.per_view_normals = scan.cloud.hasNormals();
     return scan;
   }
   throw IoError(path, "unknown input '." + ext +
