@@ -23,6 +23,7 @@ void registerHandCommands(CLI::App& app, Action& action);
 void registerPlanCommand(CLI::App& app, Action& action);
 void registerBenchPlanCommand(CLI::App& bench, Action& action);
 void registerEvaluateCommands(CLI::App& app, Action& action);
+void registerRunCommand(CLI::App& app, Action& action);
 void registerReconstructCommand(CLI::App& app, Action& action);
 void registerIngestCommand(CLI::App& app, Action& action);
 void registerDatasetsCommand(CLI::App& app, Action& action);

@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
   cli::registerHandCommands(app, action);
   cli::registerPlanCommand(app, action);
   cli::registerEvaluateCommands(app, action);
+  cli::registerRunCommand(app, action);
   cli::registerReconstructCommand(app, action);
   cli::registerIngestCommand(app, action);
   cli::registerDatasetsCommand(app, action);

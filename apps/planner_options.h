@@ -20,18 +20,21 @@ struct PlannerOptions {
   double round_ratio = 0;
   bool reference_compat = false;
 
-  void addTo(CLI::App& cmd) {
-    cmd.add_option("--planner", planner, "skeleton or surface")
-        ->check(CLI::IsMember({"skeleton", "surface"}))
-        ->capture_default_str();
+  // `choice`: also --planner and --hypotheses (commands that can run either planner).
+  void addTo(CLI::App& cmd, bool choice = true) {
+    if (choice) {
+      cmd.add_option("--planner", planner, "skeleton or surface")
+          ->check(CLI::IsMember({"skeleton", "surface"}))
+          ->capture_default_str();
+      cmd.add_option(
+          "--hypotheses", surface_hypotheses,
+          "Surface planner: number of hypotheses (0 = until the timeout, 500 without one)");
+    }
     cmd.add_option("--timeout", timeout_s, "Planning time limit in seconds (0 = none)")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
     cmd.add_option("--max-grasps", max_grasps, "Stop after this many grasps (0 = no limit)")
         ->capture_default_str();
-    cmd.add_option(
-        "--hypotheses", surface_hypotheses,
-        "Surface planner: number of hypotheses (0 = until the timeout, 500 without one)");
     cmd.add_option("--seed", seed, "Random seed (vertex order, surface samples)")
         ->capture_default_str();
     cmd.add_option("--min-epsilon", min_epsilon, "Reject grasps with a lower epsilon")

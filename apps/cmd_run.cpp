@@ -1,0 +1,98 @@
+// skelgrasp run INPUT --hand H [--out DIR]: scan of a table scene -> ranked collision-free grasps.
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <iostream>
+
+#include "cli.h"
+#include "hand_options.h"
+#include "planner_options.h"
+#include "reconstruct_options.h"
+#include "run_command.h"
+#include "skelgrasp/datasets/input.h"
+
+namespace skelgrasp::cli {
+
+grasping::RunParams RunOptions::params() const {
+  grasping::RunParams p;
+  p.reconstruction = reconstruction.params();
+  p.planner = planner.skeletonParams();
+  p.planner.timeout_s = planner.timeout_s;
+  p.planner.max_grasps = planner.max_grasps;
+  p.scene_check = !no_scene_check;
+  p.occupancy.resolution_m = octree_resolution_m;
+  p.occupancy.unknown =
+      unknown == "occupied" ? grasping::UnknownSpace::kOccupied : grasping::UnknownSpace::kFree;
+  p.approach.pregrasp_distance_m = pregrasp_m;
+  p.observed_weight = observed_weight;
+  return p;
+}
+
+void RunOptions::addTo(CLI::App& cmd) {
+  hand.addTo(cmd);
+  planner.timeout_s = 10;
+  planner.max_grasps = 20;
+  planner.addTo(cmd, false);
+  reconstruction.addInputOptions(cmd);
+  reconstruction.addIngestOptions(cmd);
+  reconstruction.addMeshingOptions(cmd);
+  cmd.add_option("--octree-resolution", octree_resolution_m, "Scene occupancy voxel size (m)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd.add_option("--unknown-space", unknown, "Unseen space: free or occupied")
+      ->check(CLI::IsMember({"free", "occupied"}))
+      ->capture_default_str();
+  cmd.add_option("--pregrasp", pregrasp_m, "Approach checked from this distance (m)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd.add_option("--observed-weight", observed_weight,
+                 "Ranking weight of contacts on observed surface (0-1)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  cmd.add_flag("--no-scene-check", no_scene_check, "Do not check grasps against the scene");
+}
+
+int runOnScan(const perception::Scan& scan, const std::string& name, const std::string& out_dir,
+              const RunOptions& options) {
+  const auto hand = options.hand.load();
+  const auto result = grasping::runPipeline(scan, hand, options.params());
+  if (!result.reconstruction.status.ok())
+    return fail(scan.source + ": " + result.reconstruction.status.message);
+  grasping::writeRunOutputs(out_dir, result, hand, scan, name);
+  for (const auto& s : result.stages)
+    std::cout << fmt::format("  {:<22} {:7.3f} s\n", s.stage, s.seconds);
+  const auto& summary = result.plan.summary;
+  std::cout << fmt::format(
+                   "{} {}: {} ranked grasps ({} hypotheses, {} generated, {} force closure, {} "
+                   "blocked by the "
+                   "scene) in {:.2f} s -> {}/report.html",
+                   name, hand.name(), result.ranked.size(), summary.hypotheses, summary.generated,
+                   summary.force_closure,
+                   summary.rejections.count("scene_collision")
+                       ? summary.rejections.at("scene_collision")
+                       : 0,
+                   result.total_s, out_dir)
+            << std::endl;
+  if (result.ranked.empty()) std::cout << "no grasp: " << result.status.message << std::endl;
+  return kExitOk;
+}
+
+void registerRunCommand(CLI::App& app, Action& action) {
+  auto* cmd = app.add_subcommand(
+      "run", "Scan of a table scene -> ranked collision-free grasps on one object");
+  auto input = std::make_shared<std::string>();
+  auto out = std::make_shared<std::string>("run_output");
+  auto options = std::make_shared<RunOptions>();
+  cmd->add_option("INPUT", *input, "PCD/PLY scan, capture description (.json) or YCB raw folder")
+      ->required();
+  cmd->add_option("--out", *out, "Output directory")->capture_default_str();
+  options->addTo(*cmd);
+  cmd->callback([=, &action] {
+    action = [=] {
+      const auto scan = datasets::loadInput(*input, options->reconstruction.inputOptions());
+      return runOnScan(scan, std::filesystem::path(*input).filename().string(), *out, *options);
+    };
+  });
+}
+
+}  // namespace skelgrasp::cli

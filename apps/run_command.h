@@ -1,0 +1,30 @@
+#pragma once
+// The `run` pipeline's options, shared by `run` and `demo`.
+#include <CLI/CLI.hpp>
+
+#include "hand_options.h"
+#include "planner_options.h"
+#include "reconstruct_options.h"
+#include "skelgrasp/grasping/pipeline.h"
+
+namespace skelgrasp::cli {
+
+struct RunOptions {
+  HandOptions hand;
+  PlannerOptions planner;
+  ReconstructOptions reconstruction;
+  double octree_resolution_m = grasping::SceneOccupancyParams{}.resolution_m;
+  std::string unknown = "free";
+  double pregrasp_m = grasping::SceneCheckParams{}.pregrasp_distance_m;
+  double observed_weight = 0.5;
+  bool no_scene_check = false;
+
+  void addTo(CLI::App& cmd);
+  grasping::RunParams params() const;
+};
+
+// Runs the pipeline on a loaded scan, writes DIR's files, prints the stage times and a summary.
+int runOnScan(const perception::Scan& scan, const std::string& name, const std::string& out_dir,
+              const RunOptions& options);
+
+}  // namespace skelgrasp::cli
