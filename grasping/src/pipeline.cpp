@@ -44,7 +44,7 @@ RunResult runPipeline(const perception::Scan& scan, const HandModel& hand,
   out.reconstruction = reconstruction::reconstructScan(scan, params.reconstruction);
   const auto& ingest = out.reconstruction.ingest;
   stage("filter", ingest.filter_time_s);
-  stage("plane and objects", ingest.scene_time_s);
+  stage("segment", ingest.scene_time_s);
   stage("normals", ingest.normals_time_s);
   if (!out.reconstruction.status.ok() || out.reconstruction.objects.empty()) {
     out.status = out.reconstruction.status.ok()
@@ -98,14 +98,14 @@ RunResult runPipeline(const perception::Scan& scan, const HandModel& hand,
     if (out.plane) plane = SupportPlane{*out.plane};
     checker = std::make_unique<SceneChecker>(hand, out.occupancy.get(), plane, params.approach);
   }
-  stage("scene occupancy", watch.seconds());
+  stage("occupancy", watch.seconds());
 
   watch.restart();
   const GraspObject target(out.mesh);
   SkeletonPlannerParams planner = params.planner;
   planner.hypothesis.scene = checker.get();
   out.plan = planSkeletonGrasps(hand, target, out.skeleton->skeleton, planner);
-  stage("plan and scene check", watch.seconds());
+  stage("plan", watch.seconds());
 
   watch.restart();
   const reconstruction::MeshQuery query(out.mesh);
