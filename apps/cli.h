@@ -29,6 +29,8 @@ void registerIngestCommand(CLI::App& app, Action& action);
 void registerDatasetsCommand(CLI::App& app, Action& action);
 // Adds `bench reconstruct`; call after registerBenchCommand.
 void registerBenchReconstructCommand(CLI::App& app, Action& action);
+// Adds `bench run`; call after registerBenchCommand.
+void registerBenchRunCommand(CLI::App& app, Action& action);
 
 // Prints "skelgrasp: error: <message>" to stderr and returns kExitBadInput.
 int fail(const std::string& message);

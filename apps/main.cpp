@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
   cli::registerIngestCommand(app, action);
   cli::registerDatasetsCommand(app, action);
   cli::registerBenchReconstructCommand(app, action);
+  cli::registerBenchRunCommand(app, action);
 
   try {
     app.parse(argc, argv);

@@ -174,8 +174,8 @@ TEST(Cli, PlanWritesTheDocumentedGraspsJson) {
 
 TEST(Cli, EveryCommandHasHelp) {
   const std::string dir = test::tempDir("cli_help");
-  for (const char* command : {"skeleton", "shape", "bench skeleton", "bench plan", "demo", "hands",
-                              "close", "quality", "plan"}) {
+  for (const char* command : {"skeleton", "shape", "bench skeleton", "bench plan", "demo", "run",
+                              "hands", "close", "quality", "plan"}) {
     const CliRun run = runCli(std::string(command) + " --help", dir);
     EXPECT_EQ(run.exit_code, 0) << command << ": " << run.err;
     EXPECT_NE(run.out.find("--"), std::string::npos) << command;

@@ -1,0 +1,131 @@
+// skelgrasp bench run [INPUT...]: per-stage and total times of the main job, scan -> ranked grasps.
+// With no input (or the word "demo") it times every object of the generated demo scene.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <iostream>
+#include <limits>
+
+#include "cli.h"
+#include "run_command.h"
+#include "skelgrasp/common/json.h"
+#include "skelgrasp/common/logging.h"
+#include "skelgrasp/datasets/input.h"
+#include "skelgrasp/perception/demo_scene.h"
+
+namespace skelgrasp::cli {
+namespace {
+
+struct BenchRunArgs {
+  std::vector<std::string> inputs;
+  int repeat = 3;
+  std::string json_out;
+  RunOptions run;
+};
+
+struct Case {
+  std::string name;
+  perception::Scan scan;
+  std::string object;  // --object value
+};
+
+std::vector<Case> loadCases(const BenchRunArgs& args) {
+  std::vector<Case> cases;
+  const auto inputs = args.inputs.empty() ? std::vector<std::string>{"demo"} : args.inputs;
+  for (const auto& input : inputs) {
+    if (input == "demo") {
+      const auto scene = perception::makeDemoScene();
+      perception::Scan scan;
+      scan.cloud = scene.cloud;
+      scan.per_view_normals = true;
+      scan.views = scene.cameras.size();
+      scan.source = "demo scene";
+      for (std::size_t k = 1; k < scene.meshes.size(); ++k) {
+        const auto& c = scene.centres[k];
+        cases.push_back({"demo " + scene.names[k], scan,
+                         fmt::format("nearest:{:.4f},{:.4f},{:.4f}", c.x(), c.y(), c.z())});
+      }
+    } else {
+      cases.push_back({std::filesystem::path(input).filename().string(),
+                       datasets::loadInput(input, args.run.reconstruction.inputOptions()),
+                       args.run.reconstruction.object});
+    }
+  }
+  return cases;
+}
+
+int runBenchRun(const BenchRunArgs& args) {
+  const auto hand = args.run.hand.load();
+  const auto cases = loadCases(args);
+  nlohmann::json rows = nlohmann::json::array();
+  std::vector<std::string> stage_names;
+  std::size_t width = 24;
+  for (const auto& c : cases) width = std::max(width, c.name.size());
+  ProgressReporter progress("bench run", cases.size(), 10.0);
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    progress.step(i);
+    const auto& c = cases[i];
+    RunOptions options = args.run;
+    options.reconstruction.object = c.object;
+    const auto params = options.params();
+    grasping::RunResult best;
+    best.total_s = std::numeric_limits<double>::infinity();
+    for (int r = 0; r < args.repeat; ++r) {
+      auto result = grasping::runPipeline(c.scan, hand, params);
+      if (result.total_s < best.total_s) best = std::move(result);
+    }
+    if (stage_names.empty()) {
+      for (const auto& s : best.stages) stage_names.push_back(s.stage);
+      std::string header =
+          fmt::format("{:<{}}", "input (best of " + std::to_string(args.repeat) + ", s)", width);
+      for (const auto& s : stage_names) header += fmt::format(" {:>11}", s);
+      std::cout << header << fmt::format(" {:>7} {:>6}\n", "total", "grasps");
+    }
+    std::string line = fmt::format("{:<{}}", c.name, width);
+    nlohmann::json stages = nlohmann::json::object();
+    for (const auto& name : stage_names) {
+      double seconds = 0;
+      for (const auto& s : best.stages)
+        if (s.stage == name) seconds = s.seconds;
+      line += fmt::format(" {:>11.3f}", seconds);
+      stages[name] = seconds;
+    }
+    std::cout << line << fmt::format(" {:>7.3f} {:>6}", best.total_s, best.ranked.size())
+              << (best.status.ok() ? "" : "  (" + best.status.message + ")") << "\n";
+    rows.push_back({{"input", c.name},
+                    {"object", c.object},
+                    {"status", toString(best.status.code)},
+                    {"stages_s", stages},
+                    {"total_s", best.total_s},
+                    {"grasps", best.ranked.size()}});
+  }
+  progress.finish();
+  if (!args.json_out.empty()) {
+    writeJsonFile(args.json_out, {{"rows", rows},
+                                  {"hand", hand.name()},
+                                  {"threads", args.run.reconstruction.threads},
+                                  {"repeat", args.repeat}});
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+void registerBenchRunCommand(CLI::App& app, Action& action) {
+  CLI::App* bench = app.get_subcommand("bench");  // created by registerBenchCommand
+  auto* cmd = bench->add_subcommand(
+      "run", "Per-stage times of the main job (scan -> ranked grasps), one core unless --threads");
+  auto args = std::make_shared<BenchRunArgs>();
+  cmd->add_option("INPUT", args->inputs,
+                  "Scans or captures (their --object target), or 'demo' for every object of the "
+                  "generated scene (the default)");
+  cmd->add_option("--repeat", args->repeat, "Runs per input; the fastest is reported")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--json", args->json_out, "Also write the rows as JSON");
+  args->run.addTo(*cmd);
+  cmd->callback([=, &action] { action = [=] { return runBenchRun(*args); }; });
+}
+
+}  // namespace skelgrasp::cli

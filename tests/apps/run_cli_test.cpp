@@ -1,0 +1,156 @@
+// skelgrasp run / demo: the product's main job from the command line.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "perception/synthetic_scenes.h"
+#include "skelgrasp/common/json.h"
+#include "skelgrasp/common/mesh_io.h"
+#include "skelgrasp/perception/cloud_io.h"
+#include "test_support.h"
+
+namespace skelgrasp {
+namespace {
+
+struct CliResult {
+  int exit_code;
+  std::string out;
+  std::string err;
+};
+
+CliResult run(const std::string& args, const std::string& dir) {
+  const std::string out = dir + "/stdout.txt", err = dir + "/stderr.txt";
+  const std::string cmd = std::string(SKELGRASP_CLI_PATH) + " " + args + " > " + out + " 2> " + err;
+  const int status = std::system(cmd.c_str());
+  auto slurp = [](const std::string& p) {
+    std::ifstream in(p);
+    return std::string((std::istreambuf_iterator<char>(in)), {});
+  };
+  return {WEXITSTATUS(status), slurp(out), slurp(err)};
+}
+
+std::string lastLine(const std::string& text) {
+  const auto end = text.find_last_not_of('\n');
+  if (end == std::string::npos) return {};
+  const auto start = text.rfind('\n', end);
+  const auto from = start == std::string::npos ? 0 : start + 1;
+  return text.substr(from, end - from + 1);
+}
+
+TEST(RunCli, ScanToRankedGraspsWithReport) {
+  const std::string dir = test::tempDir("cli_run");
+  perception::savePointCloud(dir + "/scene.pcd", test::renderTableScene(41).cloud);
+  // The cylinder of the synthetic scene stands at (0.05, -0.09).
+  const CliResult r = run(
+      "run " + dir + "/scene.pcd --hand sdh --object nearest:0.05,-0.09,0.05 --out " + dir + "/out",
+      dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // One line per stage, then the summary.
+  for (const char* stage :
+       {"filter", "segment", "reconstruct", "skeleton", "occupancy", "plan", "rank"}) {
+    EXPECT_NE(r.out.find(stage), std::string::npos) << stage << " missing in\n" << r.out;
+  }
+  EXPECT_NE(lastLine(r.out).find("ranked grasps"), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("skeleton planner"), std::string::npos);  // progress on stderr
+
+  const auto j = readJsonFile(dir + "/out/grasps.json");
+  EXPECT_EQ(j["schema"], "skelgrasp.run/1");
+  EXPECT_EQ(j["hand"], "sdh");
+  ASSERT_EQ(j["scene"]["plane"].size(), 4u);
+  EXPECT_GT(j["scene"]["plane"][2].get<double>(), 0.99);  // z up, the objects above
+  EXPECT_GT(j["grasps"].size(), 0u);
+  const auto& target = j["target"];
+  EXPECT_NEAR(target["centroid"][0].get<double>(), 0.05, 0.02);
+  EXPECT_NEAR(target["centroid"][1].get<double>(), -0.09, 0.02);
+  for (const auto& g : j["grasps"]) {
+    EXPECT_TRUE(g["force_closure"].get<bool>());
+    EXPECT_GE(g["observed_contact_ratio"].get<double>(), 0.0);
+  }
+  for (const char* file : {"object.ply", "skeleton.json", "segmentation.ply", "scene.bt",
+                           "report.html", "scan.png", "grasps.png"}) {
+    EXPECT_TRUE(std::filesystem::exists(dir + "/out/" + file)) << file;
+  }
+  EXPECT_GT(loadMesh(dir + "/out/object.ply").numVertices(), 100u);
+}
+
+struct BadRun {
+  std::string name;
+  std::string args;  // {dir} is replaced by the test's folder
+  std::string expected;
+};
+
+class RunCliBadInput : public ::testing::TestWithParam<BadRun> {};
+
+TEST_P(RunCliBadInput, ExitsTwoWithOneErrorLine) {
+  const auto& c = GetParam();
+  const std::string dir = test::tempDir("cli_bad_run_" + c.name);
+  std::ofstream(dir + "/garbage.pcd") << "this is not a point cloud\n";
+  perception::savePointCloud(dir + "/table.pcd",
+                             test::renderTableScene(41, {0.55, 0.05, 0.6}, false).cloud);
+  std::string args = c.args;
+  for (std::size_t at; (at = args.find("{dir}")) != std::string::npos;) args.replace(at, 5, dir);
+  const CliResult r = run("-q " + args, dir);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_EQ(r.err.rfind("skelgrasp: error: ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find(c.expected), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/out/grasps.json"));
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, RunCliBadInput,
+    ::testing::Values(
+        BadRun{"missing", "run {dir}/none.pcd --out {dir}/out", "none.pcd"},
+        BadRun{"garbage", "run {dir}/garbage.pcd --out {dir}/out", "garbage.pcd"},
+        BadRun{"no_object", "run {dir}/table.pcd --out {dir}/out", "table.pcd"},
+        BadRun{"all_objects", "run {dir}/table.pcd --object all --out {dir}/out", "one object"},
+        BadRun{"bad_hand", "run {dir}/table.pcd --hand nohand --out {dir}/out", "nohand"}),
+    [](const auto& info) { return info.param.name; });
+
+TEST(DemoCli, EveryObjectOfTheGeneratedSceneGetsGraspsAndAReport) {
+  const std::string dir = test::tempDir("cli_demo");
+  const CliResult r = run("demo --out " + dir + "/demo", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(lastLine(r.out).find("index.html"), std::string::npos) << r.out;
+  // A real PCD with the first camera as its viewpoint.
+  const auto cloud = perception::loadPointCloud(dir + "/demo/scene.pcd");
+  EXPECT_GT(cloud.size(), 100000u);
+  EXPECT_GT(cloud.sensor_origin.norm(), 0.5);
+  EXPECT_TRUE(std::filesystem::exists(dir + "/demo/index.html"));
+  for (const char* object : {"bottle", "mug", "box", "hammer", "ball"}) {
+    const std::string sub = dir + "/demo/" + object;
+    const auto j = readJsonFile(sub + "/grasps.json");
+    EXPECT_GE(j["grasps"].size(), 1u) << object;
+    EXPECT_TRUE(std::filesystem::exists(sub + "/report.html")) << object;
+    EXPECT_TRUE(std::filesystem::exists(dir + "/demo/truth_" + object + ".ply")) << object;
+  }
+}
+
+TEST(BenchRunCli, ReportsEveryStageOfEveryInput) {
+  const std::string dir = test::tempDir("cli_bench_run");
+  perception::savePointCloud(dir + "/scene.pcd", test::renderTableScene(41).cloud);
+  const CliResult r = run("bench run " + dir +
+                              "/scene.pcd --hand sdh --object nearest:0.05,-0.09,0.05 "
+                              "--repeat 1 --json " +
+                              dir + "/bench.json",
+                          dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = readJsonFile(dir + "/bench.json");
+  ASSERT_EQ(j["rows"].size(), 1u) << j.dump();
+  const auto& row = j["rows"][0];
+  EXPECT_EQ(row["status"], "ok");
+  EXPECT_GE(row["grasps"].get<int>(), 1);
+  double sum = 0;
+  for (const char* stage :
+       {"filter", "segment", "reconstruct", "skeleton", "occupancy", "plan", "rank"}) {
+    ASSERT_TRUE(row["stages_s"].contains(stage)) << stage;
+    sum += row["stages_s"][stage].get<double>();
+  }
+  // The stages account for the run; the rest is bookkeeping.
+  EXPECT_LE(sum, row["total_s"].get<double>() + 1e-6);
+  EXPECT_GT(sum, 0.8 * row["total_s"].get<double>());
+}
+
+}  // namespace
+}  // namespace skelgrasp
