@@ -324,7 +324,7 @@ ClosingResult GraspSimulator::close(const Pose& hand_pose, const Preshape& presh
       return;
     // Slack (FCL prunes a node only when it is both 0.1 mm and 1/3 short of the best distance)
     // lets the traversal stop near the first touching triangle; the patch below refines the point.
-    fcl::DistanceRequestd request(true, /*enable_signed_distance=*/false, /*rel_err=*/0,
+    fcl::DistanceRequestd request(true, /*enable_signed_distance=*/false, /*rel_err=*/0.5,
                                   /*abs_err=*/1e-4);
     double best = std::numeric_limits<double>::infinity();
     Eigen::Vector3d object_point = Eigen::Vector3d::Zero(), link_point = Eigen::Vector3d::Zero();
