@@ -3,11 +3,8 @@
 // ../shared/data). Run: build/bench/evaluation_bench
 #include <benchmark/benchmark.h>
 
-#include <filesystem>
-
+#include "bench_support.h"
 #include "skelgrasp/common/logging.h"
-#include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
 #include "skelgrasp/evaluation/robustness.h"
 
 namespace {
@@ -15,30 +12,14 @@ namespace {
 using namespace skelgrasp;
 using namespace skelgrasp::grasping;
 
-const GraspObject& benchObject() {
-  static const GraspObject object = [] {
-    const std::string path =
-        std::string(SKELGRASP_SHARED_DATA_DIR) + "/objects/ycb/006_mustard_bottle.ply";
-    return GraspObject(std::filesystem::exists(path) ? loadMesh(path)
-                                                     : primitives::makeNamedShape("bottle"));
-  }();
-  return object;
-}
+using bench::benchObject;
 
 // A power grasp from the side at mid-height, backed off until the open hand is clear.
 Grasp sideGrasp(GraspSimulator& sim, const HandModel& hand) {
   const auto& preshape = hand.preshape("power");
-  const auto& box = benchObject().bounds();
-  Pose gcp = Pose::Identity();
-  gcp.linear() = frameFromZY({-1, 0, 0}, {0, 0, 1});
   Grasp grasp;
   grasp.preshape = "power";
-  for (double d = 0; d < 0.2; d += 0.001) {
-    gcp.translation() = box.center() + Eigen::Vector3d(d, 0, 0);
-    grasp.hand_pose = sim.handPoseForGcp(gcp, preshape);
-    if (!sim.inCollision(grasp.hand_pose, preshape.joints)) break;
-  }
-  grasp.gcp_pose = gcp;
+  grasp.hand_pose = bench::sideGraspPose(sim, preshape);
   const auto closing = sim.close(grasp.hand_pose, preshape);
   grasp.joints = closing.joints;
   grasp.contacts = closing.contacts;

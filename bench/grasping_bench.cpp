@@ -3,11 +3,8 @@
 // Run: build/bench/grasping_bench
 #include <benchmark/benchmark.h>
 
-#include <filesystem>
-
+#include "bench_support.h"
 #include "skelgrasp/common/logging.h"
-#include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
 #include "skelgrasp/grasping/grasp_simulator.h"
 #include "skelgrasp/grasping/quality.h"
 
@@ -16,27 +13,10 @@ namespace {
 using namespace skelgrasp;
 using namespace skelgrasp::grasping;
 
-const GraspObject& benchObject() {
-  static const GraspObject object = [] {
-    const std::string path =
-        std::string(SKELGRASP_SHARED_DATA_DIR) + "/objects/ycb/006_mustard_bottle.ply";
-    return GraspObject(std::filesystem::exists(path) ? loadMesh(path)
-                                                     : primitives::makeNamedShape("bottle"));
-  }();
-  return object;
-}
+using bench::benchObject;
 
-// A power grasp from the side at mid-height, backed off until collision-free.
 Pose sideGrasp(GraspSimulator& sim, const Preshape& preshape) {
-  const auto& box = benchObject().bounds();
-  Pose gcp = Pose::Identity();
-  gcp.linear() = frameFromZY({-1, 0, 0}, {0, 0, 1});
-  for (double d = 0; d < 0.2; d += 0.001) {
-    gcp.translation() = box.center() + Eigen::Vector3d(d, 0, 0);
-    const Pose hand = sim.handPoseForGcp(gcp, preshape);
-    if (!sim.inCollision(hand, preshape.joints)) return hand;
-  }
-  return sim.handPoseForGcp(gcp, preshape);
+  return bench::sideGraspPose(sim, preshape);
 }
 
 void BM_CloseAndQuality(benchmark::State& state, const std::string& hand_name) {

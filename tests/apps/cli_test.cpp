@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "cli_support.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/common/primitives.h"
@@ -14,26 +15,9 @@
 namespace skelgrasp {
 namespace {
 
-struct CliRun {
-  int exit_code;
-  std::string out;
-  std::string err;
-};
-
-CliRun runCli(const std::string& args, const std::string& dir) {
-  const std::string out = dir + "/stdout.txt", err = dir + "/stderr.txt";
-  const std::string cmd = std::string(SKELGRASP_CLI_PATH) + " " + args + " > " + out + " 2> " + err;
-  const int status = std::system(cmd.c_str());
-  auto slurp = [](const std::string& p) {
-    std::ifstream in(p);
-    return std::string((std::istreambuf_iterator<char>(in)), {});
-  };
-  return {WEXITSTATUS(status), slurp(out), slurp(err)};
-}
-
-int countLines(const std::string& text) {
-  return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
-}
+using test::CliRun;
+using test::countLines;
+using test::runCli;
 
 TEST(Cli, SkeletonWritesOutputsAndOneSummaryLine) {
   const std::string dir = test::tempDir("cli_ok");

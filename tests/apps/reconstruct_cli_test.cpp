@@ -6,6 +6,7 @@
 #include <fstream>
 #include <random>
 
+#include "cli_support.h"
 #include "perception/synthetic_scenes.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
@@ -17,26 +18,9 @@
 namespace skelgrasp {
 namespace {
 
-struct CliResult {
-  int exit_code;
-  std::string out;
-  std::string err;
-};
-
-CliResult run(const std::string& args, const std::string& dir) {
-  const std::string out = dir + "/stdout.txt", err = dir + "/stderr.txt";
-  const std::string cmd = std::string(SKELGRASP_CLI_PATH) + " " + args + " > " + out + " 2> " + err;
-  const int status = std::system(cmd.c_str());
-  auto slurp = [](const std::string& p) {
-    std::ifstream in(p);
-    return std::string((std::istreambuf_iterator<char>(in)), {});
-  };
-  return {WEXITSTATUS(status), slurp(out), slurp(err)};
-}
-
-std::size_t lines(const std::string& text) {
-  return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
-}
+using test::CliRun;
+using test::countLines;
+using test::runCli;
 
 std::string lastLine(const std::string& text) {
   const auto end = text.find_last_not_of('\n');
@@ -57,10 +41,10 @@ std::string writeScene(const std::string& dir, bool with_objects = true) {
 TEST(ReconstructCli, WritesMeshFlagsAndReport) {
   const std::string dir = test::tempDir("cli_reconstruct");
   const std::string scene = writeScene(dir);
-  const CliResult r = run(
+  const CliRun r = runCli(
       "reconstruct " + scene + " --out " + dir + "/mug.ply --report " + dir + "/report.json", dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_EQ(lines(r.out), 1u) << r.out;
+  EXPECT_EQ(countLines(r.out), 1) << r.out;
   EXPECT_NE(r.out.find("mug.ply"), std::string::npos);
   const TriangleMesh mesh = loadMesh(dir + "/mug.ply");
   const auto observed = reconstruction::loadObservedFlags(dir + "/mug.ply");
@@ -85,14 +69,14 @@ TEST(ReconstructCli, WritesMeshFlagsAndReport) {
 TEST(ReconstructCli, AllObjectsAndIngest) {
   const std::string dir = test::tempDir("cli_all");
   const std::string scene = writeScene(dir);
-  const CliResult all =
-      run("-q reconstruct " + scene + " --object all --out " + dir + "/m.ply", dir);
+  const CliRun all =
+      runCli("-q reconstruct " + scene + " --object all --out " + dir + "/m.ply", dir);
   ASSERT_EQ(all.exit_code, 0) << all.err;
-  EXPECT_EQ(lines(all.out), 2u);
+  EXPECT_EQ(countLines(all.out), 2);
   EXPECT_TRUE(std::filesystem::exists(dir + "/m_0.ply"));
   EXPECT_TRUE(std::filesystem::exists(dir + "/m_1.ply"));
-  const CliResult ingest =
-      run("-q ingest " + scene + " --object nearest:-0.06,0.1,0.04 --out " + dir + "/box.pcd", dir);
+  const CliRun ingest = runCli(
+      "-q ingest " + scene + " --object nearest:-0.06,0.1,0.04 --out " + dir + "/box.pcd", dir);
   ASSERT_EQ(ingest.exit_code, 0) << ingest.err;
   const PointCloud box = perception::loadPointCloud(dir + "/box.pcd");
   EXPECT_TRUE(box.hasNormals());
@@ -120,14 +104,14 @@ TEST(ReconstructCli, CaptureDescriptionAndYcbRawFolder) {
          "\"camera_to_world\": \""
       << xyzq[0] << " " << xyzq[1] << " " << xyzq[2] << " " << xyzq[3] << " " << xyzq[4] << " "
       << xyzq[5] << " " << xyzq[6] << "\"}";
-  const CliResult capture =
-      run("-q reconstruct " + dir + "/capture.json --out " + dir + "/c.ply", dir);
+  const CliRun capture =
+      runCli("-q reconstruct " + dir + "/capture.json --out " + dir + "/c.ply", dir);
   ASSERT_EQ(capture.exit_code, 0) << capture.err;
   EXPECT_NEAR(loadMesh(dir + "/c.ply").bounds().max.z(), 0.10, 0.01);  // the cylinder's top
 
-  const CliResult fixture = run("datasets fixture ycb-raw " + dir + "/ycb/000_test", dir);
+  const CliRun fixture = runCli("datasets fixture ycb-raw " + dir + "/ycb/000_test", dir);
   ASSERT_EQ(fixture.exit_code, 0) << fixture.err;
-  const CliResult raw = run("-q reconstruct " + dir + "/ycb --out " + dir + "/y.ply", dir);
+  const CliRun raw = runCli("-q reconstruct " + dir + "/ycb --out " + dir + "/y.ply", dir);
   ASSERT_EQ(raw.exit_code, 0) << raw.err;
   EXPECT_NEAR(loadMesh(dir + "/y.ply").bounds().extent().z(), 0.10, 0.01);
 }
@@ -159,13 +143,13 @@ TEST_P(ReconstructCliBadInput, ExitsTwoWithTheReasonOnTheLastLine) {
   std::string args = c.args;
   for (std::size_t at; (at = args.find("{dir}")) != std::string::npos;) args.replace(at, 5, dir);
   for (const std::string quiet : {"", "-q "}) {
-    const CliResult r = run(quiet + args, dir);
+    const CliRun r = runCli(quiet + args, dir);
     EXPECT_EQ(r.exit_code, 2) << r.err;
     const std::string line = lastLine(r.err);
     EXPECT_EQ(line.rfind("skelgrasp: error: ", 0), 0u) << r.err;
     EXPECT_NE(line.find(c.expected), std::string::npos) << r.err;
     if (!quiet.empty()) {
-      EXPECT_EQ(lines(r.err), 1u) << r.err;  // -q: nothing but the error
+      EXPECT_EQ(countLines(r.err), 1) << r.err;  // -q: nothing but the error
     }
     EXPECT_TRUE(r.out.empty()) << r.out;
   }

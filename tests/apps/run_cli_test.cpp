@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "cli_support.h"
 #include "perception/synthetic_scenes.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
@@ -13,22 +14,9 @@
 namespace skelgrasp {
 namespace {
 
-struct CliResult {
-  int exit_code;
-  std::string out;
-  std::string err;
-};
-
-CliResult run(const std::string& args, const std::string& dir) {
-  const std::string out = dir + "/stdout.txt", err = dir + "/stderr.txt";
-  const std::string cmd = std::string(SKELGRASP_CLI_PATH) + " " + args + " > " + out + " 2> " + err;
-  const int status = std::system(cmd.c_str());
-  auto slurp = [](const std::string& p) {
-    std::ifstream in(p);
-    return std::string((std::istreambuf_iterator<char>(in)), {});
-  };
-  return {WEXITSTATUS(status), slurp(out), slurp(err)};
-}
+using test::CliRun;
+using test::countLines;
+using test::runCli;
 
 std::string lastLine(const std::string& text) {
   const auto end = text.find_last_not_of('\n');
@@ -42,7 +30,7 @@ TEST(RunCli, ScanToRankedGraspsWithReport) {
   const std::string dir = test::tempDir("cli_run");
   perception::savePointCloud(dir + "/scene.pcd", test::renderTableScene(41).cloud);
   // The cylinder of the synthetic scene stands at (0.05, -0.09).
-  const CliResult r = run(
+  const CliRun r = runCli(
       "run " + dir + "/scene.pcd --hand sdh --object nearest:0.05,-0.09,0.05 --out " + dir + "/out",
       dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -90,7 +78,7 @@ TEST_P(RunCliBadInput, ExitsTwoWithOneErrorLine) {
                              test::renderTableScene(41, {0.55, 0.05, 0.6}, false).cloud);
   std::string args = c.args;
   for (std::size_t at; (at = args.find("{dir}")) != std::string::npos;) args.replace(at, 5, dir);
-  const CliResult r = run("-q " + args, dir);
+  const CliRun r = runCli("-q " + args, dir);
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   EXPECT_EQ(r.err.rfind("skelgrasp: error: ", 0), 0u) << r.err;
@@ -110,7 +98,7 @@ INSTANTIATE_TEST_SUITE_P(
 
 TEST(DemoCli, EveryObjectOfTheGeneratedSceneGetsGraspsAndAReport) {
   const std::string dir = test::tempDir("cli_demo");
-  const CliResult r = run("demo --out " + dir + "/demo", dir);
+  const CliRun r = runCli("demo --out " + dir + "/demo", dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(lastLine(r.out).find("index.html"), std::string::npos) << r.out;
   // A real PCD with the first camera as its viewpoint.
@@ -130,7 +118,7 @@ TEST(DemoCli, EveryObjectOfTheGeneratedSceneGetsGraspsAndAReport) {
 TEST(BenchRunCli, ReportsEveryStageOfEveryInput) {
   const std::string dir = test::tempDir("cli_bench_run");
   perception::savePointCloud(dir + "/scene.pcd", test::renderTableScene(41).cloud);
-  const CliResult r = run("bench run " + dir +
+  const CliRun r = runCli("bench run " + dir +
                               "/scene.pcd --hand sdh --object nearest:0.05,-0.09,0.05 "
                               "--repeat 1 --json " +
                               dir + "/bench.json",
