@@ -1,5 +1,7 @@
 #include "skelgrasp/grasping/hypothesis.h"
 
+#include <algorithm>
+
 namespace skelgrasp::grasping {
 
 const char* toString(GraspType type) {
@@ -89,6 +91,16 @@ HypothesisOutcome evaluateHypothesis(GraspSimulator& simulator, const Pose& gcp,
   }
   out.grasp = std::move(grasp);
   return out;
+}
+
+void finishPlan(PlanResult& result, double planning_s) {
+  std::stable_sort(result.grasps.begin(), result.grasps.end(),
+                   [](const Grasp& a, const Grasp& b) { return a.epsilon > b.epsilon; });
+  for (std::size_t i = 0; i < result.grasps.size(); ++i) result.grasps[i].id = static_cast<int>(i);
+  result.summary.planning_s = planning_s;
+  if (result.grasps.empty()) {
+    result.status = Status::Make(StatusCode::kNoResult, "no grasp found; see the rejection counts");
+  }
 }
 
 }  // namespace skelgrasp::grasping

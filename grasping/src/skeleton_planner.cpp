@@ -206,13 +206,7 @@ PlanResult planSkeletonGrasps(const HandModel& hand, const GraspObject& object,
       }
     }
   }
-  std::stable_sort(result.grasps.begin(), result.grasps.end(),
-                   [](const Grasp& a, const Grasp& b) { return a.epsilon > b.epsilon; });
-  for (std::size_t i = 0; i < result.grasps.size(); ++i) result.grasps[i].id = static_cast<int>(i);
-  summary.planning_s = watch.seconds();
-  if (result.grasps.empty()) {
-    result.status = Status::Make(StatusCode::kNoResult, "no grasp found; see the rejection counts");
-  }
+  finishPlan(result, watch.seconds());
   log().info(
       "skeleton planner ({}): {} hypotheses, {} generated, {} force closure ({:.0f}%), {} kept, "
       "{:.2f} s",

@@ -81,13 +81,7 @@ PlanResult planSurfaceGrasps(const HandModel& hand, const GraspObject& object,
     (type == GraspType::kPower ? summary.power : summary.precision) += 1;
     result.grasps.push_back(std::move(grasp));
   }
-  std::stable_sort(result.grasps.begin(), result.grasps.end(),
-                   [](const Grasp& x, const Grasp& y) { return x.epsilon > y.epsilon; });
-  for (std::size_t i = 0; i < result.grasps.size(); ++i) result.grasps[i].id = static_cast<int>(i);
-  summary.planning_s = watch.seconds();
-  if (result.grasps.empty()) {
-    result.status = Status::Make(StatusCode::kNoResult, "no grasp found; see the rejection counts");
-  }
+  finishPlan(result, watch.seconds());
   log().info(
       "surface planner ({}): {} hypotheses, {} generated, {} force closure ({:.0f}%), {:.2f} s",
       hand.name(), summary.hypotheses, summary.generated, summary.force_closure,

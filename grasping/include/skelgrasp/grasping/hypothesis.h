@@ -31,4 +31,8 @@ struct HypothesisOutcome {
 HypothesisOutcome evaluateHypothesis(GraspSimulator& simulator, const Pose& gcp,
                                      const Preshape& preshape, const HypothesisParams& params);
 
+// Ends a planner run: grasps sorted by epsilon (best first) and numbered, the planning time set,
+// status kNoResult when nothing was kept.
+void finishPlan(PlanResult& result, double planning_s);
+
 }  // namespace skelgrasp::grasping
