@@ -1,9 +1,6 @@
 #include "skelgrasp/grasping/grasp_simulator.h"
 
-#include <cmath>
-
 #include "fcl_conversions.h"
-#include "skelgrasp/common/primitives.h"
 
 namespace skelgrasp::grasping {
 namespace {
@@ -11,10 +8,6 @@ namespace {
 struct ShapeInstance {
   std::shared_ptr<fcl::CollisionGeometryd> geometry;
   std::unique_ptr<fcl::CollisionObjectd> object;
-  // A box as a 12-triangle BVH, for distances only: FCL's box-to-mesh distance runs GJK against
-  // every nearby triangle (~1.4 ms on a 16k-triangle object), its mesh-to-mesh distance uses
-  // closed-form triangle distances and RSS bounds (~20x faster). Null for other shapes.
-  std::unique_ptr<fcl::CollisionObjectd> distance_object;
   Pose origin;
 };
 
@@ -80,10 +73,6 @@ GraspSimulator::GraspSimulator(const HandModel& hand, const GraspObject& object)
       ShapeInstance instance;
       instance.geometry = internal::toFclGeometry(shape);
       instance.object = std::make_unique<fcl::CollisionObjectd>(instance.geometry);
-      if (shape.type == ShapeType::kBox) {
-        instance.distance_object = std::make_unique<fcl::CollisionObjectd>(
-            internal::toFclMesh(primitives::makeBox(shape.box_size)));
-      }
       instance.origin = shape.origin;
       impl_->shapes[l].push_back(std::move(instance));
     }
@@ -145,21 +134,6 @@ bool linkHitsObject(const std::vector<ShapeInstance>& link, const fcl::Collision
                     std::size_t& queries) {
   for (const auto& s : link) {
     if (collide(*s.object, object, queries)) return true;
-  }
-  return false;
-}
-
-// Whether any shape's world box grown by `margin` intersects the object: a conservative test for
-// "the link is within `margin` of the object".
-bool linkNearObject(const std::vector<ShapeInstance>& link, const fcl::CollisionObjectd& object,
-                    double margin, std::size_t& queries) {
-  for (const auto& s : link) {
-    const fcl::AABBd& box = s.object->getAABB();
-    const Eigen::Vector3d size = box.max_ - box.min_ + Eigen::Vector3d::Constant(2 * margin);
-    fcl::CollisionObjectd grown(std::make_shared<fcl::Boxd>(size));
-    grown.setTranslation(box.center());
-    grown.computeAABB();
-    if (collide(grown, object, queries)) return true;
   }
   return false;
 }
@@ -316,16 +290,7 @@ ClosingResult GraspSimulator::close(const Pose& hand_pose, const Preshape& presh
   const auto& surface = object_.surfaceQuery();
   const auto link_poses = hand_.linkPoses(q);
   auto addContact = [&](int link, bool palm, double max_distance) {
-    // Links that were never blocked rarely lie within max_distance; a collision test of their
-    // world box grown by max_distance (it contains every point that close to the link) is ~20x
-    // cheaper than the exact distance, which dominated closing.
-    if (std::isfinite(max_distance) &&
-        !linkNearObject(shapes[link], object, max_distance, queries_))
-      return;
-    // Slack (FCL prunes a node only when it is both 0.1 mm and 1/3 short of the best distance)
-    // lets the traversal stop near the first touching triangle; the patch below refines the point.
-    fcl::DistanceRequestd request(true, /*enable_signed_distance=*/false, /*rel_err=*/0.5,
-                                  /*abs_err=*/1e-4);
+    fcl::DistanceRequestd request(true);
     double best = std::numeric_limits<double>::infinity();
     Eigen::Vector3d object_point = Eigen::Vector3d::Zero(), link_point = Eigen::Vector3d::Zero();
     for (const auto& s : shapes[link]) {
@@ -333,13 +298,7 @@ ClosingResult GraspSimulator::close(const Pose& hand_pose, const Preshape& presh
       ++queries_;
       // The object goes first: FCL 0.7 reports mesh-shape pairs with the mesh as object 1 (b1,
       // nearest_points[0]) whatever the argument order.
-      const fcl::CollisionObjectd* link_object = s.object.get();
-      if (s.distance_object) {
-        s.distance_object->setTransform(s.object->getTransform());
-        s.distance_object->computeAABB();
-        link_object = s.distance_object.get();
-      }
-      fcl::distance(&object, link_object, request, distance);
+      fcl::distance(&object, s.object.get(), request, distance);
       if (distance.min_distance < best) {
         best = distance.min_distance;
         object_point = distance.nearest_points[0];
