@@ -93,6 +93,18 @@ HypothesisOutcome evaluateHypothesis(GraspSimulator& simulator, const Pose& gcp,
   return out;
 }
 
+std::optional<Grasp> countOutcome(HypothesisOutcome&& outcome, PlanSummary& summary) {
+  summary.generated += outcome.generated;
+  if (outcome.generated && (outcome.grasp || outcome.reason != reason::kNotForceClosure)) {
+    ++summary.force_closure;
+  }
+  if (!outcome.grasp) {
+    ++summary.rejections[outcome.reason];
+    if (!outcome.scene_link.empty()) ++summary.scene_collision_links[outcome.scene_link];
+  }
+  return std::move(outcome.grasp);
+}
+
 void finishPlan(PlanResult& result, double planning_s) {
   std::stable_sort(result.grasps.begin(), result.grasps.end(),
                    [](const Grasp& a, const Grasp& b) { return a.epsilon > b.epsilon; });

@@ -186,17 +186,9 @@ PlanResult planSkeletonGrasps(const HandModel& hand, const GraspObject& object,
         if (stop()) break;
         ++summary.hypotheses;
         ++summary.poses;
-        auto outcome = evaluateHypothesis(simulator, frame, preshape, hp);
-        summary.generated += outcome.generated;
-        if (outcome.generated && (outcome.grasp || outcome.reason != reason::kNotForceClosure)) {
-          ++summary.force_closure;
-        }
-        if (!outcome.grasp) {
-          ++summary.rejections[outcome.reason];
-          if (!outcome.scene_link.empty()) ++summary.scene_collision_links[outcome.scene_link];
-          continue;
-        }
-        Grasp grasp = std::move(*outcome.grasp);
+        auto kept = countOutcome(evaluateHypothesis(simulator, frame, preshape, hp), summary);
+        if (!kept) continue;
+        Grasp grasp = std::move(*kept);
         grasp.type = type;
         grasp.strategy = strategy;
         grasp.segment = v.segment;

@@ -66,16 +66,9 @@ PlanResult planSurfaceGrasps(const HandModel& hand, const GraspObject& object,
     Pose gcp = Pose::Identity();
     gcp.linear() = frameFromZY(-normal, std::cos(roll) * u + std::sin(roll) * w);
     gcp.translation() = point;
-    auto outcome = evaluateHypothesis(simulator, gcp, preshape, hp);
-    summary.generated += outcome.generated;
-    if (outcome.generated && (outcome.grasp || outcome.reason != reason::kNotForceClosure))
-      ++summary.force_closure;
-    if (!outcome.grasp) {
-      ++summary.rejections[outcome.reason];
-      if (!outcome.scene_link.empty()) ++summary.scene_collision_links[outcome.scene_link];
-      continue;
-    }
-    Grasp grasp = std::move(*outcome.grasp);
+    auto kept = countOutcome(evaluateHypothesis(simulator, gcp, preshape, hp), summary);
+    if (!kept) continue;
+    Grasp grasp = std::move(*kept);
     grasp.type = type;
     grasp.strategy = "surface";
     (type == GraspType::kPower ? summary.power : summary.precision) += 1;

@@ -1,6 +1,8 @@
 #pragma once
 // Turning one hand pose hypothesis into a grasp: back off until collision-free, optionally retreat
 // further, close the fingers, judge the contacts. Shared by the planners.
+#include <optional>
+
 #include "skelgrasp/grasping/grasp.h"
 #include "skelgrasp/grasping/grasp_simulator.h"
 #include "skelgrasp/grasping/quality.h"
@@ -30,6 +32,10 @@ struct HypothesisOutcome {
 // `gcp` is the hypothesis' grasp centre point pose (object frame; z = approach direction).
 HypothesisOutcome evaluateHypothesis(GraspSimulator& simulator, const Pose& gcp,
                                      const Preshape& preshape, const HypothesisParams& params);
+
+// Counts an outcome in the summary (generated, force closure, rejection reason and scene link);
+// returns the grasp when the hypothesis was kept.
+std::optional<Grasp> countOutcome(HypothesisOutcome&& outcome, PlanSummary& summary);
 
 // Ends a planner run: grasps sorted by epsilon (best first) and numbered, the planning time set,
 // status kNoResult when nothing was kept.
