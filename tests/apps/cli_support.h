@@ -28,6 +28,28 @@ inline CliRun runCli(const std::string& args, const std::string& dir) {
   return {WEXITSTATUS(status), slurp(out), slurp(err)};
 }
 
+// The last non-empty line of `text`, without its newline.
+inline std::string lastLine(const std::string& text) {
+  const auto end = text.find_last_not_of('\n');
+  if (end == std::string::npos) return {};
+  const auto start = text.rfind('\n', end);
+  const auto from = start == std::string::npos ? 0 : start + 1;
+  return text.substr(from, end - from + 1);
+}
+
+// A command line that must fail: exit 2 and one error line containing `expected`.
+struct BadCliInput {
+  std::string name;
+  std::string args;  // {dir} stands for the test's folder
+  std::string expected;
+};
+
+// `args` with every {dir} replaced by `dir`.
+inline std::string withDir(std::string args, const std::string& dir) {
+  for (std::size_t at; (at = args.find("{dir}")) != std::string::npos;) args.replace(at, 5, dir);
+  return args;
+}
+
 inline int countLines(const std::string& text) {
   return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
 }

@@ -31,14 +31,14 @@ TEST(Cli, SkeletonWritesOutputsAndOneSummaryLine) {
   EXPECT_GT(loadMesh(dir + "/out/segmentation.ply").numVertices(), 0u);
 }
 
-struct BadCliInput {
+struct BadMeshFile {
   std::string name;
   std::string file;
   std::string content;
   std::string expected;
 };
 
-class CliBadInput : public ::testing::TestWithParam<BadCliInput> {};
+class CliBadInput : public ::testing::TestWithParam<BadMeshFile> {};
 
 TEST_P(CliBadInput, ExitsTwoWithOneErrorLineNamingTheFile) {
   const auto& c = GetParam();
@@ -56,12 +56,12 @@ TEST_P(CliBadInput, ExitsTwoWithOneErrorLineNamingTheFile) {
 
 INSTANTIATE_TEST_SUITE_P(
     Cases, CliBadInput,
-    ::testing::Values(BadCliInput{"missing", "none.ply", "", "no such file"},
-                      BadCliInput{"unknown_format", "mesh.abc", "x", "unknown mesh format"},
-                      BadCliInput{"empty_mesh", "empty.off", "OFF\n0 0 0\n", "no vertices"},
-                      BadCliInput{"nan", "nan.obj", "v 0 0 0\nv 0 nan 0\nv 1 0 0\nf 1 2 3\n",
+    ::testing::Values(BadMeshFile{"missing", "none.ply", "", "no such file"},
+                      BadMeshFile{"unknown_format", "mesh.abc", "x", "unknown mesh format"},
+                      BadMeshFile{"empty_mesh", "empty.off", "OFF\n0 0 0\n", "no vertices"},
+                      BadMeshFile{"nan", "nan.obj", "v 0 0 0\nv 0 nan 0\nv 1 0 0\nf 1 2 3\n",
                                   "non-finite"},
-                      BadCliInput{"garbage", "junk.ply", "ply\nformat nonsense\n", "cannot parse"}),
+                      BadMeshFile{"garbage", "junk.ply", "ply\nformat nonsense\n", "cannot parse"}),
     [](const auto& info) { return info.param.name; });
 
 TEST(Cli, HandsListsTheFourBuiltInHands) {

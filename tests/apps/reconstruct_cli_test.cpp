@@ -18,17 +18,12 @@
 namespace skelgrasp {
 namespace {
 
+using test::BadCliInput;
 using test::CliRun;
 using test::countLines;
+using test::lastLine;
 using test::runCli;
-
-std::string lastLine(const std::string& text) {
-  const auto end = text.find_last_not_of('\n');
-  if (end == std::string::npos) return {};
-  const auto start = text.rfind('\n', end);
-  return text.substr(start == std::string::npos ? 0 : start + 1,
-                     end - (start == std::string::npos ? 0 : start + 1) + 1);
-}
+using test::withDir;
 
 // The rendered table-top scene as a binary-compressed PCD with its viewpoint.
 std::string writeScene(const std::string& dir, bool with_objects = true) {
@@ -116,13 +111,7 @@ TEST(ReconstructCli, CaptureDescriptionAndYcbRawFolder) {
   EXPECT_NEAR(loadMesh(dir + "/y.ply").bounds().extent().z(), 0.10, 0.01);
 }
 
-struct BadInput {
-  std::string name;
-  std::string args;  // {dir} is replaced by the test's folder
-  std::string expected;
-};
-
-class ReconstructCliBadInput : public ::testing::TestWithParam<BadInput> {};
+class ReconstructCliBadInput : public ::testing::TestWithParam<BadCliInput> {};
 
 TEST_P(ReconstructCliBadInput, ExitsTwoWithTheReasonOnTheLastLine) {
   const auto& c = GetParam();
@@ -140,8 +129,7 @@ TEST_P(ReconstructCliBadInput, ExitsTwoWithTheReasonOnTheLastLine) {
   perception::savePointCloud(dir + "/volume.pcd", volume);
   if (c.name == "no_object") writeScene(dir, false);
 
-  std::string args = c.args;
-  for (std::size_t at; (at = args.find("{dir}")) != std::string::npos;) args.replace(at, 5, dir);
+  const std::string args = withDir(c.args, dir);
   for (const std::string quiet : {"", "-q "}) {
     const CliRun r = runCli(quiet + args, dir);
     EXPECT_EQ(r.exit_code, 2) << r.err;
@@ -159,27 +147,28 @@ TEST_P(ReconstructCliBadInput, ExitsTwoWithTheReasonOnTheLastLine) {
 INSTANTIATE_TEST_SUITE_P(
     Cases, ReconstructCliBadInput,
     ::testing::Values(
-        BadInput{"missing", "reconstruct {dir}/none.pcd --out {dir}/out.ply",
-                 "none.pcd: no such file"},
-        BadInput{"corrupt", "reconstruct {dir}/garbage.pcd --out {dir}/out.ply",
-                 "garbage.pcd: cannot parse"},
-        BadInput{"empty", "reconstruct {dir}/empty.pcd --out {dir}/out.ply",
-                 "empty.pcd: point cloud has no points"},
-        BadInput{"all_nan", "reconstruct {dir}/nan.pcd --out {dir}/out.ply",
-                 "nan.pcd: all 100 points are NaN"},
-        BadInput{"no_plane", "reconstruct {dir}/volume.pcd --out {dir}/out.ply",
-                 "volume.pcd: no support plane found"},
-        BadInput{"no_object", "reconstruct {dir}/scene.pcd --out {dir}/out.ply",
-                 "scene.pcd: no object above the support plane"},
-        BadInput{"ingest_no_plane", "ingest {dir}/volume.pcd --out {dir}/out.pcd",
-                 "no support plane found"},
-        BadInput{"bad_target", "reconstruct {dir}/volume.pcd --object biggest --out {dir}/out.ply",
-                 "bad object selection"},
-        BadInput{"bad_output", "reconstruct {dir}/volume.pcd --out {dir}/out.obj",
-                 "--out must be a .ply file"},
-        BadInput{"not_ycb", "reconstruct {dir} --out {dir}/out.ply", "not a YCB raw capture"},
-        BadInput{"bad_ycb_id", "datasets fetch ycb 003_cracker_box ../etc --dir {dir}",
-                 "not a YCB object id"}),
+        BadCliInput{"missing", "reconstruct {dir}/none.pcd --out {dir}/out.ply",
+                    "none.pcd: no such file"},
+        BadCliInput{"corrupt", "reconstruct {dir}/garbage.pcd --out {dir}/out.ply",
+                    "garbage.pcd: cannot parse"},
+        BadCliInput{"empty", "reconstruct {dir}/empty.pcd --out {dir}/out.ply",
+                    "empty.pcd: point cloud has no points"},
+        BadCliInput{"all_nan", "reconstruct {dir}/nan.pcd --out {dir}/out.ply",
+                    "nan.pcd: all 100 points are NaN"},
+        BadCliInput{"no_plane", "reconstruct {dir}/volume.pcd --out {dir}/out.ply",
+                    "volume.pcd: no support plane found"},
+        BadCliInput{"no_object", "reconstruct {dir}/scene.pcd --out {dir}/out.ply",
+                    "scene.pcd: no object above the support plane"},
+        BadCliInput{"ingest_no_plane", "ingest {dir}/volume.pcd --out {dir}/out.pcd",
+                    "no support plane found"},
+        BadCliInput{"bad_target",
+                    "reconstruct {dir}/volume.pcd --object biggest --out {dir}/out.ply",
+                    "bad object selection"},
+        BadCliInput{"bad_output", "reconstruct {dir}/volume.pcd --out {dir}/out.obj",
+                    "--out must be a .ply file"},
+        BadCliInput{"not_ycb", "reconstruct {dir} --out {dir}/out.ply", "not a YCB raw capture"},
+        BadCliInput{"bad_ycb_id", "datasets fetch ycb 003_cracker_box ../etc --dir {dir}",
+                    "not a YCB object id"}),
     [](const auto& info) { return info.param.name; });
 
 }  // namespace

@@ -14,17 +14,12 @@
 namespace skelgrasp {
 namespace {
 
+using test::BadCliInput;
 using test::CliRun;
 using test::countLines;
+using test::lastLine;
 using test::runCli;
-
-std::string lastLine(const std::string& text) {
-  const auto end = text.find_last_not_of('\n');
-  if (end == std::string::npos) return {};
-  const auto start = text.rfind('\n', end);
-  const auto from = start == std::string::npos ? 0 : start + 1;
-  return text.substr(from, end - from + 1);
-}
+using test::withDir;
 
 TEST(RunCli, ScanToRankedGraspsWithReport) {
   const std::string dir = test::tempDir("cli_run");
@@ -62,13 +57,7 @@ TEST(RunCli, ScanToRankedGraspsWithReport) {
   EXPECT_GT(loadMesh(dir + "/out/object.ply").numVertices(), 100u);
 }
 
-struct BadRun {
-  std::string name;
-  std::string args;  // {dir} is replaced by the test's folder
-  std::string expected;
-};
-
-class RunCliBadInput : public ::testing::TestWithParam<BadRun> {};
+class RunCliBadInput : public ::testing::TestWithParam<BadCliInput> {};
 
 TEST_P(RunCliBadInput, ExitsTwoWithOneErrorLine) {
   const auto& c = GetParam();
@@ -76,8 +65,7 @@ TEST_P(RunCliBadInput, ExitsTwoWithOneErrorLine) {
   std::ofstream(dir + "/garbage.pcd") << "this is not a point cloud\n";
   perception::savePointCloud(dir + "/table.pcd",
                              test::renderTableScene(41, {0.55, 0.05, 0.6}, false).cloud);
-  std::string args = c.args;
-  for (std::size_t at; (at = args.find("{dir}")) != std::string::npos;) args.replace(at, 5, dir);
+  const std::string args = withDir(c.args, dir);
   const CliRun r = runCli("-q " + args, dir);
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
@@ -89,11 +77,12 @@ TEST_P(RunCliBadInput, ExitsTwoWithOneErrorLine) {
 INSTANTIATE_TEST_SUITE_P(
     Cases, RunCliBadInput,
     ::testing::Values(
-        BadRun{"missing", "run {dir}/none.pcd --out {dir}/out", "none.pcd"},
-        BadRun{"garbage", "run {dir}/garbage.pcd --out {dir}/out", "garbage.pcd"},
-        BadRun{"no_object", "run {dir}/table.pcd --out {dir}/out", "table.pcd"},
-        BadRun{"all_objects", "run {dir}/table.pcd --object all --out {dir}/out", "one object"},
-        BadRun{"bad_hand", "run {dir}/table.pcd --hand nohand --out {dir}/out", "nohand"}),
+        BadCliInput{"missing", "run {dir}/none.pcd --out {dir}/out", "none.pcd"},
+        BadCliInput{"garbage", "run {dir}/garbage.pcd --out {dir}/out", "garbage.pcd"},
+        BadCliInput{"no_object", "run {dir}/table.pcd --out {dir}/out", "table.pcd"},
+        BadCliInput{"all_objects", "run {dir}/table.pcd --object all --out {dir}/out",
+                    "one object"},
+        BadCliInput{"bad_hand", "run {dir}/table.pcd --hand nohand --out {dir}/out", "nohand"}),
     [](const auto& info) { return info.param.name; });
 
 TEST(DemoCli, EveryObjectOfTheGeneratedSceneGetsGraspsAndAReport) {
