@@ -42,9 +42,7 @@ std::vector<Case> loadCases(const BenchRunArgs& args) {
       scan.views = scene.cameras.size();
       scan.source = "demo scene";
       for (std::size_t k = 1; k < scene.meshes.size(); ++k) {
-        const auto& c = scene.centres[k];
-        cases.push_back({"demo " + scene.names[k], scan,
-                         fmt::format("nearest:{:.4f},{:.4f},{:.4f}", c.x(), c.y(), c.z())});
+        cases.push_back({"demo " + scene.names[k], scan, nearestObjectOption(scene.centres[k])});
       }
     } else {
       cases.push_back({std::filesystem::path(input).filename().string(),

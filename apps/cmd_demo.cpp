@@ -46,9 +46,7 @@ int runDemo(const DemoArgs& args) {
   int failures = 0;
   for (std::size_t k = 1; k < scene.meshes.size(); ++k) {
     RunOptions options = args.run;
-    const auto& c = scene.centres[k];
-    options.reconstruction.object =
-        fmt::format("nearest:{:.4f},{:.4f},{:.4f}", c.x(), c.y(), c.z());
+    options.reconstruction.object = nearestObjectOption(scene.centres[k]);
     const std::string dir = args.out + "/" + scene.names[k];
     std::cout << "== " << scene.names[k] << std::endl;
     const int code = runOnScan(scan, scene.names[k], dir, options);

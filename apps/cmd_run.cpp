@@ -52,6 +52,10 @@ void RunOptions::addTo(CLI::App& cmd) {
   cmd.add_flag("--no-scene-check", no_scene_check, "Do not check grasps against the scene");
 }
 
+std::string nearestObjectOption(const Eigen::Vector3d& point) {
+  return fmt::format("nearest:{:.4f},{:.4f},{:.4f}", point.x(), point.y(), point.z());
+}
+
 int runOnScan(const perception::Scan& scan, const std::string& name, const std::string& out_dir,
               const RunOptions& options) {
   const auto hand = options.hand.load();

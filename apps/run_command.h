@@ -23,6 +23,9 @@ struct RunOptions {
   grasping::RunParams params() const;
 };
 
+// The --object value that picks the cluster nearest to `point` ("nearest:x,y,z", 0.1 mm).
+std::string nearestObjectOption(const Eigen::Vector3d& point);
+
 // Runs the pipeline on a loaded scan, writes DIR's files, prints the stage times and a summary.
 int runOnScan(const perception::Scan& scan, const std::string& name, const std::string& out_dir,
               const RunOptions& options);
