@@ -2,6 +2,10 @@
 
 #include <spdlog/sinks/stdout_color_sinks.h>
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cstdio>
 #include <mutex>
 
 namespace skelgrasp {
@@ -37,6 +41,23 @@ void ProgressReporter::step(std::size_t done) {
 
 void ProgressReporter::finish() {
   log().info("{}: {}/{} done in {:.1f} s", what_, total_, total_, watch_.seconds());
+}
+
+SilencedStream::SilencedStream(Stream stream)
+    : fd_(stream == Stream::kStdout ? STDOUT_FILENO : STDERR_FILENO) {
+  std::fflush(stream == Stream::kStdout ? stdout : stderr);
+  saved_ = ::dup(fd_);
+  const int null = ::open("/dev/null", O_WRONLY);
+  if (saved_ >= 0 && null >= 0) ::dup2(null, fd_);
+  if (null >= 0) ::close(null);
+}
+
+SilencedStream::~SilencedStream() {
+  std::fflush(fd_ == STDOUT_FILENO ? stdout : stderr);
+  if (saved_ >= 0) {
+    ::dup2(saved_, fd_);
+    ::close(saved_);
+  }
 }
 
 }  // namespace skelgrasp

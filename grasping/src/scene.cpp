@@ -5,45 +5,12 @@
 #include <fcl/geometry/shape/halfspace.h>
 #include <octomap/OcTree.h>
 
-#include <fcntl.h>
-#include <unistd.h>
-
-#include <cstdio>
 #include <fstream>
 
 #include "fcl_conversions.h"
 #include "skelgrasp/common/logging.h"
 
 namespace skelgrasp::grasping {
-namespace {
-
-// Debian's liboctomap is built with its debug output on, so writing a tree prints
-// "Writing N nodes to output stream... done." on stderr whatever the caller defines. The file
-// descriptor is pointed at /dev/null for the few milliseconds of the write.
-class SilencedStderr {
- public:
-  SilencedStderr() {
-    std::fflush(stderr);
-    saved_ = ::dup(STDERR_FILENO);
-    const int null = ::open("/dev/null", O_WRONLY);
-    if (saved_ >= 0 && null >= 0) ::dup2(null, STDERR_FILENO);
-    if (null >= 0) ::close(null);
-  }
-  ~SilencedStderr() {
-    std::fflush(stderr);
-    if (saved_ >= 0) {
-      ::dup2(saved_, STDERR_FILENO);
-      ::close(saved_);
-    }
-  }
-  SilencedStderr(const SilencedStderr&) = delete;
-  SilencedStderr& operator=(const SilencedStderr&) = delete;
-
- private:
-  int saved_ = -1;
-};
-
-}  // namespace
 
 struct SceneOccupancy::Impl {
   std::shared_ptr<octomap::OcTree> tree;
@@ -166,7 +133,8 @@ void SceneOccupancy::writeBinary(const std::string& path) const {
   std::ofstream out(path, std::ios::binary);
   if (!out) throw IoError(path, "cannot open for writing");
   {
-    const SilencedStderr quiet;
+    // Debian's liboctomap is built with its debug output on: "Writing N nodes... done." on stderr.
+    const SilencedStream quiet(SilencedStream::Stream::kStderr);
     impl_->tree->writeBinaryConst(out);
   }
   if (!out) throw IoError(path, "cannot write OctoMap file");

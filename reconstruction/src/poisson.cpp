@@ -1,45 +1,12 @@
 // PCL translation unit: Poisson surface reconstruction.
 #include <pcl/surface/poisson.h>
 
-#include <fcntl.h>
-#include <unistd.h>
-
-#include <cstdio>
 #include <thread>
 
 #include "poisson.h"
 #include "skelgrasp/common/logging.h"
 
 namespace skelgrasp::reconstruction::detail {
-namespace {
-
-// PCL's copy of PoissonRecon prints marching-cubes diagnostics ("Vertex pair not in list") with
-// printf; stdout belongs to the CLI's summaries, so it is pointed at /dev/null while Poisson runs.
-// Process-wide for that time: nothing else in skelgrasp writes to stdout from library code.
-class QuietStdout {
- public:
-  QuietStdout() {
-    std::fflush(stdout);
-    saved_ = dup(STDOUT_FILENO);
-    const int null = open("/dev/null", O_WRONLY);
-    if (saved_ >= 0 && null >= 0) dup2(null, STDOUT_FILENO);
-    if (null >= 0) close(null);
-  }
-  ~QuietStdout() {
-    std::fflush(stdout);
-    if (saved_ >= 0) {
-      dup2(saved_, STDOUT_FILENO);
-      close(saved_);
-    }
-  }
-  QuietStdout(const QuietStdout&) = delete;
-  QuietStdout& operator=(const QuietStdout&) = delete;
-
- private:
-  int saved_ = -1;
-};
-
-}  // namespace
 
 TriangleMesh poissonSurface(const PointCloud& oriented, const PoissonParams& params) {
   auto input = std::make_shared<pcl::PointCloud<pcl::PointNormal>>();
@@ -72,7 +39,9 @@ TriangleMesh poissonSurface(const PointCloud& oriented, const PoissonParams& par
   pcl::PointCloud<pcl::PointNormal> vertices;
   std::vector<pcl::Vertices> polygons;
   {
-    const QuietStdout quiet;
+    // PCL's PoissonRecon prints marching-cubes diagnostics ("Vertex pair not in list") with printf;
+    // stdout belongs to the CLI's summaries.
+    const SilencedStream quiet(SilencedStream::Stream::kStdout);
     poisson.reconstruct(vertices, polygons);
   }
 

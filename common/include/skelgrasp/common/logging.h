@@ -45,4 +45,21 @@ class ProgressReporter {
   std::mutex mutex_;  // step() may be called from worker threads
 };
 
+// Points stdout or stderr at /dev/null while alive, for third-party code that prints unasked
+// (PCL's PoissonRecon on stdout, Debian's liboctomap on stderr). Process-wide: anything else
+// written to that stream meanwhile, from any thread, is lost too, so keep the scope to the one
+// call.
+class SilencedStream {
+ public:
+  enum class Stream { kStdout, kStderr };
+  explicit SilencedStream(Stream stream);
+  ~SilencedStream();
+  SilencedStream(const SilencedStream&) = delete;
+  SilencedStream& operator=(const SilencedStream&) = delete;
+
+ private:
+  int fd_;
+  int saved_ = -1;
+};
+
 }  // namespace skelgrasp
