@@ -108,7 +108,8 @@ RunResult runPipeline(const perception::Scan& scan, const HandModel& hand,
   stage("plan", watch.seconds());
 
   watch.restart();
-  const reconstruction::MeshQuery query(out.mesh);
+  // The planner's object already holds a query tree over this mesh (same faces).
+  const auto& query = target.surfaceQuery();
   for (auto& g : out.plan.grasps) {
     RankedGrasp r;
     r.observed_contact_ratio = observedContactRatio(g, out.mesh, out.observed, query);
