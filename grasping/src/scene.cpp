@@ -49,11 +49,17 @@ SceneOccupancy::SceneOccupancy(const PointCloud& obstacles, const Eigen::Vector3
     // cell set occupied at full resolution so no ray can have cleared an obstacle.
     octomap::Pointcloud sparse;
     octomap::KeySet blocks, cells;
+    // A block is the full-depth key without its low kBlockShift bits. OctoMap's own
+    // coordToKey(coord, depth) left-shifts the signed key of negative coordinates (undefined
+    // behaviour, reported by UBSan), so the block is derived from the checked unsigned key.
+    constexpr unsigned kBlockShift = 2;  // 4 x 4 x 4 cells
     for (const auto& p : cloud) {
-      if (blocks.insert(impl_->tree->coordToKey(p, impl_->tree->getTreeDepth() - 2)).second)
-        sparse.push_back(p);
       octomap::OcTreeKey key;
-      if (impl_->tree->coordToKeyChecked(p, key)) cells.insert(key);
+      if (!impl_->tree->coordToKeyChecked(p, key)) continue;  // outside the tree's range
+      const octomap::OcTreeKey block(key[0] >> kBlockShift, key[1] >> kBlockShift,
+                                     key[2] >> kBlockShift);
+      if (blocks.insert(block).second) sparse.push_back(p);
+      cells.insert(key);
     }
     impl_->tree->insertPointCloud(sparse, origin, params.max_range_m, /*lazy_eval=*/false,
                                   /*discretize=*/true);
