@@ -51,24 +51,25 @@ std::vector<int> nearestPoints(const std::vector<Eigen::Vector3d>& targets,
   return nearest;
 }
 
-Contraction contractMesh(const TriangleMesh& closed_mesh, const ContractionParams& params) {
-  if (!(params.max_triangle_angle_rad > 0) || !(params.quality_speed_tradeoff > 0) ||
-      !(params.medially_centered_speed_tradeoff > 0) || !(params.area_variation_factor > 0) ||
-      params.max_iterations <= 0 || !(params.min_edge_length_fraction > 0)) {
-    throw InvalidArgument("contractMesh: contraction parameters must be positive");
-  }
-  Stopwatch watch;
-  Contraction out;
-  CgalMesh mesh;
-  if (!internal::toCgalMesh(closed_mesh, mesh) || !CGAL::is_closed(mesh) ||
-      !CGAL::is_triangle_mesh(mesh)) {
-    out.status = Status::Make(StatusCode::kInvalidInput,
-                              "contraction needs a closed triangle 2-manifold; regularise first");
-    return out;
-  }
+namespace {
+
+// First guess of the ordered arena's address space per input vertex, with a floor; the arena grows
+// kArenaGrowth-fold per retry up to kMaxArenaBytes. Address space only (pages are committed when
+// touched), so a generous guess costs nothing but must stay below common `ulimit -v` settings.
+constexpr std::size_t kMiB = std::size_t(1) << 20;
+constexpr std::size_t kArenaBytesPerInputVertex = 16 * 1024;
+constexpr std::size_t kMinArenaBytes = 64 * kMiB;
+constexpr std::size_t kMaxArenaBytes = std::size_t(64) << 30;
+constexpr std::size_t kArenaGrowth = 4;
+
+// One contraction inside an ordered arena of `reserve_bytes`. Returns false when the arena ran
+// out (the caller retries with a larger one); otherwise fills `out` (status, positions, vertex
+// map, edges). Every CGAL object lives inside this function so that it dies before the arena.
+bool contractInArena(const CgalMesh& mesh, const TriangleMesh& closed_mesh,
+                     const ContractionParams& params, std::size_t reserve_bytes,
+                     Contraction& out) {
   using Skeletonization = CGAL::Mean_curvature_flow_skeletonization<CgalMesh>;
-  // The arena must outlive every CGAL object that allocates from it (mcs, its triangulations).
-  internal::OrderedArenaScope arena;
+  internal::OrderedArenaScope arena(reserve_bytes);
   Skeletonization::Skeleton graph;
   CGAL::get_default_random() = CGAL::Random(0);  // results depend on the input only
   try {
@@ -82,15 +83,19 @@ Contraction contractMesh(const TriangleMesh& closed_mesh, const ContractionParam
     mcs.set_min_edge_length(params.min_edge_length_fraction * closed_mesh.bounds().diagonal());
     mcs.contract_until_convergence();
     mcs.convert_to_skeleton(graph);
+  } catch (const internal::OrderedArenaExhausted&) {
+    return false;
   } catch (const std::exception& e) {
     out.status =
         Status::Make(StatusCode::kFailed, std::string("MCF contraction failed: ") + e.what());
-    return out;
+    return true;
   }
+  log().debug("contraction: ordered arena used {} MiB for {} vertices", arena.usedBytes() / kMiB,
+              closed_mesh.vertices.size());
   const std::size_t nv = boost::num_vertices(graph);
   if (nv == 0) {
     out.status = Status::Make(StatusCode::kFailed, "MCF contraction produced an empty skeleton");
-    return out;
+    return true;
   }
   out.positions.resize(nv);
   out.mesh_vertex_to_skeleton.assign(closed_mesh.vertices.size(), -1);
@@ -106,6 +111,47 @@ Contraction contractMesh(const TriangleMesh& closed_mesh, const ContractionParam
       out.edges.push_back({a, b});
     }
   }
+  return true;
+}
+
+}  // namespace
+
+Contraction contractMesh(const TriangleMesh& closed_mesh, const ContractionParams& params) {
+  if (!(params.max_triangle_angle_rad > 0) || !(params.quality_speed_tradeoff > 0) ||
+      !(params.medially_centered_speed_tradeoff > 0) || !(params.area_variation_factor > 0) ||
+      params.max_iterations <= 0 || !(params.min_edge_length_fraction > 0)) {
+    throw InvalidArgument("contractMesh: contraction parameters must be positive");
+  }
+  Stopwatch watch;
+  Contraction out;
+  CgalMesh mesh;
+  if (!internal::toCgalMesh(closed_mesh, mesh) || !CGAL::is_closed(mesh) ||
+      !CGAL::is_triangle_mesh(mesh)) {
+    out.status = Status::Make(StatusCode::kInvalidInput,
+                              "contraction needs a closed triangle 2-manifold; regularise first");
+    return out;
+  }
+  // Address space of the ordered arena: a first guess from the vertex count, four times more per
+  // retry (see ordered_arena.h); the result does not depend on it.
+  std::size_t reserve_bytes =
+      std::max(kMinArenaBytes, kArenaBytesPerInputVertex * closed_mesh.vertices.size());
+  for (;;) {
+    try {
+      if (contractInArena(mesh, closed_mesh, params, reserve_bytes, out)) break;
+    } catch (const std::bad_alloc&) {
+      out.status = Status::Make(StatusCode::kFailed,
+                                "MCF contraction: cannot reserve " +
+                                    std::to_string(reserve_bytes >> 20) + " MiB of address space");
+      return out;
+    }
+    if (reserve_bytes >= kMaxArenaBytes) {
+      out.status = Status::Make(StatusCode::kFailed, "MCF contraction: arena limit reached");
+      return out;
+    }
+    reserve_bytes = std::min(kMaxArenaBytes, reserve_bytes * kArenaGrowth);
+    log().debug("contraction: ordered arena exhausted, retrying with {} MiB", reserve_bytes >> 20);
+  }
+  if (!out.status.ok()) return out;
   // CGAL assigns every vertex in practice; a fallback keeps the partition exact if it does not.
   std::vector<Eigen::Vector3d> orphans;
   std::vector<std::size_t> orphan_ids;

@@ -2,6 +2,8 @@
 
 #include <sys/mman.h>
 
+#include <algorithm>
+
 #include <unordered_map>
 #include <vector>
 
@@ -10,15 +12,14 @@ namespace skelgrasp::internal {
 class OrderedArena {
  public:
   // Address space only; pages are committed when touched.
-  static constexpr std::size_t kReserve = std::size_t(32) << 30;
-
-  OrderedArena() {
-    void* p = mmap(nullptr, kReserve, PROT_READ | PROT_WRITE,
+  explicit OrderedArena(std::size_t reserve_bytes) : reserve_(roundUp(reserve_bytes)) {
+    void* p = mmap(nullptr, reserve_, PROT_READ | PROT_WRITE,
                    MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
     if (p == MAP_FAILED) throw std::bad_alloc();
     base_ = static_cast<char*>(p);
   }
-  ~OrderedArena() { munmap(base_, kReserve); }
+  ~OrderedArena() { munmap(base_, reserve_); }
+  std::size_t used() const { return used_; }
 
   void* allocate(std::size_t bytes) {
     const std::size_t size = roundUp(bytes);
@@ -28,7 +29,7 @@ class OrderedArena {
       list.pop_back();
       return p;
     }
-    if (used_ + size > kReserve) throw std::bad_alloc();
+    if (used_ + size > reserve_) throw OrderedArenaExhausted();
     void* p = base_ + used_;
     used_ += size;
     return p;
@@ -36,7 +37,7 @@ class OrderedArena {
   void deallocate(void* p, std::size_t bytes) { free_[roundUp(bytes)].push_back(p); }
   bool owns(const void* p) const {
     const char* c = static_cast<const char*>(p);
-    return c >= base_ && c < base_ + kReserve;
+    return c >= base_ && c < base_ + reserve_;
   }
 
  private:
@@ -44,6 +45,7 @@ class OrderedArena {
     return (std::max<std::size_t>(bytes, 1) + 15) & ~std::size_t(15);
   }
 
+  std::size_t reserve_ = 0;
   char* base_ = nullptr;
   std::size_t used_ = 0;
   std::unordered_map<std::size_t, std::vector<void*>> free_;
@@ -66,13 +68,17 @@ bool arenaOwns(const OrderedArena& arena, const void* p) {
   return arena.owns(p);
 }
 
-OrderedArenaScope::OrderedArenaScope()
-    : arena_(std::make_unique<OrderedArena>()), previous_(current_arena) {
+OrderedArenaScope::OrderedArenaScope(std::size_t reserve_bytes)
+    : arena_(std::make_unique<OrderedArena>(reserve_bytes)), previous_(current_arena) {
   current_arena = arena_.get();
 }
 
 OrderedArenaScope::~OrderedArenaScope() {
   current_arena = previous_;
+}
+
+std::size_t OrderedArenaScope::usedBytes() const {
+  return arena_->used();
 }
 
 }  // namespace skelgrasp::internal

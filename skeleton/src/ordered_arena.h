@@ -8,6 +8,12 @@
 // (CGAL_ALLOCATOR is defined to OrderedArenaAllocator there) allocate from one reserved address
 // range by bumping a pointer, with per-size free lists: addresses then follow the order of
 // allocations, which depends on the input only.
+//
+// The range is reserved per scope, sized by the caller from its input. Growing it in separate
+// chunks would break the address order (a later chunk may lie below an earlier one), so a scope
+// that runs out throws OrderedArenaExhausted and the caller repeats its work in a larger arena:
+// relative addresses, and so the result, do not depend on the reservation's size. A fixed giant
+// reservation (32 GiB before) fails under any `ulimit -v` below it.
 #include <cstddef>
 #include <memory>
 #include <new>
@@ -16,6 +22,11 @@ namespace skelgrasp::internal {
 
 class OrderedArena;
 
+// Thrown when an arena's reserved range is used up; the caller retries with a larger one.
+struct OrderedArenaExhausted : std::bad_alloc {
+  const char* what() const noexcept override { return "ordered arena exhausted"; }
+};
+
 // Current arena of this thread, or nullptr.
 OrderedArena* currentOrderedArena();
 
@@ -23,12 +34,15 @@ void* arenaAllocate(OrderedArena& arena, std::size_t bytes);
 void arenaDeallocate(OrderedArena& arena, void* p, std::size_t bytes);
 bool arenaOwns(const OrderedArena& arena, const void* p);
 
-// Activates a fresh arena on this thread; everything allocated from it must be released (or
-// never touched again) before the scope ends, when the address range is unmapped.
+// Activates a fresh arena of `reserve_bytes` address space on this thread; everything allocated
+// from it must be released (or never touched again) before the scope ends, when the address range
+// is unmapped. Throws std::bad_alloc when the range cannot be reserved at all.
 class OrderedArenaScope {
  public:
-  OrderedArenaScope();
+  explicit OrderedArenaScope(std::size_t reserve_bytes);
   ~OrderedArenaScope();
+  // Bytes handed out so far (sizes the next reservation of a similar input).
+  std::size_t usedBytes() const;
   OrderedArenaScope(const OrderedArenaScope&) = delete;
   OrderedArenaScope& operator=(const OrderedArenaScope&) = delete;
 
