@@ -77,6 +77,14 @@ std::vector<std::string> builtinHandNames() {
   return names;
 }
 
+HandFiles builtinHandFiles(const std::string& name) {
+  for (std::size_t i = 0; i < internal::kNumEmbeddedHands; ++i) {
+    const auto& h = internal::kEmbeddedHands[i];
+    if (name == h.name) return {h.urdf, h.description};
+  }
+  throw InvalidArgument("unknown built-in hand '" + name + "'");
+}
+
 HandModel loadBuiltinHand(const std::string& name) {
   for (std::size_t i = 0; i < internal::kNumEmbeddedHands; ++i) {
     const auto& h = internal::kEmbeddedHands[i];

@@ -171,6 +171,14 @@ HandModel loadHandFromText(const std::string& urdf_xml, const std::string& descr
 std::vector<std::string> builtinHandNames();
 HandModel loadBuiltinHand(const std::string& name);
 
+// A built-in hand's URDF and grasp description texts, to adapt or fuzz them; throws
+// InvalidArgument for an unknown name.
+struct HandFiles {
+  std::string urdf;
+  std::string description;
+};
+HandFiles builtinHandFiles(const std::string& name);
+
 // `hand` is a built-in name or a path to a .urdf, which then needs `description_path`. Throws
 // InvalidArgument for an unknown name.
 HandModel resolveHand(const std::string& hand, const std::string& description_path = "");
