@@ -10,6 +10,10 @@ packages=(
   nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev libgtest-dev libbenchmark-dev
   libcurl4-openssl-dev
 )
+# `make fuzz` also needs clang with its libFuzzer runtime.
+if [[ "${1:-}" == "--fuzz" ]]; then
+  packages+=(clang libclang-rt-14-dev llvm)
+fi
 
 missing=()
 for pkg in "${packages[@]}"; do
