@@ -6,6 +6,7 @@
 
 #include "cli.h"
 #include "mesh_list.h"
+#include "output_paths.h"
 #include "skeleton_options.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/logging.h"
@@ -22,6 +23,7 @@ struct BenchSkeletonArgs {
 };
 
 int runBenchSkeleton(const BenchSkeletonArgs& args) {
+  checkOutputFileOption(args.json_out);
   const auto files = collectMeshFiles(args.inputs);
   if (files.empty()) return fail("bench skeleton: no mesh files in the given inputs");
   const std::size_t count = args.limit > 0 ? std::min(args.limit, files.size()) : files.size();

@@ -9,6 +9,7 @@
 
 #include "cli.h"
 #include "mesh_list.h"
+#include "output_paths.h"
 #include "planner_options.h"
 #include "skeleton_options.h"
 #include "skelgrasp/common/json.h"
@@ -41,6 +42,7 @@ struct Totals {
 };
 
 int runBenchPlan(const BenchPlanArgs& args) {
+  checkOutputFileOption(args.json_out);
   auto files = collectMeshFiles(args.inputs);
   if (args.limit > 0 && files.size() > args.limit) files.resize(args.limit);
   if (files.empty()) return fail("bench plan: no mesh files in the given inputs");

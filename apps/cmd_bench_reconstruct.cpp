@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "cli.h"
+#include "output_paths.h"
 #include "reconstruct_options.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/logging.h"
@@ -25,6 +26,7 @@ struct StageTimes {
 };
 
 int runBenchReconstruct(const BenchReconstructArgs& args) {
+  checkOutputFileOption(args.json_out);
   const auto params = args.options.params();
   std::cout << fmt::format(
       "{:<44} {:>7} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6}\n",

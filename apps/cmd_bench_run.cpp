@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "cli.h"
+#include "output_paths.h"
 #include "run_command.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/logging.h"
@@ -54,6 +55,7 @@ std::vector<Case> loadCases(const BenchRunArgs& args) {
 }
 
 int runBenchRun(const BenchRunArgs& args) {
+  checkOutputFileOption(args.json_out);
   const auto hand = args.run.hand.load();
   const auto cases = loadCases(args);
   nlohmann::json rows = nlohmann::json::array();

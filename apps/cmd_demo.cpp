@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "cli.h"
+#include "output_paths.h"
 #include "run_command.h"
 #include "skelgrasp/common/html_report.h"
 #include "skelgrasp/common/mesh_io.h"
@@ -25,6 +26,7 @@ struct DemoArgs {
 
 int runDemo(const DemoArgs& args) {
   namespace fs = std::filesystem;
+  checkOutputDirectoryOption(args.out);
   fs::create_directories(args.out);
   const auto scene = perception::makeDemoScene(args.seed, args.views);
   const std::string scan_path = args.out + "/scene.pcd";

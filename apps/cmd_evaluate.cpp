@@ -8,6 +8,7 @@
 
 #include "cli.h"
 #include "mesh_list.h"
+#include "output_paths.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/evaluation/batch.h"
 
@@ -65,6 +66,7 @@ std::vector<std::string> expandObjects(const std::vector<std::string>& inputs) {
 }
 
 int runEvaluate(const EvaluateArgs& a) {
+  checkOutputDirectoryOption(a.out);
   evaluation::BatchParams p;
   p.objects = expandObjects(a.objects);
   if (a.limit > 0 && p.objects.size() > a.limit) p.objects.resize(a.limit);
@@ -151,6 +153,7 @@ void registerEvaluateCommands(CLI::App& app, Action& action) {
   merge->add_option("--out", *out, "Merged output directory")->capture_default_str();
   merge->callback([dirs, out, &action] {
     action = [dirs, out] {
+      checkOutputDirectoryOption(*out);
       evaluation::mergeBatches(*dirs, *out);
       std::cout << "merged " << dirs->size() << " shard(s) into " << *out << "/summary.md"
                 << std::endl;

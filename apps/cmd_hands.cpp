@@ -7,6 +7,7 @@
 
 #include "cli.h"
 #include "hand_options.h"
+#include "output_paths.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/grasping/grasp_simulator.h"
@@ -54,6 +55,7 @@ struct CloseArgs {
 };
 
 int runClose(const CloseArgs& args) {
+  checkOutputFileOption(args.render);
   const auto hand = args.hand.load();
   const auto& preshape = hand.preshape(args.preshape);
   const Pose gcp = parsePose(args.pose);

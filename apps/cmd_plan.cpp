@@ -4,6 +4,7 @@
 
 #include "cli.h"
 #include "hand_options.h"
+#include "output_paths.h"
 #include "planner_options.h"
 #include "skeleton_options.h"
 #include "skelgrasp/common/json.h"
@@ -22,6 +23,8 @@ struct PlanArgs {
 };
 
 int runPlan(const PlanArgs& args) {
+  checkOutputFileOption(args.out);
+  checkOutputFileOption(args.render);
   const auto hand = args.hand.load();
   MeshLoadInfo info;
   TriangleMesh mesh = loadMesh(args.mesh, args.skeleton.loadOptions(), &info);
@@ -37,10 +40,13 @@ int runPlan(const PlanArgs& args) {
   } else {
     result = grasping::planSurfaceGrasps(hand, object, args.planner.surfaceParams());
   }
-  writeJsonFile(args.out, grasping::planToJson(result, hand, name));
+  OutputTransaction outputs;
   if (!args.render.empty()) {
-    grasping::renderPlanPng(args.render, mesh, skel ? &skel->skeleton : nullptr, result, hand);
+    grasping::renderPlanPng(outputs.stage(args.render), mesh, skel ? &skel->skeleton : nullptr,
+                            result, hand);
   }
+  writeJsonFile(outputs.stage(args.out), grasping::planToJson(result, hand, name));
+  outputs.commit();
   std::cout << grasping::planSummaryLine(result, hand.name(), name) << std::endl;
   return kExitOk;
 }

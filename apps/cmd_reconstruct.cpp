@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "cli.h"
+#include "output_paths.h"
 #include "reconstruct_options.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/perception/cloud_io.h"
@@ -37,11 +38,14 @@ std::string sizeText(const AxisAlignedBox& box) {
 
 int runReconstruct(const ReconstructArgs& args) {
   if (fileExtension(args.out) != "ply") return fail(args.out + ": --out must be a .ply file");
+  checkOutputFileOption(args.out);
+  checkOutputFileOption(args.report);
   const auto params = args.options.params();
   datasets::InputKind kind;
   const perception::Scan scan = datasets::loadInput(args.input, args.options.inputOptions(), &kind);
   const auto result = reconstruction::reconstructScan(scan, params);
   std::vector<std::string> files;
+  OutputTransaction outputs;  // meshes and report appear together, the report last
   for (std::size_t k = 0; k < result.objects.size(); ++k) {
     const auto& o = result.objects[k];
     if (!o.meshing.status.ok()) {
@@ -49,11 +53,14 @@ int runReconstruct(const ReconstructArgs& args) {
       continue;
     }
     files.push_back(numbered(args.out, k, result.objects.size()));
-    reconstruction::saveObservedMesh(files.back(), o.meshing.mesh, o.meshing.observed);
+    reconstruction::saveObservedMesh(outputs.stage(files.back()), o.meshing.mesh,
+                                     o.meshing.observed);
   }
   if (!args.report.empty()) {
-    writeJsonFile(args.report, reconstruction::reconstructionReport(scan, params, result, files));
+    writeJsonFile(outputs.stage(args.report),
+                  reconstruction::reconstructionReport(scan, params, result, files));
   }
+  outputs.commit();
   if (!result.status.ok()) return fail(args.input + ": " + result.status.message);
   for (std::size_t k = 0; k < result.objects.size(); ++k) {
     const auto& r = result.objects[k].meshing.report;
@@ -68,6 +75,8 @@ int runReconstruct(const ReconstructArgs& args) {
 
 int runIngest(const ReconstructArgs& args) {
   if (fileExtension(args.out) != "pcd") return fail(args.out + ": --out must be a .pcd file");
+  checkOutputFileOption(args.out);
+  checkOutputFileOption(args.report);
   const auto params = args.options.params();
   const perception::Scan scan = datasets::loadInput(args.input, args.options.inputOptions());
   reconstruction::ReconstructionResult result;
@@ -75,13 +84,16 @@ int runIngest(const ReconstructArgs& args) {
   result.status = result.ingest.status;
   result.total_s = result.ingest.total_time_s;
   std::vector<std::string> files;
+  OutputTransaction outputs;  // clouds and report appear together, the report last
   for (std::size_t k = 0; k < result.ingest.objects.size(); ++k) {
     files.push_back(numbered(args.out, k, result.ingest.objects.size()));
-    perception::savePointCloud(files.back(), result.ingest.objects[k]);
+    perception::savePointCloud(outputs.stage(files.back()), result.ingest.objects[k]);
   }
   if (!args.report.empty()) {
-    writeJsonFile(args.report, reconstruction::reconstructionReport(scan, params, result));
+    writeJsonFile(outputs.stage(args.report),
+                  reconstruction::reconstructionReport(scan, params, result));
   }
+  outputs.commit();
   if (!result.status.ok()) return fail(args.input + ": " + result.status.message);
   for (std::size_t k = 0; k < files.size(); ++k) {
     const auto& cloud = result.ingest.objects[k];

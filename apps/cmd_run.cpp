@@ -6,6 +6,7 @@
 
 #include "cli.h"
 #include "hand_options.h"
+#include "output_paths.h"
 #include "planner_options.h"
 #include "reconstruct_options.h"
 #include "run_command.h"
@@ -93,6 +94,7 @@ void registerRunCommand(CLI::App& app, Action& action) {
   options->addTo(*cmd);
   cmd->callback([=, &action] {
     action = [=] {
+      checkOutputDirectoryOption(*out);
       const auto scan = datasets::loadInput(*input, options->reconstruction.inputOptions());
       return runOnScan(scan, std::filesystem::path(*input).filename().string(), *out, *options);
     };

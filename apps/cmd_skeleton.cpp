@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "cli.h"
+#include "output_paths.h"
 #include "skeleton_options.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
@@ -14,18 +15,26 @@ namespace skelgrasp::cli {
 
 int runSkeletonOnFile(const std::string& mesh_path, const std::string& out_dir,
                       const SkeletonOptions& options) {
+  checkOutputDirectoryOption(out_dir);
+  checkOutputFileOption(options.render_path);
   MeshLoadInfo info;
   const TriangleMesh input = loadMesh(mesh_path, options.loadOptions(), &info);
   const auto result = skeleton::extractSkeleton(input, options.params());
   const std::string name = std::filesystem::path(mesh_path).filename().string();
   if (!result.status.ok()) return fail(mesh_path + ": " + result.status.message);
-  std::filesystem::create_directories(out_dir);
-  writeJsonFile(out_dir + "/skeleton.json", skeleton::skeletonToJson(result, input, info));
-  saveMesh(out_dir + "/segmentation.ply", skeleton::colourByVertexType(input, result.skeleton));
-  if (options.write_regularised) saveMesh(out_dir + "/regularised.ply", result.regularised_mesh);
-  if (!options.render_path.empty()) {
-    skeleton::renderSkeletonPng(input, result.skeleton, options.render_path);
+  // All files appear together at the end, skeleton.json (the index) last.
+  OutputTransaction outputs;
+  saveMesh(outputs.stage(out_dir + "/segmentation.ply"),
+           skeleton::colourByVertexType(input, result.skeleton));
+  if (options.write_regularised) {
+    saveMesh(outputs.stage(out_dir + "/regularised.ply"), result.regularised_mesh);
   }
+  if (!options.render_path.empty()) {
+    skeleton::renderSkeletonPng(input, result.skeleton, outputs.stage(options.render_path));
+  }
+  writeJsonFile(outputs.stage(out_dir + "/skeleton.json"),
+                skeleton::skeletonToJson(result, input, info));
+  outputs.commit();
   std::cout << skeleton::summaryLine(result, name) << std::endl;
   return kExitOk;
 }
@@ -53,6 +62,7 @@ void registerShapeCommand(CLI::App& app, Action& action) {
   cmd->add_option("--out", *out, "Output mesh file (.ply .obj .off .stl)")->required();
   cmd->callback([=, &action] {
     action = [=] {
+      checkOutputFileOption(*out);
       saveMesh(*out, primitives::makeNamedShape(*name));
       std::cout << "wrote " << *name << " to " << *out << std::endl;
       return kExitOk;

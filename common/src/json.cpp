@@ -50,22 +50,6 @@ Pose poseFromJson(const nlohmann::json& j) {
   }
 }
 
-void writeFileAtomically(const std::string& path, const std::string& text) {
-  namespace fs = std::filesystem;
-  const fs::path target(path);
-  std::error_code ec;
-  if (target.has_parent_path()) fs::create_directories(target.parent_path(), ec);
-  const fs::path tmp = target.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    if (!out) throw IoError(path, "cannot open for writing");
-    out << text;
-    if (!out) throw IoError(path, "write failed");
-  }
-  fs::rename(tmp, target, ec);
-  if (ec) throw IoError(path, "cannot rename temporary file: " + ec.message());
-}
-
 void writeJsonFile(const std::string& path, const nlohmann::json& j, int indent) {
   writeFileAtomically(path, j.dump(indent) + "\n");
 }

@@ -12,6 +12,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "skelgrasp/common/atomic_file.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/logging.h"
 
@@ -35,10 +36,8 @@ void checkReadable(const std::string& path) {
   if (fs::file_size(path, ec) == 0) throw IoError(path, "file is empty");
 }
 
-void writePlyBinary(const std::string& path, const TriangleMesh& mesh,
+void writePlyBinary(std::ostream& out, const TriangleMesh& mesh,
                     const std::vector<PlyVertexProperty>& extra = {}) {
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw IoError(path, "cannot open for writing");
   const bool colors = mesh.vertex_colors.size() == mesh.vertices.size() && !mesh.vertices.empty();
   out << "ply\nformat binary_little_endian 1.0\ncomment written by skelgrasp (units: m)\n"
       << "element vertex " << mesh.vertices.size() << "\n"
@@ -63,7 +62,11 @@ void writePlyBinary(const std::string& path, const TriangleMesh& mesh,
     out.write(reinterpret_cast<const char*>(&n), 1);
     out.write(reinterpret_cast<const char*>(idx), sizeof(idx));
   }
-  if (!out) throw IoError(path, "write failed");
+}
+
+void writePlyBinary(const std::string& path, const TriangleMesh& mesh,
+                    const std::vector<PlyVertexProperty>& extra = {}) {
+  writeFileAtomically(path, [&](std::ostream& out) { writePlyBinary(out, mesh, extra); });
 }
 
 // An OFF file declaring zero vertices is a valid but empty mesh, not a parse error.
@@ -238,10 +241,13 @@ void saveMesh(const std::string& path, const TriangleMesh& mesh) {
     polygons.push_back({static_cast<std::size_t>(f[0]), static_cast<std::size_t>(f[1]),
                         static_cast<std::size_t>(f[2])});
   }
-  if (!CGAL::IO::write_polygon_soup(path, points, polygons,
-                                    CGAL::parameters::stream_precision(9))) {
-    throw IoError(path, "write failed");
-  }
+  // CGAL picks the format from the extension, which the temporary name keeps.
+  writeFileViaTemporary(path, [&](const std::string& temporary) {
+    if (!CGAL::IO::write_polygon_soup(temporary, points, polygons,
+                                      CGAL::parameters::stream_precision(9))) {
+      throw IoError(temporary, "write failed");
+    }
+  });
 }
 
 void saveMesh(const std::string& path, const TriangleMesh& mesh,

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <limits>
 
+#include "skelgrasp/common/atomic_file.h"
 #include "skelgrasp/common/error.h"
 
 namespace skelgrasp::render {
@@ -178,17 +179,17 @@ void Canvas::drawText(int x, int y, const std::string& text, Rgb color, double s
 }
 
 namespace {
+// Through a temporary with the .png extension: imwrite picks the encoder from the name.
 void writePng(const std::string& path, const cv::Mat& image) {
-  std::error_code ec;
-  const auto parent = std::filesystem::path(path).parent_path();
-  if (!parent.empty()) std::filesystem::create_directories(parent, ec);
-  bool ok = false;
-  try {
-    ok = cv::imwrite(path, image);
-  } catch (const cv::Exception& e) {
-    throw IoError(path, std::string("cannot write PNG: ") + e.what());
-  }
-  if (!ok) throw IoError(path, "cannot write PNG");
+  writeFileViaTemporary(path, [&image](const std::string& temporary) {
+    bool ok = false;
+    try {
+      ok = cv::imwrite(temporary, image);
+    } catch (const cv::Exception& e) {
+      throw IoError(temporary, std::string("cannot write PNG: ") + e.what());
+    }
+    if (!ok) throw IoError(temporary, "cannot write PNG");
+  });
 }
 }  // namespace
 

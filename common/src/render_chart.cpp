@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "skelgrasp/common/atomic_file.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/render.h"
 
@@ -62,10 +63,9 @@ void saveBarChartPng(const std::string& path, const std::string& title,
     cv::putText(image, series[k].label, {x + 20, y}, cv::FONT_HERSHEY_SIMPLEX, 0.45, ink, 1,
                 cv::LINE_AA);
   }
-  std::error_code ec;
-  const auto parent = std::filesystem::path(path).parent_path();
-  if (!parent.empty()) std::filesystem::create_directories(parent, ec);
-  if (!cv::imwrite(path, image)) throw IoError(path, "cannot write PNG");
+  writeFileViaTemporary(path, [&image](const std::string& temporary) {
+    if (!cv::imwrite(temporary, image)) throw IoError(temporary, "cannot write PNG");
+  });
 }
 
 }  // namespace skelgrasp::render

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "skelgrasp/common/atomic_file.h"
 #include "skelgrasp/common/html_report.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/render.h"
@@ -143,8 +144,11 @@ void renderBestGrasp(const std::string& path, const RunResult& r, const HandMode
 
 void writeRunOutputs(const std::string& dir, const RunResult& r, const HandModel& hand,
                      const perception::Scan& scan, const std::string& input_name) {
-  std::filesystem::create_directories(dir);
-  writeJsonFile(dir + "/grasps.json", runJson(r, hand, scan, input_name));
+  // All files go to temporary names and are renamed into place together at the end, grasps.json
+  // (the index of the others) last: a failure on the way leaves neither a partial set nor stray
+  // temporaries, and a directory without grasps.json is visibly incomplete.
+  OutputTransaction outputs;
+  const auto staged = [&](const std::string& file) { return outputs.stage(dir + "/" + file); };
   HtmlReport report("skelgrasp run: " + input_name + " with " + hand.name());
   report.paragraph(r.status.ok()
                        ? fmt::format("{} ranked grasps on the target object.", r.ranked.size())
@@ -156,33 +160,35 @@ void writeRunOutputs(const std::string& dir, const RunResult& r, const HandModel
   report.table({"stage", "seconds"}, rows);
 
   if (!scan.cloud.empty()) {
-    renderScan(dir + "/scan.png", r, scan);
-    if (std::filesystem::exists(dir + "/scan.png")) report.image("scan.png", "The scan");
+    const std::string scan_png = staged("scan.png");
+    renderScan(scan_png, r, scan);
+    if (std::filesystem::exists(scan_png)) report.image("scan.png", "The scan");
   }
   if (!r.mesh.empty()) {
-    reconstruction::saveObservedMesh(dir + "/object.ply", r.mesh, r.observed);
+    reconstruction::saveObservedMesh(staged("object.ply"), r.mesh, r.observed);
   }
-  if (r.occupancy) r.occupancy->writeBinary(dir + "/scene.bt");
+  if (r.occupancy) r.occupancy->writeBinary(staged("scene.bt"));
   if (r.skeleton && r.skeleton->status.ok()) {
     MeshLoadInfo info;
     info.path = "object.ply";
     info.format = "ply";
-    writeJsonFile(dir + "/skeleton.json", skeleton::skeletonToJson(*r.skeleton, r.mesh, info));
-    saveMesh(dir + "/segmentation.ply", skeleton::colourByVertexType(r.mesh, r.skeleton->skeleton));
-    renderSegments(dir + "/reconstruction.png", r);
+    writeJsonFile(staged("skeleton.json"), skeleton::skeletonToJson(*r.skeleton, r.mesh, info));
+    saveMesh(staged("segmentation.ply"),
+             skeleton::colourByVertexType(r.mesh, r.skeleton->skeleton));
+    renderSegments(staged("reconstruction.png"), r);
     report.image("reconstruction.png", "Reconstruction coloured by skeleton segment");
-    skeleton::renderSkeletonPng(r.mesh, r.skeleton->skeleton, dir + "/skeleton.png");
+    skeleton::renderSkeletonPng(r.mesh, r.skeleton->skeleton, staged("skeleton.png"));
     report.image("skeleton.png", "Segmentation (paper colours) and skeleton");
     PlanResult shown;
     shown.planner = "skeleton";
     for (const auto& ranked : r.ranked) shown.grasps.push_back(ranked.grasp);
-    renderPlanPng(dir + "/grasps.png", r.mesh, &r.skeleton->skeleton, shown, hand);
+    renderPlanPng(staged("grasps.png"), r.mesh, &r.skeleton->skeleton, shown, hand);
     report.image("grasps.png", "Approach directions of all grasps; the best grasp closed");
   }
   report.heading("Best grasps");
   for (std::size_t k = 0; k < std::min<std::size_t>(3, r.ranked.size()); ++k) {
     const std::string file = fmt::format("best_{}.png", k);
-    renderBestGrasp(dir + "/" + file, r, hand, r.ranked[k]);
+    renderBestGrasp(staged(file), r, hand, r.ranked[k]);
     report.image(file, fmt::format("Grasp #{} with the hand closed", k));
   }
   report.heading("Why hypotheses were rejected");
@@ -197,7 +203,9 @@ void writeRunOutputs(const std::string& dir, const RunResult& r, const HandModel
                                r.plan.summary.hypotheses, r.plan.summary.generated,
                                r.plan.summary.force_closure,
                                100 * r.plan.summary.forceClosureRate()));
-  report.write(dir + "/report.html");
+  report.write(staged("report.html"));
+  writeJsonFile(staged("grasps.json"), runJson(r, hand, scan, input_name));
+  outputs.commit();
 }
 
 }  // namespace skelgrasp::grasping

@@ -5,9 +5,8 @@
 #include <fcl/geometry/shape/halfspace.h>
 #include <octomap/OcTree.h>
 
-#include <fstream>
-
 #include "fcl_conversions.h"
+#include "skelgrasp/common/atomic_file.h"
 #include "skelgrasp/common/logging.h"
 
 namespace skelgrasp::grasping {
@@ -136,14 +135,11 @@ bool SceneOccupancy::isOccupied(const Eigen::Vector3d& p) const {
 
 void SceneOccupancy::writeBinary(const std::string& path) const {
   // The stream overload: the file-name one also prints progress on stdout.
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw IoError(path, "cannot open for writing");
-  {
+  writeFileAtomically(path, [this, &path](std::ostream& out) {
     // Debian's liboctomap is built with its debug output on: "Writing N nodes... done." on stderr.
     const SilencedStream quiet(SilencedStream::Stream::kStderr);
-    impl_->tree->writeBinaryConst(out);
-  }
-  if (!out) throw IoError(path, "cannot write OctoMap file");
+    if (!impl_->tree->writeBinaryConst(out)) throw IoError(path, "cannot write OctoMap file");
+  });
 }
 
 struct SceneChecker::Impl {

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "skelgrasp/common/atomic_file.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/internal/pcl_conversions.h"
@@ -153,26 +154,26 @@ void savePointCloud(const std::string& path, const PointCloud& cloud, PcdEncodin
                                static_cast<float>(cloud.sensor_origin.y()),
                                static_cast<float>(cloud.sensor_origin.z()), 0.0f);
   const Eigen::Quaternionf orientation = cloud.sensor_orientation.cast<float>();
-  const auto parent = std::filesystem::path(path).parent_path();
-  if (!parent.empty()) std::filesystem::create_directories(parent);
-  pcl::PCDWriter writer;
-  int status = -1;
-  try {
-    switch (encoding) {
-      case PcdEncoding::kAscii:
-        status = writer.writeASCII(path, blob, origin, orientation, 8);
-        break;
-      case PcdEncoding::kBinary:
-        status = writer.writeBinary(path, blob, origin, orientation);
-        break;
-      case PcdEncoding::kBinaryCompressed:
-        status = writer.writeBinaryCompressed(path, blob, origin, orientation);
-        break;
+  writeFileViaTemporary(path, [&](const std::string& temporary) {
+    pcl::PCDWriter writer;
+    int status = -1;
+    try {
+      switch (encoding) {
+        case PcdEncoding::kAscii:
+          status = writer.writeASCII(temporary, blob, origin, orientation, 8);
+          break;
+        case PcdEncoding::kBinary:
+          status = writer.writeBinary(temporary, blob, origin, orientation);
+          break;
+        case PcdEncoding::kBinaryCompressed:
+          status = writer.writeBinaryCompressed(temporary, blob, origin, orientation);
+          break;
+      }
+    } catch (const std::exception& e) {
+      throw IoError(temporary, std::string("write failed: ") + e.what());
     }
-  } catch (const std::exception& e) {
-    throw IoError(path, std::string("write failed: ") + e.what());
-  }
-  if (status < 0) throw IoError(path, "write failed");
+    if (status < 0) throw IoError(temporary, "write failed");
+  });
 }
 
 }  // namespace skelgrasp::perception

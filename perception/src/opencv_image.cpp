@@ -13,6 +13,7 @@
 #include <fstream>
 #include <regex>
 
+#include "skelgrasp/common/atomic_file.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/mesh_io.h"
 
@@ -40,15 +41,16 @@ cv::Mat readWithOpenCv(const std::string& path, int flags) {
 
 void writeWithOpenCv(const std::string& path, const cv::Mat& image,
                      const std::vector<int>& flags = {}) {
-  const auto parent = std::filesystem::path(path).parent_path();
-  if (!parent.empty()) std::filesystem::create_directories(parent);
-  bool ok = false;
-  try {
-    ok = cv::imwrite(path, image, flags);
-  } catch (const cv::Exception& e) {
-    throw IoError(path, std::string("cannot write image: ") + e.what());
-  }
-  if (!ok) throw IoError(path, "cannot write image");
+  // The temporary keeps the extension: imwrite picks the encoder from the name.
+  writeFileViaTemporary(path, [&](const std::string& temporary) {
+    bool ok = false;
+    try {
+      ok = cv::imwrite(temporary, image, flags);
+    } catch (const cv::Exception& e) {
+      throw IoError(temporary, std::string("cannot write image: ") + e.what());
+    }
+    if (!ok) throw IoError(temporary, "cannot write image");
+  });
 }
 
 struct NpyHeader {
@@ -197,19 +199,16 @@ void writeDepthNpy(const std::string& path, const DepthImage& depth) {
   const std::size_t total = ((10 + dict.size() + 1 + 63) / 64) * 64;
   dict.append(total - 10 - dict.size() - 1, ' ');
   dict.push_back('\n');
-  const auto parent = std::filesystem::path(path).parent_path();
-  if (!parent.empty()) std::filesystem::create_directories(parent);
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw IoError(path, "cannot open for writing");
-  const unsigned char prefix[8] = {0x93, 'N', 'U', 'M', 'P', 'Y', 1, 0};
-  out.write(reinterpret_cast<const char*>(prefix), 8);
-  const unsigned char length[2] = {static_cast<unsigned char>(dict.size() & 0xff),
-                                   static_cast<unsigned char>(dict.size() >> 8)};
-  out.write(reinterpret_cast<const char*>(length), 2);
-  out.write(dict.data(), static_cast<std::streamsize>(dict.size()));
-  out.write(reinterpret_cast<const char*>(depth.data.data()),
-            static_cast<std::streamsize>(depth.data.size() * sizeof(float)));
-  if (!out) throw IoError(path, "write failed");
+  writeFileAtomically(path, [&](std::ostream& out) {
+    const unsigned char prefix[8] = {0x93, 'N', 'U', 'M', 'P', 'Y', 1, 0};
+    out.write(reinterpret_cast<const char*>(prefix), 8);
+    const unsigned char length[2] = {static_cast<unsigned char>(dict.size() & 0xff),
+                                     static_cast<unsigned char>(dict.size() >> 8)};
+    out.write(reinterpret_cast<const char*>(length), 2);
+    out.write(dict.data(), static_cast<std::streamsize>(dict.size()));
+    out.write(reinterpret_cast<const char*>(depth.data.data()),
+              static_cast<std::streamsize>(depth.data.size() * sizeof(float)));
+  });
 }
 
 DepthImage readDepthPng(const std::string& path, double scale) {

@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "skelgrasp/common/atomic_file.h"  // writeFileAtomically, for existing callers
 #include "skelgrasp/common/mesh_topology.h"
 #include "skelgrasp/common/pose.h"
 
@@ -17,9 +18,8 @@ Pose poseFromJson(const nlohmann::json& j);
 // A double that may be NaN: NaN becomes null.
 nlohmann::json numberOrNull(double value);
 
-// Writes `text` to `path` through a temporary file and a rename, so readers never see a
-// half-written file. Creates parent directories. Throws IoError.
-void writeFileAtomically(const std::string& path, const std::string& text);
+// Written atomically (atomic_file.h): readers never see a half-written file. Creates parent
+// directories. Throws IoError.
 void writeJsonFile(const std::string& path, const nlohmann::json& j, int indent = 2);
 // Throws IoError naming the file on missing file or parse error.
 nlohmann::json readJsonFile(const std::string& path);

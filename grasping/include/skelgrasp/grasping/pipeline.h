@@ -66,7 +66,9 @@ RunResult runPipeline(const perception::Scan& scan, const HandModel& hand,
                       const RunParams& params = {});
 
 // Writes DIR/grasps.json (the plan schema plus scene fields), object.ply (with observed flags),
-// skeleton.json, segmentation.ply, scene.bt and report.html with its PNG pictures.
+// skeleton.json, segmentation.ply, scene.bt and report.html with its PNG pictures. All of them
+// appear together at the end (atomic_file.h, OutputTransaction), grasps.json last; on an error
+// none is written and DIR is not created.
 void writeRunOutputs(const std::string& dir, const RunResult& result, const HandModel& hand,
                      const perception::Scan& scan, const std::string& input_name);
 
