@@ -9,6 +9,7 @@
 #include "cli.h"
 #include "mesh_list.h"
 #include "output_paths.h"
+#include "quality_options.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/evaluation/batch.h"
 
@@ -32,6 +33,7 @@ struct EvaluateArgs {
   std::size_t limit = 0;
   std::uint64_t seed = 1;
   bool reference_compat = false;
+  std::string fc_test = defaultForceClosureTest();
 };
 
 std::vector<std::string> split(const std::string& text, char sep) {
@@ -89,6 +91,7 @@ int runEvaluate(const EvaluateArgs& a) {
   p.robustness.variant = evaluation::parseRobustnessVariant(a.variant);
   p.quality.friction = a.mu;
   p.quality.reference_compat = a.reference_compat;
+  p.quality.fc_test = grasping::parseForceClosureTest(a.fc_test);
   p.load.units = parseLengthUnit(a.units);
   p.seed = a.seed;
   const auto stats = evaluation::runBatch(p);
@@ -138,6 +141,7 @@ void registerEvaluateCommands(CLI::App& app, Action& action) {
       ->capture_default_str();
   cmd->add_flag("--reference-compat", a->reference_compat,
                 "Quality as the reference code (docs/hands.md)");
+  addForceClosureTestOption(*cmd, a->fc_test);
   cmd->add_option("--vertex-distance", a->vertex_distance_m,
                   "Skeleton planner vertex distance d (m)")
       ->capture_default_str();

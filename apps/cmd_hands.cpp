@@ -8,6 +8,7 @@
 #include "cli.h"
 #include "hand_options.h"
 #include "output_paths.h"
+#include "quality_options.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/grasping/grasp_simulator.h"
@@ -51,6 +52,7 @@ struct CloseArgs {
   double mu = 0.35;
   bool json = false;
   bool reference_compat = false;
+  std::string fc_test = defaultForceClosureTest();
   HandOptions hand;
 };
 
@@ -68,6 +70,7 @@ int runClose(const CloseArgs& args) {
   grasping::QualityParams quality_params;
   quality_params.friction = args.mu;
   quality_params.reference_compat = args.reference_compat;
+  quality_params.fc_test = grasping::parseForceClosureTest(args.fc_test);
   quality_params.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
   const auto quality = closing.status.ok()
                            ? grasping::evaluateGrasp(closing.contacts, object, quality_params)
@@ -88,6 +91,7 @@ int runClose(const CloseArgs& args) {
                               {"contacts", contactsToJson(closing.contacts)},
                               {"force_closure", quality.force_closure},
                               {"epsilon", quality.epsilon},
+                              {"closure_margin", quality.closure_margin},
                               {"volume", quality.volume},
                               {"hull_facets", quality.hull_facets}};
   if (!args.render.empty()) {
@@ -128,6 +132,7 @@ struct QualityArgs {
   double torsion_m = 0;
   bool json = false;
   bool reference_compat = false;
+  std::string fc_test = defaultForceClosureTest();
 };
 
 int runQuality(const QualityArgs& args) {
@@ -179,10 +184,12 @@ int runQuality(const QualityArgs& args) {
   params.cone_edges = args.edges;
   params.torsional_friction_m = args.torsion_m;
   params.reference_compat = args.reference_compat;
+  params.fc_test = grasping::parseForceClosureTest(args.fc_test);
   const auto q = grasping::evaluateWrenchSpace(contacts, center, torque_scale, params);
   if (args.json) {
     std::cout << nlohmann::json({{"force_closure", q.force_closure},
                                  {"epsilon", q.epsilon},
+                                 {"closure_margin", q.closure_margin},
                                  {"volume", q.volume},
                                  {"hull_facets", q.hull_facets},
                                  {"wrenches", q.wrenches},
@@ -223,6 +230,7 @@ void registerHandCommands(CLI::App& app, Action& action) {
       ->capture_default_str();
   close->add_flag("--reference-compat", c->reference_compat,
                   "Quality as the reference code (fact sheet §9)");
+  addForceClosureTestOption(*close, c->fc_test);
   close->add_flag("--json", c->json, "Print JSON");
   close->add_option("--render", c->render, "Render object and hand (preshape, closed) to this PNG");
   close->callback([c, &action] { action = [c] { return runClose(*c); }; });
@@ -247,6 +255,7 @@ void registerHandCommands(CLI::App& app, Action& action) {
       ->capture_default_str();
   quality->add_flag("--reference-compat", q->reference_compat,
                     "Reproduce the reference code's quirks");
+  addForceClosureTestOption(*quality, q->fc_test);
   quality->add_flag("--json", q->json, "Print JSON");
   quality->callback([q, &action] { action = [q] { return runQuality(*q); }; });
 }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "quality_options.h"
 #include "skelgrasp/grasping/planners.h"
 
 namespace skelgrasp::cli {
@@ -19,6 +20,7 @@ struct PlannerOptions {
   double vertex_distance_m = 0;
   double round_ratio = 0;
   bool reference_compat = false;
+  std::string fc_test = defaultForceClosureTest();
 
   // `choice`: also --planner and --hypotheses (commands that can run either planner).
   void addTo(CLI::App& cmd, bool choice = true) {
@@ -53,12 +55,14 @@ struct PlannerOptions {
         ->capture_default_str();
     cmd.add_flag("--reference-compat", reference_compat,
                  "Quality as the reference code (docs/hands.md)");
+    addForceClosureTestOption(cmd, fc_test);
   }
 
   grasping::HypothesisParams hypothesis() const {
     grasping::HypothesisParams h;
     h.quality.friction = mu;
     h.quality.reference_compat = reference_compat;
+    h.quality.fc_test = grasping::parseForceClosureTest(fc_test);
     return h;
   }
 

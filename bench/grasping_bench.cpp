@@ -3,6 +3,8 @@
 // Run: build/bench/grasping_bench
 #include <benchmark/benchmark.h>
 
+#include <time.h>
+
 #include "bench_support.h"
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/grasping/grasp_simulator.h"
@@ -75,4 +77,66 @@ BENCHMARK_CAPTURE(BM_CloseOnly, armar3, std::string("armar3"))->Unit(benchmark::
 BENCHMARK_CAPTURE(BM_CloseOnly, shadow, std::string("shadow"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_QualityOnly, armar3, std::string("armar3"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_QualityOnly, shadow, std::string("shadow"))->Unit(benchmark::kMillisecond);
+}  // namespace
+
+namespace {
+// Thread CPU time in seconds: unlike wall time it does not grow when other processes share the
+// core, so the two sides below stay comparable on a busy machine.
+double threadCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+// Force-closure verdict only (as a robustness sample needs it), LP against hull, on the same
+// closed grasp in one loop: counters hull_ms, lp_ms (mean thread CPU time per call) and their
+// ratio hull_over_lp.
+void BM_ForceClosureLpVsHull(benchmark::State& state, const std::string& hand_name,
+                             const std::string& preshape_name) {
+  setLogLevel(spdlog::level::warn);
+  const HandModel hand = loadBuiltinHand(hand_name);
+  GraspSimulator sim(hand, benchObject());
+  const auto& preshape = hand.preshape(preshape_name);
+  const auto closing = sim.close(sideGrasp(sim, preshape), preshape);
+  QualityParams hull_params;
+  hull_params.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
+  hull_params.compute_volume = false;
+  hull_params.compute_epsilon = false;
+  QualityParams lp_params = hull_params;
+  hull_params.fc_test = ForceClosureTest::kHull;
+  lp_params.fc_test = ForceClosureTest::kLp;
+  double hull_s = 0, lp_s = 0;
+  bool hull_closure = false, lp_closure = false;
+  int wrenches = 0;
+  for (auto _ : state) {
+    const double t0 = threadCpuSeconds();
+    const auto hull = evaluateGrasp(closing.contacts, benchObject(), hull_params);
+    const double t1 = threadCpuSeconds();
+    const auto lp = evaluateGrasp(closing.contacts, benchObject(), lp_params);
+    const double t2 = threadCpuSeconds();
+    hull_s += t1 - t0;
+    lp_s += t2 - t1;
+    hull_closure = hull.force_closure;
+    lp_closure = lp.force_closure;
+    wrenches = lp.wrenches;
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["hull_ms"] = 1e3 * hull_s / n;
+  state.counters["lp_ms"] = 1e3 * lp_s / n;
+  state.counters["hull_over_lp"] = lp_s > 0 ? hull_s / lp_s : 0;
+  state.counters["wrenches"] = wrenches;
+  state.counters["closure_hull"] = hull_closure;
+  state.counters["closure_lp"] = lp_closure;
+}
+#define SKELGRASP_FC_BENCH(hand)                                                   \
+  BENCHMARK_CAPTURE(BM_ForceClosureLpVsHull, hand##_power, std::string(#hand),     \
+                    std::string("power"))                                          \
+      ->Unit(benchmark::kMillisecond);                                             \
+  BENCHMARK_CAPTURE(BM_ForceClosureLpVsHull, hand##_precision, std::string(#hand), \
+                    std::string("precision"))                                      \
+      ->Unit(benchmark::kMillisecond)
+SKELGRASP_FC_BENCH(armar3);
+SKELGRASP_FC_BENCH(sdh);
+SKELGRASP_FC_BENCH(shadow);
+SKELGRASP_FC_BENCH(parallel_gripper);
 }  // namespace

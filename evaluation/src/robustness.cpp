@@ -44,7 +44,9 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
   grasping::ClosingParams closing = params.closing;
   if (!paper) closing.palm_contacts = false;  // the reference adds no palm contacts here
   grasping::QualityParams quality = params.quality;
-  quality.compute_volume = false;  // only force closure counts
+  // Only the verdict counts: with the LP test (default) no hull is built at all.
+  quality.compute_volume = false;
+  quality.compute_epsilon = false;
   // Paper: fresh samples per grasp; reference: one default-seeded sequence for every grasp.
   std::mt19937_64 rng(paper ? params.seed * 0x9E3779B97F4A7C15ULL + grasp_index : params.seed);
   std::normal_distribution<double> position(0.0, sigma_p), angle(0.0, sigma_r);

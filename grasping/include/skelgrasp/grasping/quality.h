@@ -1,6 +1,9 @@
 #pragma once
 // Grasp-wrench-space quality: force closure, the Ferrari-Canny epsilon (L1) and the hull volume,
-// from point contacts with Coulomb friction, the convex hull computed by Qhull.
+// from point contacts with Coulomb friction. Force closure is decided by a linear program (GLPK)
+// or by the convex hull (Qhull); epsilon and the volume always come from the hull.
+#include <limits>
+#include <string>
 #include <vector>
 
 #include "skelgrasp/common/error.h"
@@ -11,6 +14,15 @@ namespace skelgrasp::grasping {
 
 using Wrench = Eigen::Matrix<double, 6, 1>;
 
+// How force closure is decided (docs/hands.md, "Force closure: LP or hull").
+enum class ForceClosureTest {
+  kHull,  // 6D convex hull of the wrenches: closure when every facet is > 1e-12 from the origin
+  kLp,    // rank 6 and the min-weight LP's margin above kClosureMarginTolerance; no hull needed
+};
+const char* toString(ForceClosureTest test);
+// "hull" or "lp"; throws InvalidArgument otherwise.
+ForceClosureTest parseForceClosureTest(const std::string& text);
+
 struct QualityParams {
   double friction = 0.35;  // Coulomb coefficient mu; cone half-angle atan(mu)
   int cone_edges = 8;
@@ -20,6 +32,12 @@ struct QualityParams {
   double torsional_friction_m = 0;
   // false: skip the hull volume (force closure and epsilon only), e.g. for robustness samples.
   bool compute_volume = true;
+  // kLp decides closure without a hull; reference_compat always uses the hull and its own rule.
+  ForceClosureTest fc_test = ForceClosureTest::kLp;
+  // false (with kLp): only the verdict and the margin, no Qhull at all (epsilon and volume stay
+  // 0), e.g. for robustness samples. true: with kLp the hull is built only for closure grasps.
+  // kHull always computes epsilon.
+  bool compute_epsilon = true;
   // Reproduce the reference implementation (fact sheet §9): every cone edge 45 degrees off the
   // normal whatever mu, epsilon measured from the hull centre (mean of hull vertices), force
   // closure when every facet is within 1e-4 of containing the origin.
@@ -31,7 +49,11 @@ struct WrenchSpaceResult {
   // Distance from the origin (reference_compat: the hull centre) to the nearest hull facet;
   // 0 without force closure.
   double epsilon = 0;
-  double volume = 0;  // 6D volume of the hull (0 when the wrenches do not span 6D)
+  // The min-weight LP's optimum l* (see solveClosureLp) when it decided force closure (kLp):
+  // > kClosureMarginTolerance with force closure, 0 without. NaN when the LP did not run (kHull,
+  // reference_compat).
+  double closure_margin = std::numeric_limits<double>::quiet_NaN();
+  double volume = 0;  // 6D volume of the hull (0 when the wrenches do not span 6D or not computed)
   int hull_facets = 0;
   int wrenches = 0;
   int rank = 0;      // dimension spanned by the wrenches (6 needed for force closure)
@@ -51,6 +73,29 @@ std::vector<Eigen::Vector3d> frictionConeEdges(
 std::vector<Wrench> contactWrenches(const std::vector<Contact>& contacts,
                                     const Eigen::Vector3d& center, double torque_scale,
                                     const QualityParams& params);
+
+// Min-weight force-closure LP over wrenches w_1..w_n: maximise l subject to
+//   sum_i alpha_i w_i = 0,  sum_i alpha_i = 1,  alpha_i >= l  (l free).
+// It is feasible iff the origin lies in the convex hull of the wrenches, and then
+// 0 <= l* <= 1/n; l* > 0 iff some strictly positive weighting balances the wrenches, i.e. (with
+// rank 6) iff the origin is interior: force closure. l* is the weight every wrench can carry at
+// least: dimensionless, invariant to any invertible linear map of wrench space (torque scale,
+// choice of centre) and to the order of the wrenches, but it depends on their number and relative
+// magnitudes (unit cone edges here); n l* in [0, 1] compares sets of different sizes.
+struct ClosureLpResult {
+  bool feasible = false;  // origin in the hull of the wrenches
+  double margin = 0;      // l* (0 when infeasible)
+  int iterations = 0;     // simplex iterations
+  std::string error;      // non-empty when GLPK failed (feasible and margin then mean nothing)
+};
+// Thread-safe (GLPK objects per call, GLPK's environment is thread-local). Throws InvalidArgument
+// for an empty or non-finite wrench set.
+ClosureLpResult solveClosureLp(const std::vector<Wrench>& wrenches);
+
+// Force closure by LP needs n l* > this (n wrenches; l* relative to its largest value 1/n). The
+// band (0, tolerance] is where the origin is on the hull's boundary up to rounding (GLPK's
+// simplex, Qhull's joggle); measurements: docs/hands.md.
+constexpr double kClosureMarginTolerance = 1e-9;
 
 // Throws InvalidArgument for mu < 0, < 3 cone edges or a non-positive torque scale.
 WrenchSpaceResult evaluateWrenchSpace(const std::vector<Contact>& contacts,

@@ -1,0 +1,106 @@
+// The force-closure linear program; GLPK is used only in this file.
+#include <glpk.h>
+
+#include <cmath>
+#include <memory>
+
+#include "skelgrasp/grasping/quality.h"
+
+namespace skelgrasp::grasping {
+
+namespace {
+
+constexpr int kWrenchRows = 6;
+
+struct ProblemDeleter {
+  void operator()(glp_prob* problem) const { glp_delete_prob(problem); }
+};
+
+// GLPK's terminal switch lives in its environment, which Debian's GLPK 5.0 keeps per thread
+// (glp_config("TLS") = "_Thread_local"): switching it off here does not race with other threads,
+// and the previous state is restored for callers that use GLPK themselves.
+class QuietGlpk {
+ public:
+  QuietGlpk() : previous_(glp_term_out(GLP_OFF)) {}
+  ~QuietGlpk() { glp_term_out(previous_); }
+  QuietGlpk(const QuietGlpk&) = delete;
+  QuietGlpk& operator=(const QuietGlpk&) = delete;
+
+ private:
+  int previous_;
+};
+
+}  // namespace
+
+ClosureLpResult solveClosureLp(const std::vector<Wrench>& wrenches) {
+  if (wrenches.empty()) throw InvalidArgument("force-closure LP: no wrenches");
+  for (const auto& w : wrenches) {
+    if (!w.allFinite()) throw InvalidArgument("force-closure LP: non-finite wrench");
+  }
+  const QuietGlpk quiet;
+  const int n = static_cast<int>(wrenches.size());
+  // Substituting alpha_i = l + beta_i (beta_i >= 0) keeps the LP to 7 rows instead of n + 7:
+  //   maximise l  s.t.  sum_i beta_i w_i + l (sum_i w_i) = 0,  sum_i beta_i + n l = 1.
+  // Same optimum l* as the textbook form (alpha_i - l >= 0 rows); the simplex then works on a
+  // 7 x 7 basis whatever the number of wrenches.
+  std::unique_ptr<glp_prob, ProblemDeleter> problem(glp_create_prob());
+  glp_prob* lp = problem.get();
+  glp_set_obj_dir(lp, GLP_MAX);
+  glp_add_rows(lp, kWrenchRows + 1);
+  for (int row = 1; row <= kWrenchRows; ++row) glp_set_row_bnds(lp, row, GLP_FX, 0.0, 0.0);
+  glp_set_row_bnds(lp, kWrenchRows + 1, GLP_FX, 1.0, 1.0);
+  glp_add_cols(lp, n + 1);
+  const int margin_col = n + 1;
+  Wrench sum = Wrench::Zero();
+  // GLPK arrays are 1-based; index 0 is unused.
+  std::vector<int> rows(1), cols(1);
+  std::vector<double> values(1);
+  const std::size_t nonzeros = static_cast<std::size_t>(n + 1) * (kWrenchRows + 1);
+  rows.reserve(nonzeros + 1);
+  cols.reserve(nonzeros + 1);
+  values.reserve(nonzeros + 1);
+  auto add = [&](int row, int col, double value) {
+    if (value == 0) return;
+    rows.push_back(row);
+    cols.push_back(col);
+    values.push_back(value);
+  };
+  for (int i = 0; i < n; ++i) {
+    const int col = i + 1;
+    glp_set_col_bnds(lp, col, GLP_LO, 0.0, 0.0);
+    for (int k = 0; k < kWrenchRows; ++k) add(k + 1, col, wrenches[i][k]);
+    add(kWrenchRows + 1, col, 1.0);
+    sum += wrenches[i];
+  }
+  glp_set_col_bnds(lp, margin_col, GLP_FR, 0.0, 0.0);
+  glp_set_obj_coef(lp, margin_col, 1.0);
+  for (int k = 0; k < kWrenchRows; ++k) add(k + 1, margin_col, sum[k]);
+  add(kWrenchRows + 1, margin_col, static_cast<double>(n));
+  glp_load_matrix(lp, static_cast<int>(values.size()) - 1, rows.data(), cols.data(), values.data());
+
+  glp_smcp options;
+  glp_init_smcp(&options);
+  options.msg_lev = GLP_MSG_OFF;
+  // Measured on the bench grasps (grasping_bench BM_ForceClosureLpVsHull): dual simplex (primal
+  // as fallback) 0.15 ms for 80 wrenches against 0.22 ms primal; the presolver and GLPK's
+  // scaling only add time on this 7-row problem.
+  options.meth = GLP_DUALP;
+  options.presolve = GLP_OFF;
+  ClosureLpResult result;
+  const int code = glp_simplex(lp, &options);
+  result.iterations = glp_get_it_cnt(lp);
+  if (code != 0) {
+    result.error = "glp_simplex failed with code " + std::to_string(code);
+    return result;
+  }
+  const int status = glp_get_status(lp);
+  if (status == GLP_OPT) {
+    result.feasible = true;
+    result.margin = glp_get_obj_val(lp);
+  } else if (status != GLP_NOFEAS) {
+    result.error = "glp_simplex ended with status " + std::to_string(status);
+  }
+  return result;
+}
+
+}  // namespace skelgrasp::grasping
