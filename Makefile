@@ -34,13 +34,16 @@ demo: build
 	@$(SKELGRASP) demo --out $(DEMO_OUT)
 
 # AddressSanitizer + UndefinedBehaviorSanitizer build of everything, then the test suite under it
-# (SANITIZE_TESTS=regex runs a subset). docs/reliability.md.
+# (SANITIZE_TESTS=regex over test names, SANITIZE_LABELS=regex over suites run a subset;
+# SANITIZE_TARGETS="skelgrasp common_tests ..." builds only those).
+# docs/reliability.md.
 sanitize: deps
 	@cmake -S . -B $(SANITIZE_DIR) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSKELGRASP_SANITIZE=ON \
 	  -DSKELGRASP_BUILD_BENCHMARKS=OFF > /dev/null
-	@$(SANITIZER_ENV) cmake --build $(SANITIZE_DIR) -j $(JOBS)
+	@$(SANITIZER_ENV) cmake --build $(SANITIZE_DIR) -j $(JOBS) \
+	  $(if $(SANITIZE_TARGETS),--target $(SANITIZE_TARGETS),)
 	@cd $(SANITIZE_DIR) && $(SANITIZER_ENV) ctest --output-on-failure -j $(JOBS) \
-	  $(if $(SANITIZE_TESTS),-R '$(SANITIZE_TESTS)',)
+	  $(if $(SANITIZE_TESTS),-R '$(SANITIZE_TESTS)',) $(if $(SANITIZE_LABELS),-L '$(SANITIZE_LABELS)',)
 
 # libFuzzer targets of the readers (clang), each run for SECONDS; findings land in $(FUZZ_DIR)/findings.
 fuzz:
