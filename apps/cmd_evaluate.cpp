@@ -34,6 +34,8 @@ struct EvaluateArgs {
   std::uint64_t seed = 1;
   bool reference_compat = false;
   std::string fc_test = defaultForceClosureTest();
+  bool restart = false;
+  bool retry_failed = false;
 };
 
 std::vector<std::string> split(const std::string& text, char sep) {
@@ -71,7 +73,7 @@ int runEvaluate(const EvaluateArgs& a) {
   checkOutputDirectoryOption(a.out);
   evaluation::BatchParams p;
   p.objects = expandObjects(a.objects);
-  if (a.limit > 0 && p.objects.size() > a.limit) p.objects.resize(a.limit);
+  p.object_limit = a.limit;
   p.hands = split(a.hands, ',');
   p.planners = split(a.planners, ',');
   p.out_dir = a.out;
@@ -94,13 +96,15 @@ int runEvaluate(const EvaluateArgs& a) {
   p.quality.fc_test = grasping::parseForceClosureTest(a.fc_test);
   p.load.units = parseLengthUnit(a.units);
   p.seed = a.seed;
+  p.restart = a.restart;
+  p.retry_failed = a.retry_failed;
   const auto stats = evaluation::runBatch(p);
   std::cout << fmt::format(
-                   "evaluated {} object(s) ({} already done, {} in shard {}), {} failed run(s), "
-                   "{:.1f} s; "
-                   "summary: {}/summary.md",
-                   stats.objects_run, stats.objects_skipped, stats.objects_total, a.shard,
-                   stats.runs_failed, stats.time_s, a.out)
+                   "evaluated {} object(s) ({} already done, {} retried, {} changed, {} in shard "
+                   "{}), {} failed run(s), {:.1f} s; summary: {}/summary.md",
+                   stats.objects_run, stats.objects_skipped, stats.objects_retried,
+                   stats.objects_changed, stats.objects_total, a.shard, stats.runs_failed,
+                   stats.time_s, a.out)
             << std::endl;
   return kExitOk;
 }
@@ -116,7 +120,8 @@ void registerEvaluateCommands(CLI::App& app, Action& action) {
   cmd->add_option("--hands", a->hands, "Comma-separated built-in hands")->capture_default_str();
   cmd->add_option("--planners", a->planners, "Comma-separated: skeleton, surface")
       ->capture_default_str();
-  cmd->add_option("--out", a->out, "Output directory (resumed when it holds earlier results)")
+  cmd->add_option("--out", a->out,
+                  "Output directory (resumed when it holds earlier results of the same options)")
       ->capture_default_str();
   cmd->add_option("--robustness-samples", a->samples, "Perturbed poses per grasp")
       ->check(CLI::PositiveNumber)
@@ -148,6 +153,10 @@ void registerEvaluateCommands(CLI::App& app, Action& action) {
   cmd->add_option("--units", a->units, "Mesh units: auto, m or mm")->capture_default_str();
   cmd->add_option("--limit", a->limit, "Only the first N objects");
   cmd->add_option("--seed", a->seed, "Base seed")->capture_default_str();
+  cmd->add_flag("--restart", a->restart,
+                "Discard the runs in --out (also when made with other options) and start afresh");
+  cmd->add_flag("--retry-failed", a->retry_failed,
+                "Evaluate again the objects whose runs in --out failed");
   cmd->callback([a, &action] { action = [a] { return runEvaluate(*a); }; });
 
   auto* merge = app.add_subcommand("merge", "Join the outputs of evaluate shards");

@@ -5,32 +5,43 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <filesystem>
 #include <numeric>
 #include <random>
+#include <set>
 
+#include "batch_setup.h"
 #include "batch_store.h"
+#include "directory_lock.h"
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/grasping/planners.h"
 
 namespace skelgrasp::evaluation {
 namespace {
 
-// Stable across builds and platforms (std::hash is not).
-std::uint64_t fnv1a(const std::string& text, std::uint64_t seed) {
-  std::uint64_t h = 1469598103934665603ULL ^ seed;
-  for (unsigned char c : text) h = (h ^ c) * 1099511628211ULL;
-  return h;
-}
+using internal::ObjectIdentity;
 
 struct ObjectOutcome {
   std::vector<nlohmann::json> runs, results;
   std::size_t failed = 0;
 };
 
-nlohmann::json runRecord(const std::string& object, const std::string& hand,
+nlohmann::json runRecord(const ObjectIdentity& object, const std::string& hand,
                          const std::string& planner) {
-  return {{"object", object}, {"hand", hand}, {"planner", planner}};
+  return {{"object", object.id}, {"hand", hand}, {"planner", planner}};
+}
+
+// The message of an object's error, naming its file once.
+std::string objectError(const ObjectIdentity& object, const std::exception_ptr& error) {
+  std::string what = "unknown error";
+  try {
+    std::rethrow_exception(error);
+  } catch (const std::exception& e) {
+    what = e.what();
+  } catch (...) {
+  }
+  return what.find(object.path) == std::string::npos ? object.path + ": " + what : what;
 }
 
 class ObjectEvaluator {
@@ -38,37 +49,45 @@ class ObjectEvaluator {
   ObjectEvaluator(const BatchParams& p, const std::vector<grasping::HandModel>& hands)
       : p_(p), hands_(hands) {}
 
-  ObjectOutcome evaluate(const std::string& path) const {
+  // Never throws: whatever goes wrong for this object is recorded as failed runs.
+  ObjectOutcome evaluate(const ObjectIdentity& id) const {
     ObjectOutcome out;
-    const std::string name = std::filesystem::path(path).filename().string();
+    auto fail = [&](const std::string& hand, const std::string& planner, const std::string& error) {
+      auto r = runRecord(id, hand, planner);
+      r["object_hash"] = id.hash;
+      r["status"] = "error";
+      r["error"] = error;
+      out.runs.push_back(r);
+      ++out.failed;
+    };
     auto failAll = [&](const std::string& error, const std::string& only_planner) {
+      log().warn("evaluate: {}", error);
       for (const auto& hand : hands_) {
         for (const auto& planner : p_.planners) {
-          if (!only_planner.empty() && planner != only_planner) continue;
-          auto r = runRecord(name, hand.name(), planner);
-          r["status"] = "error";
-          r["error"] = error;
-          out.runs.push_back(r);
-          ++out.failed;
+          if (only_planner.empty() || planner == only_planner) fail(hand.name(), planner, error);
         }
       }
     };
     std::unique_ptr<grasping::GraspObject> object;
     TriangleMesh mesh;
     try {
-      mesh = loadMesh(path, p_.load);
+      mesh = loadMesh(id.path, p_.load);
       object = std::make_unique<grasping::GraspObject>(mesh);
-    } catch (const std::exception& e) {
-      log().warn("evaluate: {}", e.what());
-      failAll(e.what(), "");
+    } catch (...) {
+      failAll(objectError(id, std::current_exception()), "");
       return out;
     }
     const bool want_skeleton = std::count(p_.planners.begin(), p_.planners.end(), "skeleton") > 0;
     std::optional<skeleton::SkeletonResult> skel;
     if (want_skeleton) {
-      skel = skeleton::extractSkeleton(mesh, p_.skeleton);
-      if (!skel->status.ok()) {
-        failAll(path + ": " + skel->status.message, "skeleton");
+      try {
+        skel = skeleton::extractSkeleton(mesh, p_.skeleton);
+        if (!skel->status.ok()) {
+          failAll(id.path + ": " + skel->status.message, "skeleton");
+          skel.reset();
+        }
+      } catch (...) {
+        failAll(objectError(id, std::current_exception()), "skeleton");
         skel.reset();
       }
     }
@@ -76,35 +95,51 @@ class ObjectEvaluator {
       std::size_t skeleton_poses = 0;
       for (const auto& planner : p_.planners) {
         if (planner == "skeleton" && !skel) continue;  // recorded as failed above
-        const std::uint64_t seed = fnv1a(name + "|" + hand.name() + "|" + planner, p_.seed);
-        grasping::PlanResult plan;
-        grasping::HypothesisParams hypothesis;
-        hypothesis.quality = p_.quality;
-        if (planner == "skeleton") {
-          grasping::SkeletonPlannerParams sp;
-          sp.timeout_s = p_.timeout_s;
-          sp.seed = seed;
-          sp.vertex_distance_m = p_.vertex_distance_m;
-          sp.hypothesis = hypothesis;
-          plan = grasping::planSkeletonGrasps(hand, *object, skel->skeleton, sp);
-          skeleton_poses = plan.summary.poses;
-        } else {
-          grasping::SurfacePlannerParams fp;
-          fp.timeout_s = p_.timeout_s;
-          fp.seed = seed;
-          fp.max_hypotheses = skeleton_poses > 0 ? skeleton_poses : p_.surface_hypotheses;
-          fp.hypothesis = hypothesis;
-          plan = grasping::planSurfaceGrasps(hand, *object, fp);
+        try {
+          skeleton_poses = plan(id, hand, planner, skeleton_poses, *object,
+                                planner == "skeleton" ? &*skel : nullptr, out);
+        } catch (...) {
+          const std::string error = objectError(id, std::current_exception());
+          log().warn("evaluate: {} ({}, {})", error, hand.name(), planner);
+          fail(hand.name(), planner, error);
         }
-        record(name, hand, planner, seed, *object, plan,
-               skel && planner == "skeleton" ? &*skel : nullptr, out);
       }
     }
     return out;
   }
 
  private:
-  void record(const std::string& name, const grasping::HandModel& hand, const std::string& planner,
+  // One planner run and its records; returns the skeleton planner's pose count (the surface
+  // planner's budget), else `skeleton_poses` unchanged.
+  std::size_t plan(const ObjectIdentity& id, const grasping::HandModel& hand,
+                   const std::string& planner, std::size_t skeleton_poses,
+                   const grasping::GraspObject& object, const skeleton::SkeletonResult* skel,
+                   ObjectOutcome& out) const {
+    const std::uint64_t seed = internal::fnv1a(id.id + "|" + hand.name() + "|" + planner, p_.seed);
+    grasping::PlanResult result;
+    grasping::HypothesisParams hypothesis;
+    hypothesis.quality = p_.quality;
+    if (planner == "skeleton") {
+      grasping::SkeletonPlannerParams sp;
+      sp.timeout_s = p_.timeout_s;
+      sp.seed = seed;
+      sp.vertex_distance_m = p_.vertex_distance_m;
+      sp.hypothesis = hypothesis;
+      result = grasping::planSkeletonGrasps(hand, object, skel->skeleton, sp);
+      skeleton_poses = result.summary.poses;
+    } else {
+      grasping::SurfacePlannerParams fp;
+      fp.timeout_s = p_.timeout_s;
+      fp.seed = seed;
+      fp.max_hypotheses = skeleton_poses > 0 ? skeleton_poses : p_.surface_hypotheses;
+      fp.hypothesis = hypothesis;
+      result = grasping::planSurfaceGrasps(hand, object, fp);
+    }
+    record(id, hand, planner, seed, object, result, skel, out);
+    return skeleton_poses;
+  }
+
+  void record(const ObjectIdentity& id, const grasping::HandModel& hand, const std::string& planner,
               std::uint64_t seed, const grasping::GraspObject& object,
               const grasping::PlanResult& plan, const skeleton::SkeletonResult* skel,
               ObjectOutcome& out) const {
@@ -128,7 +163,8 @@ class ObjectEvaluator {
       robustness_sum += robustness[index].score;
     }
     const auto& s = plan.summary;
-    auto run = runRecord(name, hand.name(), planner);
+    auto run = runRecord(id, hand.name(), planner);
+    run["object_hash"] = id.hash;
     run["status"] = plan.grasps.empty() ? "no_grasp" : "ok";
     run["error"] = "";
     run["seed"] = seed;
@@ -155,7 +191,7 @@ class ObjectEvaluator {
     out.runs.push_back(run);
     for (std::size_t i = 0; i < plan.grasps.size(); ++i) {
       const auto& g = plan.grasps[i];
-      auto r = runRecord(name, hand.name(), planner);
+      auto r = runRecord(id, hand.name(), planner);
       r["grasp"] = g.id;
       r["type"] = grasping::toString(g.type);
       r["strategy"] = g.strategy;
@@ -179,9 +215,8 @@ class ObjectEvaluator {
   const std::vector<grasping::HandModel>& hands_;
 };
 
-}  // namespace
-
-BatchStats runBatch(const BatchParams& p) {
+// Mistakes in the batch's own options, found before any work starts.
+void checkBatchParams(const BatchParams& p) {
   if (p.shard_count < 1 || p.shard_index < 0 || p.shard_index >= p.shard_count) {
     throw InvalidArgument("shard " + std::to_string(p.shard_index) + "/" +
                           std::to_string(p.shard_count) +
@@ -189,36 +224,119 @@ BatchStats runBatch(const BatchParams& p) {
   }
   if (p.jobs < 1) throw InvalidArgument("jobs must be at least 1");
   if (p.objects.empty()) throw InvalidArgument("no objects to evaluate");
+  if (p.hands.empty()) throw InvalidArgument("no hands to evaluate");
+  if (p.planners.empty()) throw InvalidArgument("no planners to evaluate");
   for (const auto& planner : p.planners) {
     if (planner != "skeleton" && planner != "surface") {
       throw InvalidArgument("unknown planner '" + planner + "' (use skeleton, surface)");
     }
   }
+  auto nonNegative = [](double value, const char* what) {
+    if (!(value >= 0) || !std::isfinite(value))
+      throw InvalidArgument(std::string(what) + " must be a finite number >= 0");
+  };
+  nonNegative(p.timeout_s, "timeout");
+  nonNegative(p.vertex_distance_m, "vertex distance");
+  nonNegative(p.quality.friction, "friction coefficient mu");
+  nonNegative(p.quality.torsional_friction_m, "torsional friction");
+  if (p.quality.cone_edges < 3) throw InvalidArgument("friction cones need at least 3 edges");
+  if (p.robustness.samples < 1) throw InvalidArgument("robustness needs at least one sample");
+}
+
+// The files a batch writes into its directory (and nothing else there).
+void removeBatchFiles(const std::string& dir) {
+  namespace fs = std::filesystem;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    const std::string name = entry.path().filename().string();
+    const bool chart = name.rfind("robustness_", 0) == 0 && entry.path().extension() == ".png";
+    if (chart || name == "runs.jsonl" || name == "results.jsonl" || name == "summary.md" ||
+        name == "summary.csv" || name == "batch.json") {
+      fs::remove(entry.path());
+    }
+  }
+}
+
+void prepareOutDir(const std::string& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw IoError(dir, "cannot create the output directory: " + ec.message());
+}
+
+}  // namespace
+
+BatchStats runBatch(const BatchParams& p) {
+  checkBatchParams(p);
   std::vector<grasping::HandModel> hands;
   for (const auto& name : p.hands) hands.push_back(grasping::resolveHand(name));
-  std::filesystem::create_directories(p.out_dir);
+  std::vector<ObjectIdentity> objects = internal::identifyObjects(p.objects);
+  if (p.object_limit > 0 && objects.size() > p.object_limit) objects.resize(p.object_limit);
+  prepareOutDir(p.out_dir);
+  const internal::DirectoryLock lock(p.out_dir);
+  const nlohmann::json options = internal::resultOptions(p);
+  if (p.restart) {
+    removeBatchFiles(p.out_dir);
+  } else if (const auto recorded = internal::readBatchOptions(p.out_dir)) {
+    const std::string changed = internal::describeDifferences(*recorded, options);
+    if (!changed.empty()) {
+      throw InvalidArgument(p.out_dir + ": its runs were made with other options (" + changed +
+                            "); restart the batch (--restart) or use another output directory");
+    }
+  } else if (std::filesystem::exists(p.out_dir + "/runs.jsonl")) {
+    log().warn(
+        "{}: no batch.json (written by an older skelgrasp): the options of its runs "
+        "cannot be checked; recording this run's options",
+        p.out_dir);
+  }
+  internal::writeBatchOptions(p.out_dir, options);
   Stopwatch watch;
   internal::BatchStore store(p.out_dir);
 
   BatchStats stats;
-  std::vector<std::string> todo;
-  for (std::size_t k = 0; k < p.objects.size(); ++k) {
+  std::vector<ObjectIdentity> todo;
+  std::vector<char> retried, changed;
+  std::set<std::string> listed;
+  for (std::size_t k = 0; k < objects.size(); ++k) {
+    listed.insert(objects[k].id);
     if (static_cast<int>(k % p.shard_count) != p.shard_index) continue;
     ++stats.objects_total;
-    const std::string name = std::filesystem::path(p.objects[k]).filename().string();
-    bool done = true;
+    ObjectIdentity& object = objects[k];
+    object.hash = internal::contentHash(object.path);
+    bool done = true, failed = false, stale = false;
     for (const auto& hand : hands) {
       for (const auto& planner : p.planners) {
-        done = done && store.hasRun(name + "|" + hand.name() + "|" + planner);
+        const auto run = store.records().runs.find(object.id + "|" + hand.name() + "|" + planner);
+        if (run == store.records().runs.end()) {
+          done = false;
+          continue;
+        }
+        failed = failed || run->second.value("status", "") == "error";
+        // Records of an older skelgrasp have no hash; an unreadable file keeps its old results.
+        const std::string recorded = run->second.value("object_hash", object.hash);
+        stale = stale || (!object.hash.empty() && recorded != object.hash);
       }
     }
-    if (done) {
+    if (stale)
+      log().warn("evaluate: {} changed since its runs were recorded; evaluated again", object.path);
+    if (done && !stale && !(failed && p.retry_failed)) {
       ++stats.objects_skipped;
-    } else {
-      todo.push_back(p.objects[k]);
+      continue;
     }
+    todo.push_back(object);
+    retried.push_back(done && failed && p.retry_failed && !stale);
+    changed.push_back(stale);
+  }
+  std::size_t foreign = 0;
+  for (const auto& [key, run] : store.records().runs)
+    foreign += !listed.count(run.at("object").get<std::string>());
+  if (foreign > 0) {
+    log().warn("{}: holds {} run(s) of objects not in this list; they stay in the summary",
+               p.out_dir, foreign);
   }
   if (p.max_objects > 0 && todo.size() > p.max_objects) todo.resize(p.max_objects);
+  for (std::size_t i = 0; i < todo.size(); ++i) {
+    stats.objects_retried += retried[i];
+    stats.objects_changed += changed[i];
+  }
   log().info("evaluate: {} object(s) in shard {}/{}, {} already done, {} to run with {} job(s)",
              stats.objects_total, p.shard_index, p.shard_count, stats.objects_skipped, todo.size(),
              p.jobs);
@@ -238,6 +356,7 @@ BatchStats runBatch(const BatchParams& p) {
   stats.objects_run = finished;
   stats.runs_failed = failed;
   stats.time_s = watch.seconds();
+  store.compact();
   writeSummary(p.out_dir);
   return stats;
 }

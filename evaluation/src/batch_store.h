@@ -1,6 +1,8 @@
 #pragma once
-// Internal: the batch's line records (runs.jsonl, results.jsonl) kept in memory and written
-// atomically, sorted so the files do not depend on evaluation order.
+// Internal: the batch's line records (runs.jsonl, results.jsonl). While a batch runs, every
+// object's records are appended as whole lines (one write per file), so an interrupted batch
+// loses at most the object in flight; the files are compacted (one line per run, sorted) when the
+// batch ends or resumes. docs/evaluation.md describes the files.
 #include <nlohmann/json.hpp>
 
 #include <map>
@@ -10,27 +12,42 @@
 
 namespace skelgrasp::evaluation::internal {
 
-// Key of a run: object, hand, planner.
+// Key of a run: object id, hand, planner.
 std::string runKey(const nlohmann::json& record);
+
+// The JSON lines of `path` (none when it does not exist). A last line cut short by a crash is
+// dropped with a warning (*torn_tail set when given); a malformed line elsewhere throws IoError.
+std::vector<nlohmann::json> readJsonLines(const std::string& path, bool* torn_tail = nullptr);
+
+// The runs of a batch directory and the grasp results of each run. A run recorded more than once
+// (an interrupted or retried attempt) keeps its last record, and its results are its last `kept`
+// result lines (results are appended before the run line that promises them).
+struct BatchRecords {
+  std::map<std::string, nlohmann::json> runs;                  // by run key
+  std::map<std::string, std::vector<nlohmann::json>> results;  // by run key
+  bool needs_compaction = false;  // superseded, orphaned or torn lines on disk
+};
+BatchRecords loadBatchRecords(const std::string& dir);
+
+// Writes `records` as compact, sorted runs.jsonl and results.jsonl (each atomically; results first:
+// a run line promises that its results are on disk).
+void writeBatchRecords(const std::string& dir, const BatchRecords& records);
 
 class BatchStore {
  public:
-  // Reads existing files of `dir` (resuming); throws IoError on malformed lines.
+  // Reads the records of `dir` (resuming) and compacts the files when needed.
   explicit BatchStore(std::string dir);
-  bool hasRun(const std::string& key) const;
-  // Adds one object's runs and grasp results and rewrites both files.
+  // Appends one object's grasp results, then its runs; safe to call from several threads.
   void add(const std::vector<nlohmann::json>& runs, const std::vector<nlohmann::json>& results);
-  const std::map<std::string, nlohmann::json>& runs() const { return runs_; }
-  const std::map<std::string, std::vector<nlohmann::json>>& results() const { return results_; }
+  // Rewrites the files compacted and sorted, so they do not depend on evaluation order.
+  void compact() const;
+  // Only while no add() runs concurrently (before the batch's objects are started).
+  const BatchRecords& records() const { return records_; }
 
  private:
-  void write() const;
   std::string dir_;
   mutable std::mutex mutex_;
-  std::map<std::string, nlohmann::json> runs_;
-  std::map<std::string, std::vector<nlohmann::json>> results_;  // by run key
+  BatchRecords records_;
 };
-
-std::vector<nlohmann::json> readJsonLines(const std::string& path);
 
 }  // namespace skelgrasp::evaluation::internal

@@ -6,11 +6,15 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <set>
 
+#include "batch_setup.h"
 #include "batch_store.h"
+#include "directory_lock.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/json.h"
+#include "skelgrasp/common/logging.h"
 #include "skelgrasp/common/render.h"
 #include "skelgrasp/evaluation/batch.h"
 
@@ -48,8 +52,12 @@ double number(const nlohmann::json& j, const char* key) {
 }  // namespace
 
 void writeSummary(const std::string& dir) {
-  const auto runs = internal::readJsonLines(dir + "/runs.jsonl");
-  const auto results = internal::readJsonLines(dir + "/results.jsonl");
+  // Through the loader, so records of interrupted or retried attempts count once.
+  const internal::BatchRecords records = internal::loadBatchRecords(dir);
+  std::vector<nlohmann::json> runs, results;
+  for (const auto& [key, run] : records.runs) runs.push_back(run);
+  for (const auto& [key, list] : records.results)
+    results.insert(results.end(), list.begin(), list.end());
   std::map<std::pair<std::string, std::string>, Group> groups;  // (hand, planner)
   std::set<std::string> hands;
   std::vector<std::string> failures;
@@ -158,30 +166,49 @@ void writeSummary(const std::string& dir) {
 
 void mergeBatches(const std::vector<std::string>& shard_dirs, const std::string& out_dir) {
   if (shard_dirs.empty()) throw InvalidArgument("merge: no shard directories");
-  std::map<std::string, nlohmann::json> runs;
-  std::map<std::string, std::vector<nlohmann::json>> results;
+  // Everything is checked before out_dir is touched.
+  std::optional<nlohmann::json> options;
+  std::string options_from;
   for (const auto& dir : shard_dirs) {
     if (!std::filesystem::exists(dir + "/runs.jsonl"))
       throw IoError(dir, "no runs.jsonl (not a batch output)");
-    std::set<std::string> added;
-    for (const auto& r : internal::readJsonLines(dir + "/runs.jsonl")) {
-      const std::string key = internal::runKey(r);
-      if (runs.count(key)) continue;  // the first shard that has a run wins
-      runs[key] = r;
-      added.insert(key);
+    if (const auto holder = internal::lockHolder(dir)) {
+      throw IoError(dir, (*holder > 0 ? "is in use by process " + std::to_string(*holder)
+                                      : std::string("is in use by another process")) +
+                             " (its evaluate has not finished)");
     }
-    for (const auto& g : internal::readJsonLines(dir + "/results.jsonl")) {
-      if (added.count(internal::runKey(g))) results[internal::runKey(g)].push_back(g);
+    const auto shard_options = internal::readBatchOptions(dir);
+    if (!shard_options) {
+      log().warn("{}: no batch.json (written by an older skelgrasp): its options cannot be checked",
+                 dir);
+    } else if (!options) {
+      options = shard_options;
+      options_from = dir;
+    } else if (const auto differ = internal::describeDifferences(*options, *shard_options);
+               !differ.empty()) {
+      throw InvalidArgument(dir + ": was run with other options than " + options_from + " (" +
+                            differ + "); shards of one batch must share them");
     }
   }
-  std::string runs_text, results_text;
-  for (const auto& [key, r] : runs) runs_text += r.dump() + "\n";
-  for (const auto& [key, list] : results) {
-    for (const auto& g : list) results_text += g.dump() + "\n";
+  internal::BatchRecords merged;
+  for (const auto& dir : shard_dirs) {
+    auto shard = internal::loadBatchRecords(dir);
+    for (auto& [key, run] : shard.runs) {
+      if (merged.runs.count(key)) continue;  // the first shard that has a run wins
+      merged.runs[key] = std::move(run);
+      if (shard.results.count(key)) merged.results[key] = std::move(shard.results[key]);
+    }
   }
-  std::filesystem::create_directories(out_dir);
-  writeFileAtomically(out_dir + "/results.jsonl", results_text);
-  writeFileAtomically(out_dir + "/runs.jsonl", runs_text);
+  std::error_code ec;
+  std::filesystem::create_directories(out_dir, ec);
+  if (ec) throw IoError(out_dir, "cannot create the output directory: " + ec.message());
+  const internal::DirectoryLock lock(out_dir);
+  internal::writeBatchRecords(out_dir, merged);
+  if (options) {
+    internal::writeBatchOptions(out_dir, *options);
+  } else {
+    std::filesystem::remove(out_dir + "/batch.json", ec);  // not this batch's any more
+  }
   writeSummary(out_dir);
 }
 

@@ -12,7 +12,10 @@
 namespace skelgrasp::evaluation {
 
 struct BatchParams {
-  std::vector<std::string> objects;                              // mesh files
+  std::vector<std::string> objects;  // mesh files
+  // Only the first this many objects (0: all). Their ids stay those of the whole list, so a later
+  // batch over all of it resumes them.
+  std::size_t object_limit = 0;
   std::vector<std::string> hands = {"armar3", "sdh", "shadow"};  // built-in hand names
   std::vector<std::string> planners = {"skeleton", "surface"};
   std::string out_dir = "evaluation";
@@ -31,19 +34,33 @@ struct BatchParams {
   std::uint64_t seed = 1;
   // Stop after this many newly evaluated objects (0: no limit); lets tests interrupt a batch.
   std::size_t max_objects = 0;
+  // Discard out_dir's runs (and its recorded options) and start afresh; without it, a resume with
+  // options other than the recorded ones is refused.
+  bool restart = false;
+  // Evaluate again the objects with a run recorded as failed, replacing all their runs.
+  bool retry_failed = false;
 };
 
 struct BatchStats {
   std::size_t objects_total = 0;    // in this shard
   std::size_t objects_skipped = 0;  // already finished in out_dir (resumed)
   std::size_t objects_run = 0;
+  std::size_t objects_retried = 0;  // of objects_run: had a failed run (retry_failed)
+  std::size_t objects_changed = 0;  // of objects_run: file changed since its runs were recorded
   std::size_t runs_failed = 0;
   double time_s = 0;
 };
 
-// Throws InvalidArgument for bad parameters (unknown hand or planner, shard out of range) and
-// IoError when out_dir cannot be written. Objects that cannot be loaded or processed are recorded
-// as failed runs with their error.
+// Runs are keyed on (object id, hand, planner): the id is the object's path relative to the
+// deepest directory holding the whole list (unique within the batch; its file name when they
+// share one folder), and each run records a hash of the file's bytes. A run is done when out_dir
+// holds it with the same content hash; seeds derive from (seed, id, hand, planner).
+//
+// Before any work, throws InvalidArgument for bad batch options (unknown hand or planner, shard out
+// of range, non-finite or negative numbers) or for a resume whose result-shaping options differ
+// from out_dir/batch.json (naming them), and IoError when out_dir cannot be written or another
+// process holds its lock. After that, every error of an object (unloadable file, a stage throwing
+// for it) is recorded as a failed run with its message and the batch goes on.
 BatchStats runBatch(const BatchParams& params);
 
 // Rewrites summary.md, summary.csv and the robustness histograms (one PNG per hand) of out_dir
@@ -51,7 +68,9 @@ BatchStats runBatch(const BatchParams& params);
 void writeSummary(const std::string& out_dir);
 
 // Joins the runs.jsonl and results.jsonl of shard directories into out_dir (duplicates of a run
-// are kept once) and writes its summary. Throws IoError for a missing or malformed input.
+// are kept once) and writes its batch.json and summary. Throws IoError for a missing or malformed
+// input or a shard still being written (locked), InvalidArgument for shards run with different
+// options.
 void mergeBatches(const std::vector<std::string>& shard_dirs, const std::string& out_dir);
 
 }  // namespace skelgrasp::evaluation

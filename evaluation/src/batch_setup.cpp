@@ -1,0 +1,212 @@
+#include "batch_setup.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "skelgrasp/common/error.h"
+#include "skelgrasp/common/json.h"
+#include "skelgrasp/common/logging.h"
+
+namespace skelgrasp::evaluation::internal {
+namespace fs = std::filesystem;
+namespace {
+
+const char* const kBatchFile = "/batch.json";
+
+const char* unitName(LengthUnit unit) {
+  switch (unit) {
+    case LengthUnit::kMeters:
+      return "m";
+    case LengthUnit::kMillimeters:
+      return "mm";
+    case LengthUnit::kAuto:
+      break;
+  }
+  return "auto";
+}
+
+nlohmann::json skeletonOptions(const skeleton::SkeletonParams& s) {
+  const auto& r = s.regularisation;
+  const auto& c = s.contraction;
+  return {{"regularisation",
+           {{"method", reconstruction::toString(r.method)},
+            {"alpha_divisor", r.alpha_divisor},
+            {"offset_divisor", r.offset_divisor},
+            {"remesh_target_edge_m", r.remesh_target_edge_m},
+            {"remesh_iterations", r.remesh_iterations},
+            {"join_area_fraction", r.join_area_fraction},
+            {"join_attempts", r.join_attempts},
+            {"keep_largest_component", r.keep_largest_component},
+            {"auto_max_hole_edges", r.auto_max_hole_edges}}},
+          {"contraction",
+           {{"max_triangle_angle_rad", c.max_triangle_angle_rad},
+            {"quality_speed_tradeoff", c.quality_speed_tradeoff},
+            {"medially_centered_speed_tradeoff", c.medially_centered_speed_tradeoff},
+            {"area_variation_factor", c.area_variation_factor},
+            {"max_iterations", c.max_iterations},
+            {"is_medially_centered", c.is_medially_centered},
+            {"min_edge_length_fraction", c.min_edge_length_fraction}}},
+          {"spur_radius_factor", s.spur_radius_factor},
+          {"curvature_stencil_m", s.graph.curvature_stencil_m}};
+}
+
+// Flattens nested objects to "a.b" keys, so a difference names the exact option.
+void flatten(const nlohmann::json& j, const std::string& prefix,
+             std::map<std::string, nlohmann::json>& out) {
+  if (!j.is_object()) {
+    out[prefix] = j;
+    return;
+  }
+  for (const auto& [key, value] : j.items()) {
+    flatten(value, prefix.empty() ? key : prefix + "." + key, out);
+  }
+}
+
+std::string shown(const nlohmann::json& value) {
+  if (value.is_string()) return value.get<std::string>();
+  if (value.is_array()) {
+    std::string text;
+    for (const auto& v : value) text += (text.empty() ? "" : ",") + shown(v);
+    return text;
+  }
+  return value.dump();
+}
+
+}  // namespace
+
+nlohmann::json resultOptions(const BatchParams& p) {
+  const auto& q = p.quality;
+  const auto& r = p.robustness;
+  const auto& c = r.closing;
+  return {
+      {"hands", p.hands},
+      {"planners", p.planners},
+      {"seed", p.seed},
+      {"timeout_s", p.timeout_s},
+      {"vertex_distance_m", p.vertex_distance_m},
+      {"surface_hypotheses", p.surface_hypotheses},
+      {"mu", q.friction},
+      {"reference_compat", q.reference_compat},
+      {"quality",
+       {{"cone_edges", q.cone_edges},
+        {"torsional_friction_m", q.torsional_friction_m},
+        {"compute_volume", q.compute_volume}}},
+      {"robustness_grasps", p.robustness_grasps},
+      {"robustness",
+       {{"samples", r.samples},
+        {"variant", toString(r.variant)},
+        {"position_sigma_m", r.position_sigma_m},
+        {"orientation_sigma_rad", r.orientation_sigma_rad},
+        {"closing",
+         {{"step_rad", c.step_rad},
+          {"step_m", c.step_m},
+          {"palm_contact_distance_m", c.palm_contact_distance_m},
+          {"palm_contacts", c.palm_contacts},
+          {"contact_distance_m", c.contact_distance_m},
+          {"min_contacts", c.min_contacts},
+          {"max_passes", c.max_passes},
+          {"max_iterations_per_pass", c.max_iterations_per_pass}}}}},
+      {"skeleton", skeletonOptions(p.skeleton)},
+      {"load",
+       {{"units", unitName(p.load.units)},
+        {"auto_millimetre_diagonal", p.load.auto_millimetre_diagonal}}},
+  };
+}
+
+std::string describeDifferences(const nlohmann::json& recorded, const nlohmann::json& current) {
+  std::map<std::string, nlohmann::json> was, now;
+  flatten(recorded, "", was);
+  flatten(current, "", now);
+  std::set<std::string> keys;
+  for (const auto& [key, value] : was) keys.insert(key);
+  for (const auto& [key, value] : now) keys.insert(key);
+  std::string text;
+  for (const auto& key : keys) {
+    const auto a = was.find(key), b = now.find(key);
+    if (a != was.end() && b != now.end() && a->second == b->second) continue;
+    text += fmt::format("{}{} {} -> {}", text.empty() ? "" : ", ", key,
+                        a == was.end() ? "(none)" : shown(a->second),
+                        b == now.end() ? "(none)" : shown(b->second));
+  }
+  return text;
+}
+
+std::optional<nlohmann::json> readBatchOptions(const std::string& dir) {
+  const std::string path = dir + kBatchFile;
+  if (!fs::exists(path)) return std::nullopt;
+  const auto batch = readJsonFile(path);
+  if (!batch.is_object() || !batch.contains("schema_version") || !batch.contains("options") ||
+      !batch.at("schema_version").is_number_integer()) {
+    throw IoError(path, "not a batch description (schema_version and options expected)");
+  }
+  if (batch.at("schema_version").get<int>() > kBatchSchemaVersion) {
+    throw IoError(path, fmt::format("schema version {} is newer than this skelgrasp's ({})",
+                                    batch.at("schema_version").get<int>(), kBatchSchemaVersion));
+  }
+  return batch.at("options");
+}
+
+void writeBatchOptions(const std::string& dir, const nlohmann::json& options) {
+  writeJsonFile(dir + kBatchFile, {{"schema_version", kBatchSchemaVersion}, {"options", options}},
+                2);
+}
+
+std::uint64_t fnv1a(const std::string& bytes, std::uint64_t seed) {
+  std::uint64_t h = 1469598103934665603ULL ^ seed;
+  for (unsigned char c : bytes) h = (h ^ c) * 1099511628211ULL;
+  return h;
+}
+
+std::string contentHash(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return {};
+  std::uint64_t h = fnv1a("");
+  std::vector<char> buffer(1 << 16);
+  while (in.read(buffer.data(), static_cast<std::streamsize>(buffer.size())) || in.gcount() > 0) {
+    for (std::streamsize i = 0; i < in.gcount(); ++i) {
+      h = (h ^ static_cast<unsigned char>(buffer[i])) * 1099511628211ULL;
+    }
+  }
+  if (in.bad()) return {};
+  return fmt::format("{:016x}", h);
+}
+
+std::vector<ObjectIdentity> identifyObjects(const std::vector<std::string>& paths) {
+  std::vector<ObjectIdentity> objects;
+  std::vector<fs::path> normal;
+  std::set<std::string> seen;
+  for (const auto& path : paths) {
+    fs::path p = fs::absolute(path).lexically_normal();
+    if (!seen.insert(p.string()).second) {
+      log().warn("evaluate: {} is listed more than once; evaluated once", path);
+      continue;
+    }
+    objects.push_back({path, {}, {}});
+    normal.push_back(std::move(p));
+  }
+  if (normal.empty()) return objects;
+  // The deepest directory holding every object: the common prefix of their parent directories.
+  const fs::path first_parent = normal[0].parent_path();
+  std::vector<fs::path> root(first_parent.begin(), first_parent.end());
+  for (const auto& p : normal) {
+    const fs::path parent = p.parent_path();
+    std::size_t common = 0;
+    for (auto it = parent.begin();
+         it != parent.end() && common < root.size() && *it == root[common]; ++it) {
+      ++common;
+    }
+    root.resize(common);
+  }
+  fs::path root_dir;
+  for (const auto& part : root) root_dir /= part;
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    objects[i].id = normal[i].lexically_relative(root_dir).generic_string();
+  }
+  return objects;
+}
+
+}  // namespace skelgrasp::evaluation::internal

@@ -1,0 +1,135 @@
+// skelgrasp evaluate / merge as a batch system sees them: locks, changed options, kills.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+
+#include "cli_support.h"
+#include "skelgrasp/common/json.h"
+#include "skelgrasp/common/mesh_io.h"
+#include "skelgrasp/common/primitives.h"
+#include "test_support.h"
+
+namespace skelgrasp {
+namespace {
+
+using test::CliRun;
+using test::countLines;
+using test::runCli;
+
+// Few samples and a fixed hypothesis budget keep a run short and independent of machine speed.
+const char* const kFastOptions =
+    " --hands sdh --robustness-samples 4 --robustness-grasps 2 --timeout 0 --vertex-distance 0.01";
+
+std::vector<nlohmann::json> jsonLines(const std::string& path) {
+  std::vector<nlohmann::json> out;
+  std::ifstream in(path);
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty()) out.push_back(nlohmann::json::parse(line));
+  }
+  return out;
+}
+
+// A folder with the named shapes as PLY meshes.
+std::string objectsDir(const std::string& dir, const std::vector<std::string>& shapes) {
+  const std::string objects = dir + "/objects";
+  std::filesystem::create_directories(objects);
+  for (const auto& shape : shapes) {
+    saveMesh(objects + "/" + shape + ".ply", primitives::makeNamedShape(shape));
+  }
+  return objects;
+}
+
+TEST(EvaluateCli, ASecondProcessOnALockedOutputExitsTwo) {
+  const std::string dir = test::tempDir("cli_eval_locked");
+  const std::string objects = objectsDir(dir, {"capsule"}), out = dir + "/out";
+  std::filesystem::create_directories(out);
+  // This test process holds the lock as a first, still running evaluate would.
+  const int fd = ::open((out + "/.lock").c_str(), O_RDWR | O_CREAT, 0644);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
+  const std::string pid = std::to_string(::getpid());
+  ASSERT_EQ(::write(fd, pid.data(), pid.size()), static_cast<ssize_t>(pid.size()));
+  const std::string args = "evaluate --objects " + objects + " --out " + out + kFastOptions;
+  CliRun run = runCli(args, dir);
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_EQ(countLines(run.err), 1) << run.err;
+  EXPECT_EQ(run.err, "skelgrasp: error: " + out + ": is in use by process " + pid + "\n");
+  EXPECT_FALSE(std::filesystem::exists(out + "/runs.jsonl"));
+  // merge refuses to read a shard that is still being written.
+  std::ofstream(out + "/runs.jsonl");
+  run = runCli("merge " + out + " --out " + dir + "/merged", dir);
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("is in use by process " + pid), std::string::npos) << run.err;
+  std::filesystem::remove(out + "/runs.jsonl");
+  ::close(fd);
+  run = runCli(args, dir);
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+}
+
+TEST(EvaluateCli, AResumeWithAnotherMuRefusesInOneLineAndRestartStartsAfresh) {
+  const std::string dir = test::tempDir("cli_eval_mu");
+  const std::string objects = objectsDir(dir, {"capsule"}), out = dir + "/out";
+  const std::string args = "evaluate --objects " + objects + " --out " + out + kFastOptions;
+  ASSERT_EQ(runCli(args, dir).exit_code, 0);
+  const auto before = jsonLines(out + "/runs.jsonl");
+  CliRun run = runCli(args + " --mu 0.5", dir);
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_EQ(countLines(run.err), 1) << run.err;
+  EXPECT_EQ(run.err.rfind("skelgrasp: error: " + out + ": ", 0), 0u) << run.err;
+  EXPECT_NE(run.err.find("mu 0.35 -> 0.5"), std::string::npos) << run.err;
+  EXPECT_EQ(jsonLines(out + "/runs.jsonl"), before);
+  run = runCli(args + " --mu 0.5 --restart", dir);
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("evaluated 1 object(s) (0 already done"), std::string::npos) << run.out;
+  EXPECT_EQ(readJsonFile(out + "/batch.json")["options"]["mu"], 0.5);
+}
+
+// Killed with SIGKILL in the middle of a batch, evaluate resumes to exactly the results of an
+// uninterrupted batch.
+TEST(EvaluateCli, ABatchKilledMidwayResumesToTheUninterruptedResults) {
+  const std::string dir = test::tempDir("cli_eval_kill");
+  const std::string objects = objectsDir(dir, {"capsule", "bottle", "hammer", "mug"});
+  const std::string all = dir + "/all", out = dir + "/out";
+  ASSERT_EQ(runCli("evaluate --objects " + objects + " --out " + all + kFastOptions, dir).exit_code,
+            0);
+  const std::string command = std::string(SKELGRASP_CLI_PATH) + " evaluate --objects " + objects +
+                              " --out " + out + kFastOptions + " > " + dir +
+                              "/bg.log 2>&1 & echo $! > " + dir + "/pid";
+  ASSERT_EQ(std::system(command.c_str()), 0);
+  pid_t pid = 0;
+  std::ifstream(dir + "/pid") >> pid;
+  ASSERT_GT(pid, 0);
+  // Kill it once the first object is on disk (or it finished: then nothing is left to resume).
+  // The waits are bounded so a stuck process cannot hang the test; they assert nothing.
+  const int kPolls = 30000, kPollMicroseconds = 20000;
+  auto nothingWritten = [&] {
+    std::error_code ec;
+    return std::filesystem::file_size(out + "/runs.jsonl", ec) == 0 || ec;
+  };
+  for (int i = 0; i < kPolls && ::kill(pid, 0) == 0 && nothingWritten(); ++i)
+    ::usleep(kPollMicroseconds);
+  ::kill(pid, SIGKILL);
+  for (int i = 0; i < kPolls && ::kill(pid, 0) == 0; ++i) ::usleep(kPollMicroseconds);
+  const CliRun run = runCli("evaluate --objects " + objects + " --out " + out + kFastOptions, dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  for (const char* file : {"/runs.jsonl", "/results.jsonl"}) {
+    auto a = jsonLines(all + file), b = jsonLines(out + file);
+    ASSERT_EQ(a.size(), b.size()) << file;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      for (auto* j : {&a[i], &b[i]}) {
+        for (const char* key : {"planning_s", "regularise_s", "skeleton_s", "robustness_s",
+                                "ms_per_valid_grasp", "time_ms", "timed_out"})
+          j->erase(key);
+      }
+      EXPECT_EQ(a[i], b[i]) << file << " line " << i;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace skelgrasp
