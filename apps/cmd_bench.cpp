@@ -118,7 +118,7 @@ void registerBenchCommand(CLI::App& app, Action& action) {
   auto args = std::make_shared<BenchSkeletonArgs>();
   skel->add_option("INPUT", args->inputs, "Mesh files or directories")->required();
   skel->add_option("--limit", args->limit, "Only the first N meshes (0 = all)")
-      ->check(countIn(0, kMaxCount))
+      ->transform(countIn(0, kMaxCount))
       ->capture_default_str();
   skel->add_option("--json", args->json_out, "Also write the rows as JSON");
   args->options.addTo(*skel);

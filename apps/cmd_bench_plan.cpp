@@ -114,7 +114,7 @@ void registerBenchPlanCommand(CLI::App& bench, Action& action) {
   cmd->add_option("INPUT", args->inputs, "Mesh files or directories")->required();
   cmd->add_option("--hands", args->hands, "Comma-separated hands")->capture_default_str();
   cmd->add_option("--limit", args->limit, "Only the first N meshes (0 = all)")
-      ->check(countIn(0, kMaxCount))
+      ->transform(countIn(0, kMaxCount))
       ->capture_default_str();
   cmd->add_option("--json", args->json_out, "Also write the rows as JSON");
   args->planner.addTo(*cmd);

@@ -107,7 +107,7 @@ void registerBenchReconstructCommand(CLI::App& app, Action& action) {
   cmd->add_option("INPUT", args->inputs, "Clouds, capture descriptions or YCB raw folders")
       ->required();
   cmd->add_option("--repeat", args->repeat, "Runs per input; the fastest is reported")
-      ->check(countIn(1, kMaxRepeat))
+      ->transform(countIn(1, kMaxRepeat))
       ->capture_default_str();
   cmd->add_option("--json", args->json_out, "Also write the rows as JSON");
   args->options.addInputOptions(*cmd);

@@ -71,10 +71,10 @@ void registerDemoCommand(CLI::App& app, Action& action) {
   auto args = std::make_shared<DemoArgs>();
   cmd->add_option("--out", args->out, "Output directory")->capture_default_str();
   cmd->add_option("--scene-seed", args->seed, "Seed of the simulated sensor noise")
-      ->check(countIn(0, UINT64_MAX))
+      ->transform(countIn(0, UINT64_MAX))
       ->capture_default_str();
   cmd->add_option("--views", args->views, "Simulated camera views")
-      ->check(countIn(1, 8))
+      ->transform(countIn(1, 8))
       ->capture_default_str();
   args->run.addTo(*cmd);
   cmd->callback([args, &action] { action = [args] { return runDemo(*args); }; });

@@ -122,18 +122,18 @@ void registerEvaluateCommands(CLI::App& app, Action& action) {
   cmd->add_option("--out", a->out, "Output directory (resumed when it holds earlier results)")
       ->capture_default_str();
   cmd->add_option("--robustness-samples", a->samples, "Perturbed poses per grasp")
-      ->check(countIn(1, kMaxRobustnessSamples))
+      ->transform(countIn(1, kMaxRobustnessSamples))
       ->capture_default_str();
   cmd->add_option("--robustness-grasps", a->robustness_grasps,
                   "Grasps per run scored for robustness (0 = all)")
-      ->check(countIn(0, kMaxCount))
+      ->transform(countIn(0, kMaxCount))
       ->capture_default_str();
   cmd->add_option("--robustness-variant", a->variant,
                   "paper (hand moved, 10 mm / 5 deg) or reference (object moved, 5 mm / 2.5 deg)")
       ->check(CLI::IsMember({"paper", "reference"}))
       ->capture_default_str();
   cmd->add_option("--jobs", a->jobs, "Objects evaluated in parallel")
-      ->check(threadCount(1))
+      ->transform(threadCount(1))
       ->capture_default_str();
   cmd->add_option("--shard", a->shard, "Run only objects k with k % n == i: i/n")
       ->capture_default_str();
@@ -151,10 +151,10 @@ void registerEvaluateCommands(CLI::App& app, Action& action) {
       ->capture_default_str();
   cmd->add_option("--units", a->units, "Mesh units: auto, m or mm")->capture_default_str();
   cmd->add_option("--limit", a->limit, "Only the first N objects (0 = all)")
-      ->check(countIn(0, kMaxCount))
+      ->transform(countIn(0, kMaxCount))
       ->capture_default_str();
   cmd->add_option("--seed", a->seed, "Base seed")
-      ->check(countIn(0, UINT64_MAX))
+      ->transform(countIn(0, UINT64_MAX))
       ->capture_default_str();
   cmd->callback([a, &action] { action = [a] { return runEvaluate(*a); }; });
 

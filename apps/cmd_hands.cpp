@@ -246,7 +246,7 @@ void registerHandCommands(CLI::App& app, Action& action) {
       ->check(finiteIn(0, kMaxFriction))
       ->capture_default_str();
   quality->add_option("--cone-edges", q->edges, "Edges per friction cone")
-      ->check(countIn(3, 64))
+      ->transform(countIn(3, 64))
       ->capture_default_str();
   quality
       ->add_option("--torsional-friction", q->torsion_m,

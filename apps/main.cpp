@@ -51,6 +51,14 @@ int main(int argc, char** argv) {
   } catch (const CLI::Success& e) {
     return app.exit(e);  // --help: usage on stdout, exit 0
   } catch (const CLI::ParseError& e) {
+    // CLI11 says only "A subcommand is required" for a mistyped command: name the word.
+    if (app.get_subcommands().empty()) {
+      for (int i = 1; i < argc; ++i) {
+        if (argv[i][0] != '-') {
+          return cli::fail(std::string("unknown command '") + argv[i] + "' (see skelgrasp --help)");
+        }
+      }
+    }
     // House format instead of CLI11's two lines: the message names the option and its range.
     return cli::fail(cli::oneLine(e.what()));
   }

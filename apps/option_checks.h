@@ -36,11 +36,13 @@ CLI::Validator lengthOrZero();
 // A positive length in metres: (0, kMaxOptionLengthM].
 CLI::Validator positiveLength();
 // A whole decimal number in [min, max] (no sign, no fraction, no exponent). Leading zeros are
-// dropped, so "010" means ten (CLI11 alone would read it as octal eight).
+// dropped, so "010" means ten (CLI11 alone would read it as octal eight). Rewrites the value:
+// add it with Option::transform (Option::check would discard the rewrite).
 CLI::Validator countIn(std::uint64_t min, std::uint64_t max);
 // A count of threads or parallel jobs, at least `min` (0 may mean "all cores" where documented).
 // Values above std::thread::hardware_concurrency() are lowered to it with a warning: more
-// threads than cores only add contention, and tens of thousands exhaust the process.
+// threads than cores only add contention, and tens of thousands exhaust the process. Add it
+// with Option::transform, like countIn.
 CLI::Validator threadCount(int min);
 
 // std::thread::hardware_concurrency(), at least 1 (it may report 0 when unknown).

@@ -31,17 +31,17 @@ struct PlannerOptions {
       cmd.add_option(
              "--hypotheses", surface_hypotheses,
              "Surface planner: number of hypotheses (0 = until the timeout, 500 without one)")
-          ->check(countIn(0, kMaxCount))
+          ->transform(countIn(0, kMaxCount))
           ->capture_default_str();
     }
     cmd.add_option("--timeout", timeout_s, "Planning time limit in seconds (0 = none)")
         ->check(finiteIn(0, kMaxTimeoutS))
         ->capture_default_str();
     cmd.add_option("--max-grasps", max_grasps, "Stop after this many grasps (0 = no limit)")
-        ->check(countIn(0, kMaxCount))
+        ->transform(countIn(0, kMaxCount))
         ->capture_default_str();
     cmd.add_option("--seed", seed, "Random seed (vertex order, surface samples)")
-        ->check(countIn(0, UINT64_MAX))
+        ->transform(countIn(0, UINT64_MAX))
         ->capture_default_str();
     cmd.add_option("--min-epsilon", min_epsilon, "Reject grasps with a lower epsilon")
         ->check(finiteIn(0, kMaxRatio))

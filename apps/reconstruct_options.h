@@ -46,11 +46,11 @@ struct ReconstructOptions {
         ->capture_default_str();
     cmd.add_option("--cameras", cameras,
                    "YCB raw: NP units to fuse, e.g. 1,3,5 (default: all present)")
-        ->check(countIn(1, 5))
+        ->transform(countIn(1, 5))
         ->delimiter(',');
     cmd.add_option("--angle-step", angle_step,
                    "YCB raw: use turntable angles that are multiples (degrees)")
-        ->check(countIn(1, 360))
+        ->transform(countIn(1, 360))
         ->capture_default_str();
   }
 
@@ -66,7 +66,7 @@ struct ReconstructOptions {
         ->check(lengthOrZero())
         ->capture_default_str();
     cmd.add_option("--outlier-k", outlier_k, "Statistical outlier removal neighbours (0 = off)")
-        ->check(countIn(0, kMaxOutlierNeighbours))
+        ->transform(countIn(0, kMaxOutlierNeighbours))
         ->capture_default_str();
     cmd.add_option("--plane-distance", plane_distance_m, "RANSAC plane inlier distance (m)")
         ->check(positiveLength())
@@ -80,13 +80,13 @@ struct ReconstructOptions {
     cmd.add_option("--threads", threads,
                    "Threads for normals and Poisson (0 = all cores; PCL busy-waits, 1 is fastest "
                    "on shared cores)")
-        ->check(threadCount(0))
+        ->transform(threadCount(0))
         ->capture_default_str();
   }
 
   void addMeshingOptions(CLI::App& cmd) {
     cmd.add_option("--poisson-depth", poisson_depth, "Poisson octree depth")
-        ->check(countIn(2, 14))
+        ->transform(countIn(2, 14))
         ->capture_default_str();
     cmd.add_option("--point-weight", point_weight, "Poisson interpolation weight")
         ->check(finiteIn(0, kMaxRatio))
