@@ -7,6 +7,7 @@
 #include "cli.h"
 #include "mesh_list.h"
 #include "output_paths.h"
+#include "option_checks.h"
 #include "skeleton_options.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/logging.h"
@@ -118,7 +119,9 @@ void registerBenchCommand(CLI::App& app, Action& action) {
       bench->add_subcommand("skeleton", "Regularise + skeleton time per object, and medians");
   auto args = std::make_shared<BenchSkeletonArgs>();
   skel->add_option("INPUT", args->inputs, "Mesh files or directories")->required();
-  skel->add_option("--limit", args->limit, "Only the first N meshes");
+  skel->add_option("--limit", args->limit, "Only the first N meshes (0 = all)")
+      ->transform(countIn(0, kMaxCount))
+      ->capture_default_str();
   skel->add_option("--json", args->json_out, "Also write the rows as JSON");
   args->options.addTo(*skel);
   skel->callback([=, &action] { action = [=] { return runBenchSkeleton(*args); }; });

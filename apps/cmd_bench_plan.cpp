@@ -10,6 +10,7 @@
 #include "cli.h"
 #include "mesh_list.h"
 #include "output_paths.h"
+#include "option_checks.h"
 #include "planner_options.h"
 #include "skeleton_options.h"
 #include "skelgrasp/common/json.h"
@@ -114,7 +115,9 @@ void registerBenchPlanCommand(CLI::App& bench, Action& action) {
   auto args = std::make_shared<BenchPlanArgs>();
   cmd->add_option("INPUT", args->inputs, "Mesh files or directories")->required();
   cmd->add_option("--hands", args->hands, "Comma-separated hands")->capture_default_str();
-  cmd->add_option("--limit", args->limit, "Only the first N meshes");
+  cmd->add_option("--limit", args->limit, "Only the first N meshes (0 = all)")
+      ->transform(countIn(0, kMaxCount))
+      ->capture_default_str();
   cmd->add_option("--json", args->json_out, "Also write the rows as JSON");
   args->planner.addTo(*cmd);
   args->skeleton.addTo(*cmd, false);

@@ -6,6 +6,7 @@
 
 #include "cli.h"
 #include "output_paths.h"
+#include "option_checks.h"
 #include "reconstruct_options.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/logging.h"
@@ -108,7 +109,7 @@ void registerBenchReconstructCommand(CLI::App& app, Action& action) {
   cmd->add_option("INPUT", args->inputs, "Clouds, capture descriptions or YCB raw folders")
       ->required();
   cmd->add_option("--repeat", args->repeat, "Runs per input; the fastest is reported")
-      ->check(CLI::PositiveNumber)
+      ->transform(countIn(1, kMaxRepeat))
       ->capture_default_str();
   cmd->add_option("--json", args->json_out, "Also write the rows as JSON");
   args->options.addInputOptions(*cmd);

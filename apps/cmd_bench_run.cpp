@@ -9,6 +9,7 @@
 
 #include "cli.h"
 #include "output_paths.h"
+#include "option_checks.h"
 #include "run_command.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/logging.h"
@@ -121,7 +122,7 @@ void registerBenchRunCommand(CLI::App& app, Action& action) {
                   "Scans or captures (their --object target), or 'demo' for every object of the "
                   "generated scene (the default)");
   cmd->add_option("--repeat", args->repeat, "Runs per input; the fastest is reported")
-      ->check(CLI::PositiveNumber)
+      ->transform(countIn(1, kMaxRepeat))
       ->capture_default_str();
   cmd->add_option("--json", args->json_out, "Also write the rows as JSON");
   args->run.addTo(*cmd);

@@ -7,6 +7,7 @@
 
 #include "cli.h"
 #include "output_paths.h"
+#include "option_checks.h"
 #include "run_command.h"
 #include "skelgrasp/common/html_report.h"
 #include "skelgrasp/common/mesh_io.h"
@@ -72,9 +73,10 @@ void registerDemoCommand(CLI::App& app, Action& action) {
   auto args = std::make_shared<DemoArgs>();
   cmd->add_option("--out", args->out, "Output directory")->capture_default_str();
   cmd->add_option("--scene-seed", args->seed, "Seed of the simulated sensor noise")
+      ->transform(countIn(0, UINT64_MAX))
       ->capture_default_str();
   cmd->add_option("--views", args->views, "Simulated camera views")
-      ->check(CLI::Range(1, 8))
+      ->transform(countIn(1, 8))
       ->capture_default_str();
   args->run.addTo(*cmd);
   cmd->callback([args, &action] { action = [args] { return runDemo(*args); }; });

@@ -10,11 +10,15 @@
 #include "mesh_list.h"
 #include "output_paths.h"
 #include "quality_options.h"
+#include "option_checks.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/evaluation/batch.h"
 
 namespace skelgrasp::cli {
 namespace {
+
+// Perturbed poses per grasp: the estimate's standard error is already below 0.1 % at a million.
+constexpr std::uint64_t kMaxRobustnessSamples = 1'000'000;
 
 struct EvaluateArgs {
   std::vector<std::string> objects;
@@ -78,14 +82,18 @@ int runEvaluate(const EvaluateArgs& a) {
   p.planners = split(a.planners, ',');
   p.out_dir = a.out;
   p.jobs = a.jobs;
-  const auto shard = split(a.shard, '/');
-  try {
-    if (shard.size() != 2) throw std::invalid_argument("shard");
-    p.shard_index = std::stoi(shard[0]);
-    p.shard_count = std::stoi(shard[1]);
-  } catch (const std::exception&) {
+  // Whole numbers only: std::stoi alone would take "1x/4" or "-1/4".
+  const auto slash = a.shard.find('/');
+  const std::string index = a.shard.substr(0, slash);
+  const std::string count = slash == std::string::npos ? "" : a.shard.substr(slash + 1);
+  const auto whole = [](const std::string& t) {
+    return !t.empty() && t.size() <= 9 && t.find_first_not_of("0123456789") == std::string::npos;
+  };
+  if (!whole(index) || !whole(count)) {
     throw InvalidArgument("--shard '" + a.shard + "': expected i/n, e.g. 0/4");
   }
+  p.shard_index = std::stoi(index);
+  p.shard_count = std::stoi(count);
   p.timeout_s = a.timeout_s;
   p.vertex_distance_m = a.vertex_distance_m;
   p.robustness_grasps = a.robustness_grasps;
@@ -124,35 +132,41 @@ void registerEvaluateCommands(CLI::App& app, Action& action) {
                   "Output directory (resumed when it holds earlier results of the same options)")
       ->capture_default_str();
   cmd->add_option("--robustness-samples", a->samples, "Perturbed poses per grasp")
-      ->check(CLI::PositiveNumber)
+      ->transform(countIn(1, kMaxRobustnessSamples))
       ->capture_default_str();
   cmd->add_option("--robustness-grasps", a->robustness_grasps,
                   "Grasps per run scored for robustness (0 = all)")
+      ->transform(countIn(0, kMaxCount))
       ->capture_default_str();
   cmd->add_option("--robustness-variant", a->variant,
                   "paper (hand moved, 10 mm / 5 deg) or reference (object moved, 5 mm / 2.5 deg)")
       ->check(CLI::IsMember({"paper", "reference"}))
       ->capture_default_str();
   cmd->add_option("--jobs", a->jobs, "Objects evaluated in parallel")
-      ->check(CLI::PositiveNumber)
+      ->transform(threadCount(1))
       ->capture_default_str();
   cmd->add_option("--shard", a->shard, "Run only objects k with k % n == i: i/n")
       ->capture_default_str();
   cmd->add_option("--timeout", a->timeout_s, "Per planner run, seconds (0 = none)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(finiteIn(0, kMaxTimeoutS))
       ->capture_default_str();
   cmd->add_option("--mu", a->mu, "Friction coefficient")
-      ->check(CLI::NonNegativeNumber)
+      ->check(finiteIn(0, kMaxFriction))
       ->capture_default_str();
   cmd->add_flag("--reference-compat", a->reference_compat,
                 "Quality as the reference code (docs/hands.md)");
   addForceClosureTestOption(*cmd, a->fc_test);
   cmd->add_option("--vertex-distance", a->vertex_distance_m,
-                  "Skeleton planner vertex distance d (m)")
+                  "Skeleton planner vertex distance d (m, 0 = every vertex)")
+      ->check(lengthOrZero())
       ->capture_default_str();
   cmd->add_option("--units", a->units, "Mesh units: auto, m or mm")->capture_default_str();
-  cmd->add_option("--limit", a->limit, "Only the first N objects");
-  cmd->add_option("--seed", a->seed, "Base seed")->capture_default_str();
+  cmd->add_option("--limit", a->limit, "Only the first N objects (0 = all)")
+      ->transform(countIn(0, kMaxCount))
+      ->capture_default_str();
+  cmd->add_option("--seed", a->seed, "Base seed")
+      ->transform(countIn(0, UINT64_MAX))
+      ->capture_default_str();
   cmd->add_flag("--restart", a->restart,
                 "Discard the runs in --out (also when made with other options) and start afresh");
   cmd->add_flag("--retry-failed", a->retry_failed,

@@ -9,8 +9,11 @@
 #include "hand_options.h"
 #include "output_paths.h"
 #include "quality_options.h"
+#include "option_checks.h"
+#include "skelgrasp/common/error.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
+#include "skelgrasp/common/pose.h"
 #include "skelgrasp/grasping/grasp_simulator.h"
 #include "skelgrasp/grasping/hand_render.h"
 #include "skelgrasp/grasping/quality.h"
@@ -58,9 +61,14 @@ struct CloseArgs {
 
 int runClose(const CloseArgs& args) {
   checkOutputFileOption(args.render);
+  Pose gcp;
+  try {
+    gcp = parsePose(args.pose);
+  } catch (const InvalidArgument& e) {
+    throw InvalidArgument(std::string("--pose: ") + e.what());
+  }
   const auto hand = args.hand.load();
   const auto& preshape = hand.preshape(args.preshape);
-  const Pose gcp = parsePose(args.pose);
   MeshLoadOptions load;
   load.units = parseLengthUnit(args.units);
   const grasping::GraspObject object(loadMesh(args.mesh, load));
@@ -222,11 +230,13 @@ void registerHandCommands(CLI::App& app, Action& action) {
       ->capture_default_str();
   close
       ->add_option("--pose", c->pose,
-                   "Grasp centre point pose in the object frame: \"x y z qw qx qy qz\"")
+                   "Grasp centre point pose in the object frame, metres: \"x y z qw qx qy qz\" "
+                   "(unit quaternion) or 16 numbers of a row-major 4x4 matrix; |position| <= " +
+                       fmt::format("{:g}", kMaxPoseDistanceM) + " m")
       ->required();
   close->add_option("--units", c->units, "Mesh length unit: auto, m or mm")->capture_default_str();
   close->add_option("--mu", c->mu, "Friction coefficient")
-      ->check(CLI::NonNegativeNumber)
+      ->check(finiteIn(0, kMaxFriction))
       ->capture_default_str();
   close->add_flag("--reference-compat", c->reference_compat,
                   "Quality as the reference code (fact sheet §9)");
@@ -243,15 +253,15 @@ void registerHandCommands(CLI::App& app, Action& action) {
                    "JSON: {\"contacts\": [{\"point\", \"normal\"}], \"center\", \"torque_scale\"}")
       ->required();
   quality->add_option("--mu", q->mu, "Friction coefficient")
-      ->check(CLI::NonNegativeNumber)
+      ->check(finiteIn(0, kMaxFriction))
       ->capture_default_str();
   quality->add_option("--cone-edges", q->edges, "Edges per friction cone")
-      ->check(CLI::Range(3, 64))
+      ->transform(countIn(3, 64))
       ->capture_default_str();
   quality
       ->add_option("--torsional-friction", q->torsion_m,
                    "Soft-finger contacts: torsional friction length in metres (0 = point contacts)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(lengthOrZero())
       ->capture_default_str();
   quality->add_flag("--reference-compat", q->reference_compat,
                     "Reproduce the reference code's quirks");

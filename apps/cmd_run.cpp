@@ -7,6 +7,7 @@
 #include "cli.h"
 #include "hand_options.h"
 #include "output_paths.h"
+#include "option_checks.h"
 #include "planner_options.h"
 #include "reconstruct_options.h"
 #include "run_command.h"
@@ -38,17 +39,17 @@ void RunOptions::addTo(CLI::App& cmd) {
   reconstruction.addIngestOptions(cmd);
   reconstruction.addMeshingOptions(cmd);
   cmd.add_option("--octree-resolution", octree_resolution_m, "Scene occupancy voxel size (m)")
-      ->check(CLI::PositiveNumber)
+      ->check(positiveLength())
       ->capture_default_str();
   cmd.add_option("--unknown-space", unknown, "Unseen space: free or occupied")
       ->check(CLI::IsMember({"free", "occupied"}))
       ->capture_default_str();
   cmd.add_option("--pregrasp", pregrasp_m, "Approach checked from this distance (m)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(lengthOrZero())
       ->capture_default_str();
   cmd.add_option("--observed-weight", observed_weight,
                  "Ranking weight of contacts on observed surface (0-1)")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(finiteIn(0, 1))
       ->capture_default_str();
   cmd.add_flag("--no-scene-check", no_scene_check, "Do not check grasps against the scene");
 }

@@ -2,6 +2,7 @@
 #include <iostream>
 
 #include "cli.h"
+#include "option_checks.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/logging.h"
 
@@ -39,12 +40,27 @@ int main(int argc, char** argv) {
   cli::registerBenchRunCommand(app, action);
 
   try {
+    cli::checkDefaults(app);
+  } catch (const std::logic_error& e) {
+    return cli::fail(std::string("internal error: ") + e.what());  // a bug, seen by every run
+  }
+
+  try {
     app.parse(argc, argv);
+    cli::checkParsedNumbers(app);
   } catch (const CLI::Success& e) {
-    return app.exit(e);
+    return app.exit(e);  // --help: usage on stdout, exit 0
   } catch (const CLI::ParseError& e) {
-    app.exit(e);
-    return cli::kExitBadInput;
+    // CLI11 says only "A subcommand is required" for a mistyped command: name the word.
+    if (app.get_subcommands().empty()) {
+      for (int i = 1; i < argc; ++i) {
+        if (argv[i][0] != '-') {
+          return cli::fail(std::string("unknown command '") + argv[i] + "' (see skelgrasp --help)");
+        }
+      }
+    }
+    // House format instead of CLI11's two lines: the message names the option and its range.
+    return cli::fail(cli::oneLine(e.what()));
   }
   setLogLevel(verbose ? spdlog::level::debug : quiet ? spdlog::level::warn : spdlog::level::info);
   try {

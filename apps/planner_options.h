@@ -2,6 +2,8 @@
 // Command-line options of the planners, shared by the commands that plan.
 #include <CLI/CLI.hpp>
 
+#include "option_checks.h"
+
 #include <algorithm>
 
 #include "quality_options.h"
@@ -29,29 +31,33 @@ struct PlannerOptions {
           ->check(CLI::IsMember({"skeleton", "surface"}))
           ->capture_default_str();
       cmd.add_option(
-          "--hypotheses", surface_hypotheses,
-          "Surface planner: number of hypotheses (0 = until the timeout, 500 without one)");
+             "--hypotheses", surface_hypotheses,
+             "Surface planner: number of hypotheses (0 = until the timeout, 500 without one)")
+          ->transform(countIn(0, kMaxCount))
+          ->capture_default_str();
     }
     cmd.add_option("--timeout", timeout_s, "Planning time limit in seconds (0 = none)")
-        ->check(CLI::NonNegativeNumber)
+        ->check(finiteIn(0, kMaxTimeoutS))
         ->capture_default_str();
     cmd.add_option("--max-grasps", max_grasps, "Stop after this many grasps (0 = no limit)")
+        ->transform(countIn(0, kMaxCount))
         ->capture_default_str();
     cmd.add_option("--seed", seed, "Random seed (vertex order, surface samples)")
+        ->transform(countIn(0, UINT64_MAX))
         ->capture_default_str();
     cmd.add_option("--min-epsilon", min_epsilon, "Reject grasps with a lower epsilon")
-        ->check(CLI::NonNegativeNumber)
+        ->check(finiteIn(0, kMaxRatio))
         ->capture_default_str();
     cmd.add_option("--mu", mu, "Friction coefficient")
-        ->check(CLI::NonNegativeNumber)
+        ->check(finiteIn(0, kMaxFriction))
         ->capture_default_str();
     cmd.add_option("--vertex-distance", vertex_distance_m,
                    "Skeleton vertex distance d in metres (0 = every vertex)")
-        ->check(CLI::NonNegativeNumber)
+        ->check(lengthOrZero())
         ->capture_default_str();
     cmd.add_option("--round-ratio", round_ratio,
                    "lambda1/lambda2 below this is round (0 = the hand's, 1.2)")
-        ->check(CLI::NonNegativeNumber)
+        ->check(finiteIn(0, kMaxRatio))
         ->capture_default_str();
     cmd.add_flag("--reference-compat", reference_compat,
                  "Quality as the reference code (docs/hands.md)");

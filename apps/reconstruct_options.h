@@ -3,12 +3,18 @@
 // `ingest` and `bench reconstruct`.
 #include <CLI/CLI.hpp>
 
+#include "option_checks.h"
+
 #include <sstream>
 
 #include "skelgrasp/datasets/input.h"
 #include "skelgrasp/reconstruction/pipeline.h"
 
 namespace skelgrasp::cli {
+
+// Statistical outlier removal looks at this many neighbours at most: beyond it the mean distance
+// describes the cloud's extent rather than a point's neighbourhood.
+constexpr int kMaxOutlierNeighbours = 1000;
 
 struct ReconstructOptions {
   std::string object = "largest";
@@ -40,10 +46,11 @@ struct ReconstructOptions {
         ->capture_default_str();
     cmd.add_option("--cameras", cameras,
                    "YCB raw: NP units to fuse, e.g. 1,3,5 (default: all present)")
-        ->check(CLI::Range(1, 5))
+        ->transform(countIn(1, 5))
         ->delimiter(',');
-    cmd.add_option("--angle-step", angle_step, "YCB raw: use turntable angles that are multiples")
-        ->check(CLI::PositiveNumber)
+    cmd.add_option("--angle-step", angle_step,
+                   "YCB raw: use turntable angles that are multiples (degrees)")
+        ->transform(countIn(1, 360))
         ->capture_default_str();
   }
 
@@ -56,58 +63,58 @@ struct ReconstructOptions {
         ->capture_default_str();
     cmd.add_option("--crop", crop, "Crop box xmin,ymin,zmin,xmax,ymax,zmax in metres");
     cmd.add_option("--voxel", voxel_m, "Voxel-grid leaf in metres (0 = off)")
-        ->check(CLI::NonNegativeNumber)
+        ->check(lengthOrZero())
         ->capture_default_str();
     cmd.add_option("--outlier-k", outlier_k, "Statistical outlier removal neighbours (0 = off)")
-        ->check(CLI::NonNegativeNumber)
+        ->transform(countIn(0, kMaxOutlierNeighbours))
         ->capture_default_str();
     cmd.add_option("--plane-distance", plane_distance_m, "RANSAC plane inlier distance (m)")
-        ->check(CLI::PositiveNumber)
+        ->check(positiveLength())
         ->capture_default_str();
     cmd.add_option("--cluster-tolerance", cluster_tolerance_m, "Euclidean clustering distance (m)")
-        ->check(CLI::PositiveNumber)
+        ->check(positiveLength())
         ->capture_default_str();
     cmd.add_option("--normal-radius", normal_radius_m, "Normal estimation radius (m)")
-        ->check(CLI::PositiveNumber)
+        ->check(positiveLength())
         ->capture_default_str();
     cmd.add_option("--threads", threads,
                    "Threads for normals and Poisson (0 = all cores; PCL busy-waits, 1 is fastest "
                    "on shared cores)")
-        ->check(CLI::NonNegativeNumber)
+        ->transform(threadCount(0))
         ->capture_default_str();
   }
 
   void addMeshingOptions(CLI::App& cmd) {
     cmd.add_option("--poisson-depth", poisson_depth, "Poisson octree depth")
-        ->check(CLI::Range(2, 14))
+        ->transform(countIn(2, 14))
         ->capture_default_str();
     cmd.add_option("--point-weight", point_weight, "Poisson interpolation weight")
-        ->check(CLI::NonNegativeNumber)
+        ->check(finiteIn(0, kMaxRatio))
         ->capture_default_str();
     cmd.add_option("--samples-per-node", samples_per_node, "Poisson minimum samples per node")
-        ->check(CLI::PositiveNumber)
+        ->check(positiveFinite(kMaxRatio))
         ->capture_default_str();
     cmd.add_option("--trim", trim, "Trim unsupported surface: distance, density or none")
         ->check(CLI::IsMember({"distance", "density", "none"}))
         ->capture_default_str();
     cmd.add_option("--trim-fraction", trim_fraction,
                    "Distance trimming threshold as a fraction of the object's bbox diagonal")
-        ->check(CLI::NonNegativeNumber)
+        ->check(finiteIn(0, 1))
         ->capture_default_str();
     cmd.add_option("--observed-distance", observed_m,
                    "A vertex within this distance (m) of a sensor point is observed")
-        ->check(CLI::PositiveNumber)
+        ->check(positiveLength())
         ->capture_default_str();
     cmd.add_option("--regularise", regularise,
                    "auto (wrap only when Poisson's surface is not a closed manifold) or alpha_wrap")
         ->check(CLI::IsMember({"auto", "alpha_wrap"}))
         ->capture_default_str();
     cmd.add_option("--alpha-divisor", alpha_divisor, "Regularisation: alpha = bbox diagonal / this")
-        ->check(CLI::PositiveNumber)
+        ->check(positiveFinite(kMaxRatio))
         ->capture_default_str();
     cmd.add_option("--offset-divisor", offset_divisor,
                    "Regularisation: wrap offset = bbox diagonal / this")
-        ->check(CLI::PositiveNumber)
+        ->check(positiveFinite(kMaxRatio))
         ->capture_default_str();
     cmd.add_flag("--no-completion", no_completion,
                  "Do not close single views down to the support plane");

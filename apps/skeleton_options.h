@@ -2,6 +2,8 @@
 // Command-line options of the skeleton stage, shared by the commands that run it.
 #include <CLI/CLI.hpp>
 
+#include "option_checks.h"
+
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/skeleton/extraction.h"
 
@@ -28,22 +30,22 @@ struct SkeletonOptions {
         ->check(CLI::IsMember({"alpha_wrap", "none"}))
         ->capture_default_str();
     cmd.add_option("--alpha-divisor", alpha_divisor, "Alpha = bbox diagonal / this")
-        ->check(CLI::PositiveNumber)
+        ->check(positiveFinite(kMaxRatio))
         ->capture_default_str();
     cmd.add_option("--offset-divisor", offset_divisor, "Wrap offset = bbox diagonal / this")
-        ->check(CLI::PositiveNumber)
+        ->check(positiveFinite(kMaxRatio))
         ->capture_default_str();
     cmd.add_option("--remesh", remesh_edge_m,
                    "Isotropic remeshing target edge length in metres after wrapping (0 = off)")
-        ->check(CLI::NonNegativeNumber)
+        ->check(lengthOrZero())
         ->capture_default_str();
     cmd.add_option("--curvature-stencil", stencil_m,
                    "Arc length (m) over which skeleton curvature is differentiated")
-        ->check(CLI::NonNegativeNumber)
+        ->check(lengthOrZero())
         ->capture_default_str();
     cmd.add_option("--spur-factor", spur_factor,
                    "Prune terminal branches shorter than this times the local radius (0 = off)")
-        ->check(CLI::NonNegativeNumber)
+        ->check(finiteIn(0, kMaxRatio))
         ->capture_default_str();
     if (!outputs) return;
     cmd.add_flag("--write-regularised", write_regularised, "Also write regularised.ply");
