@@ -14,6 +14,7 @@
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/common/pose.h"
+#include "skelgrasp/grasping/contacts_io.h"
 #include "skelgrasp/grasping/grasp_simulator.h"
 #include "skelgrasp/grasping/hand_render.h"
 #include "skelgrasp/grasping/quality.h"
@@ -144,49 +145,10 @@ struct QualityArgs {
 };
 
 int runQuality(const QualityArgs& args) {
-  const auto j = readJsonFile(args.path);
-  std::vector<grasping::Contact> contacts;
-  try {
-    for (const auto& c : j.at("contacts")) {
-      grasping::Contact contact;
-      const auto& p = c.at("point");
-      const auto& n = c.at("normal");
-      contact.point =
-          Eigen::Vector3d(p.at(0).get<double>(), p.at(1).get<double>(), p.at(2).get<double>());
-      contact.normal =
-          Eigen::Vector3d(n.at(0).get<double>(), n.at(1).get<double>(), n.at(2).get<double>());
-      if (!contact.point.allFinite() || !(contact.normal.norm() > 1e-9)) {
-        throw IoError(args.path, "contact " + std::to_string(contacts.size()) +
-                                     " has a non-finite point or zero normal");
-      }
-      contact.normal.normalize();
-      contacts.push_back(contact);
-    }
-  } catch (const nlohmann::json::exception& e) {
-    throw IoError(
-        args.path,
-        std::string("expected {\"contacts\": [{\"point\": [x,y,z], \"normal\": [x,y,z]}]}: ") +
-            e.what());
-  }
-  if (contacts.empty()) throw IoError(args.path, "no contacts");
-  AxisAlignedBox box;
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  for (const auto& c : contacts) {
-    box.extend(c.point);
-    centroid += c.point / static_cast<double>(contacts.size());
-  }
-  Eigen::Vector3d center = centroid;
-  double torque_scale = grasping::torqueScaleLongestSide(box);
-  try {
-    if (j.contains("center")) {
-      const auto& c = j.at("center");
-      center = Eigen::Vector3d(c.at(0).get<double>(), c.at(1).get<double>(), c.at(2).get<double>());
-    }
-    if (j.contains("torque_scale")) torque_scale = j.at("torque_scale").get<double>();
-  } catch (const nlohmann::json::exception& e) {
-    throw IoError(args.path, std::string("bad center or torque_scale: ") + e.what());
-  }
-  if (!(torque_scale > 0)) throw IoError(args.path, "torque_scale must be positive");
+  const grasping::ContactSet set = grasping::readContactsFile(args.path);
+  const auto& contacts = set.contacts;
+  const Eigen::Vector3d& center = set.center;
+  const double torque_scale = set.torque_scale;
   grasping::QualityParams params;
   params.friction = args.mu;
   params.cone_edges = args.edges;

@@ -1,5 +1,6 @@
 #include "skelgrasp/common/json.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -54,14 +55,55 @@ void writeJsonFile(const std::string& path, const nlohmann::json& j, int indent)
   writeFileAtomically(path, j.dump(indent) + "\n");
 }
 
-nlohmann::json readJsonFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in)
-    throw IoError(path, std::filesystem::exists(path) ? "cannot open for reading" : "no such file");
+std::string describeJsonError(const nlohmann::json::exception& error, const std::string& text) {
+  // nlohmann's messages are "[json.exception.parse_error.101] parse error at line L, column C:
+  // <reason>" or "[json.exception.out_of_range.406] <reason>"; keep the reason only.
+  std::string reason = error.what();
+  const auto column_at = reason.find(", column ");
+  const auto colon =
+      column_at == std::string::npos ? reason.find("] ") : reason.find(": ", column_at);
+  if (colon != std::string::npos) reason = reason.substr(colon + 2);
+  const auto* parse_error = dynamic_cast<const nlohmann::json::parse_error*>(&error);
+  if (!parse_error) return "not valid JSON: " + reason;
+  // byte counts from 1 and points just past the offending character.
+  const std::size_t end =
+      std::min<std::size_t>(parse_error->byte > 0 ? parse_error->byte - 1 : 0, text.size());
+  std::size_t line = 1, column = 1;
+  for (std::size_t i = 0; i < end; ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
+  }
+  return "not valid JSON at line " + std::to_string(line) + ", column " + std::to_string(column) +
+         ": " + reason;
+}
+
+nlohmann::json readJsonFile(const std::string& path, std::uintmax_t max_bytes) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw IoError(path, "no such file");
+  if (fs::is_directory(path, ec)) throw IoError(path, "is a directory, expected a JSON file");
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (ec) throw IoError(path, "cannot read file size: " + ec.message());
+  if (size > max_bytes) {
+    throw IoError(path, "JSON file of " + std::to_string(size) + " bytes exceeds the limit of " +
+                            std::to_string(max_bytes) + " bytes");
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(path, "cannot open for reading");
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  if (in.bad()) throw IoError(path, "read failed");
+  const std::string text = buffer.str();
+  if (text.find_first_not_of(" \t\r\n") == std::string::npos) throw IoError(path, "file is empty");
   try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw IoError(path, std::string("invalid JSON: ") + e.what());
+    return nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    // parse errors, and out_of_range for numbers beyond double ("1e999")
+    throw IoError(path, describeJsonError(e, text));
   }
 }
 

@@ -8,12 +8,15 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "skelgrasp/common/atomic_file.h"
 #include "skelgrasp/common/error.h"
+#include "skelgrasp/common/file_header.h"
 #include "skelgrasp/common/logging.h"
 
 namespace skelgrasp {
@@ -79,17 +82,72 @@ bool isEmptyMeshHeader(const std::string& path, const std::string& ext) {
   return magic == "OFF" && nv == 0;
 }
 
+// CGAL stores face indices as std::size_t, so a negative index in the file arrives wrapped
+// around; report it as the number the file holds. OBJ's negative indices are legal and relative
+// to the last vertex (CGAL resolves them), so a negative result there reached before vertex 1.
+std::string faceIndexProblem(const std::string& ext, std::size_t face, std::int64_t index,
+                             std::size_t vertices) {
+  if (index < 0 && ext == "obj") {
+    return "face " + std::to_string(face) +
+           " has a relative (negative) vertex index reaching before the first vertex";
+  }
+  if (index < 0) {
+    return "face " + std::to_string(face) + " has a negative vertex index (" +
+           std::to_string(index) + ")";
+  }
+  return "face " + std::to_string(face) + " references vertex " + std::to_string(index) +
+         ", but the file has only " + std::to_string(vertices) +
+         " vertices (index out of range; indices count from 0)";
+}
+
+// CGAL's OFF reader stops at a face index it cannot use without saying which: find it in the
+// text (faces follow the header line and one line per vertex; blank and '#' lines skipped).
+std::string findOffFaceIndexProblem(const std::string& path) {
+  std::ifstream in(path);
+  std::int64_t vertices = -1, faces = -1;
+  std::int64_t line_index = 0, face = 0;
+  for (std::string line; std::getline(in, line);) {
+    const auto hash = line.find('#');
+    if (hash != std::string::npos) line.erase(hash);
+    std::istringstream tokens(line);
+    if (vertices < 0) {
+      std::string magic;
+      if (!(tokens >> magic)) continue;
+      if (magic.find("OFF") == std::string::npos) return {};
+      if (!(tokens >> vertices >> faces)) {
+        if (!(in >> vertices >> faces)) return {};
+        in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+      }
+      continue;
+    }
+    std::string first;
+    if (!(tokens >> first)) continue;
+    if (line_index++ < vertices) continue;
+    if (face >= faces) break;
+    const std::int64_t corners = std::atoll(first.c_str());
+    for (std::int64_t k = 0, index = 0; k < corners && tokens >> index; ++k) {
+      if (index < 0 || index >= vertices) {
+        return faceIndexProblem("off", static_cast<std::size_t>(face), index,
+                                static_cast<std::size_t>(vertices));
+      }
+    }
+    ++face;
+  }
+  return {};
+}
+
 // CGAL's readers only say "failed"; name the likeliest problem from what was read before it.
 std::string diagnoseParseFailure(const std::string& path, const std::string& ext,
                                  std::size_t points,
                                  const std::vector<std::vector<std::size_t>>& polygons) {
   for (std::size_t f = 0; f < polygons.size(); ++f) {
     for (std::size_t idx : polygons[f]) {
-      if (idx >= points) {
-        return "face " + std::to_string(f) + " references vertex " + std::to_string(idx) +
-               " but only " + std::to_string(points) + " vertices were read";
-      }
+      if (idx >= points) return faceIndexProblem(ext, f, static_cast<std::int64_t>(idx), points);
     }
+  }
+  if (ext == "off") {
+    const std::string problem = findOffFaceIndexProblem(path);
+    if (!problem.empty()) return problem;
   }
   // Text formats: a NaN/inf token stops the number parser; report its line.
   std::ifstream in(path);
@@ -142,6 +200,8 @@ TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options, M
   if (!isSupported(ext)) {
     throw IoError(path, "unknown mesh format '." + ext + "' (supported: .ply .obj .off .stl)");
   }
+  // Before CGAL allocates what the header declares and silently defaults missing coordinates.
+  checkMeshFileHeader(path, ext);
 
   std::vector<CgalPoint> points;
   std::vector<std::vector<std::size_t>> polygons;
@@ -173,11 +233,9 @@ TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options, M
   for (std::size_t f = 0; f < polygons.size(); ++f) {
     const auto& poly = polygons[f];
     for (std::size_t idx : poly) {
-      if (idx >= points.size()) {
-        throw IoError(path, "face " + std::to_string(f) + " references vertex " +
-                                std::to_string(idx) + " but the file has " +
-                                std::to_string(points.size()) + " vertices");
-      }
+      if (idx >= points.size())
+        throw IoError(path,
+                      faceIndexProblem(ext, f, static_cast<std::int64_t>(idx), points.size()));
     }
     if (poly.size() < 3) {
       ++local.degenerate_faces_dropped;
@@ -272,6 +330,7 @@ void saveMesh(const std::string& path, const TriangleMesh& mesh,
 std::vector<std::uint8_t> loadPlyVertexProperty(const std::string& path, const std::string& name) {
   checkReadable(path);
   if (fileExtension(path) != "ply") throw IoError(path, "not a .ply file");
+  checkMeshFileHeader(path, "ply");
   CGAL::Surface_mesh<CgalPoint> mesh;
   std::ifstream in(path, std::ios::binary);
   bool ok = false;

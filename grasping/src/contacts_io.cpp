@@ -1,87 +1,94 @@
 #include "skelgrasp/grasping/contacts_io.h"
 
+#include <fmt/format.h>
+
 #include <cmath>
 
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/json.h"
-#include "skelgrasp/common/mesh.h"
+#include "skelgrasp/common/logging.h"
 #include "skelgrasp/grasping/quality.h"
 
 namespace skelgrasp::grasping {
 namespace {
 
-// Normals shorter than this cannot be normalised into a direction.
-constexpr double kMinNormalLength = 1e-9;
+// Bytes of one contact in the file, generously ({"point": [...], "normal": [...]} with long
+// numbers and indentation): sizes the file limit from the contact limit.
+constexpr std::uintmax_t kMaxBytesPerContact = 1024;
+constexpr std::uintmax_t kMinContactFileLimitBytes = 1 << 20;
 
-Eigen::Vector3d readVector(const nlohmann::json& j, const std::string& path,
-                           const std::string& what) {
-  if (!j.is_array() || j.size() != 3) throw IoError(path, what + " must be an array of 3 numbers");
+Eigen::Vector3d readVector(const std::string& path, const std::string& where,
+                           const nlohmann::json& j) {
+  if (!j.is_array() || j.size() != 3) throw IoError(path, where + " must be an array of 3 numbers");
   Eigen::Vector3d v;
   for (int i = 0; i < 3; ++i) {
-    if (!j[i].is_number()) throw IoError(path, what + " must be an array of 3 numbers");
+    if (!j[i].is_number()) throw IoError(path, where + " must be an array of 3 numbers");
     v[i] = j[i].get<double>();
   }
-  if (!v.allFinite()) throw IoError(path, what + " is not finite");
+  if (!v.allFinite()) throw IoError(path, where + " is not finite");
   return v;
-}
-
-Eigen::Vector3d readPosition(const nlohmann::json& j, const std::string& path,
-                             const std::string& what) {
-  const Eigen::Vector3d p = readVector(j, path, what);
-  if (p.cwiseAbs().maxCoeff() > kMaxContactCoordinateM) {
-    throw IoError(path, what + " lies more than " + std::to_string(int(kMaxContactCoordinateM)) +
-                            " m from the origin (coordinates are metres)");
-  }
-  return p;
 }
 
 }  // namespace
 
-ContactsFile readContactsFile(const std::string& path) {
-  const nlohmann::json j = readJsonFile(path);
+ContactSet readContactsFile(const std::string& path, const ContactFileLimits& limits) {
+  const std::uintmax_t max_bytes = std::max<std::uintmax_t>(
+      kMinContactFileLimitBytes, limits.max_contacts * kMaxBytesPerContact);
+  const nlohmann::json j = readJsonFile(path, max_bytes);
+  const std::string layout =
+      "expected {\"contacts\": [{\"point\": [x,y,z], \"normal\": [x,y,z]}, ...]}";
   if (!j.is_object() || !j.contains("contacts") || !j["contacts"].is_array()) {
-    throw IoError(path, "expected {\"contacts\": [{\"point\": [x,y,z], \"normal\": [x,y,z]}]}");
+    throw IoError(path, layout);
   }
   const auto& list = j["contacts"];
   if (list.empty()) throw IoError(path, "no contacts");
-  if (list.size() > kMaxContactsInFile) {
-    throw IoError(path, std::to_string(list.size()) + " contacts, at most " +
-                            std::to_string(kMaxContactsInFile) + " are supported");
+  if (list.size() > limits.max_contacts) {
+    throw IoError(path, fmt::format("{} contacts, more than the limit of {} (the wrench-space hull "
+                                    "grows with contacts x cone edges in 6-D)",
+                                    list.size(), limits.max_contacts));
   }
-  ContactsFile file;
-  for (std::size_t i = 0; i < list.size(); ++i) {
-    const std::string name = "contact " + std::to_string(i);
-    const auto& c = list[i];
-    if (!c.is_object() || !c.contains("point") || !c.contains("normal"))
-      throw IoError(path, name + " needs \"point\" and \"normal\"");
-    Contact contact;
-    contact.point = readPosition(c["point"], path, name + " point");
-    contact.normal = readVector(c["normal"], path, name + " normal");
-    if (!(contact.normal.norm() > kMinNormalLength))
-      throw IoError(path, name + " has a zero normal");
-    contact.normal.normalize();
-    file.contacts.push_back(contact);
-  }
+  auto checkDistance = [&](const std::string& where, const Eigen::Vector3d& p) {
+    if (p.stableNorm() > limits.max_distance_m) {
+      throw IoError(
+          path, fmt::format("{} is {:.3g} m from the origin, beyond the limit of {:.3g} m", where,
+                            p.stableNorm(), limits.max_distance_m));
+    }
+  };
+  ContactSet set;
   AxisAlignedBox box;
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  for (const auto& c : file.contacts) {
-    box.extend(c.point);
-    centroid += c.point / static_cast<double>(file.contacts.size());
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const std::string where = "contact " + std::to_string(i);
+    const auto& c = list[i];
+    if (!c.is_object() || !c.contains("point") || !c.contains("normal")) {
+      throw IoError(path, where + ": " + layout);
+    }
+    Contact contact;
+    contact.point = readVector(path, where + " point", c["point"]);
+    checkDistance(where + " point", contact.point);
+    contact.normal = readVector(path, where + " normal", c["normal"]);
+    const double length = contact.normal.stableNorm();
+    if (!(length > 1e-9)) throw IoError(path, where + " normal has zero length");
+    if (std::abs(length - 1.0) > limits.normal_tolerance) {
+      log().warn("{}: {} normal has length {:.4g}; normalised", path, where, length);
+    }
+    contact.normal /= length;
+    box.extend(contact.point);
+    set.center += contact.point / static_cast<double>(list.size());
+    set.contacts.push_back(contact);
   }
-  file.center = j.contains("center") ? readPosition(j["center"], path, "center") : centroid;
+  if (j.contains("center")) {
+    set.center = readVector(path, "center", j["center"]);
+    checkDistance("center", set.center);
+  }
+  set.torque_scale = torqueScaleLongestSide(box);
   if (j.contains("torque_scale")) {
-    const auto& s = j["torque_scale"];
-    if (!s.is_number()) throw IoError(path, "torque_scale must be a number");
-    file.torque_scale = s.get<double>();
-    if (!(file.torque_scale > 0) || !std::isfinite(file.torque_scale))
-      throw IoError(path, "torque_scale must be a positive number of metres");
-  } else {
-    file.torque_scale = torqueScaleLongestSide(box);
-    if (!(file.torque_scale > 0)) {
-      throw IoError(path, "the contacts all lie at one point: give \"torque_scale\" (metres)");
+    if (!j["torque_scale"].is_number()) throw IoError(path, "torque_scale must be a number");
+    set.torque_scale = j["torque_scale"].get<double>();
+    if (!(set.torque_scale > 0) || !std::isfinite(set.torque_scale)) {
+      throw IoError(path, "torque_scale must be a positive finite number");
     }
   }
-  return file;
+  return set;
 }
 
 }  // namespace skelgrasp::grasping

@@ -84,8 +84,8 @@ void applyGraspDescription(HandModel& hand, const std::string& description_json,
   json d;
   try {
     d = json::parse(description_json);
-  } catch (const json::parse_error& e) {
-    reader.fail(std::string("invalid JSON: ") + e.what());
+  } catch (const json::exception& e) {
+    reader.fail(describeJsonError(e, description_json));
   }
   try {
     const std::string schema = d.value("schema", "");

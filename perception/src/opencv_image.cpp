@@ -7,14 +7,18 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <charconv>
+#include <climits>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <sstream>
 
 #include "skelgrasp/common/atomic_file.h"
 #include "skelgrasp/common/error.h"
+#include "skelgrasp/common/file_header.h"
 #include "skelgrasp/common/mesh_io.h"
 
 namespace skelgrasp::perception {
@@ -56,7 +60,7 @@ void writeWithOpenCv(const std::string& path, const cv::Mat& image,
 struct NpyHeader {
   std::string descr;
   bool fortran_order = false;
-  std::vector<long> shape;
+  std::vector<std::uint64_t> shape;
   std::size_t data_offset = 0;
 };
 
@@ -78,6 +82,14 @@ NpyHeader readNpyHeader(const std::string& path, std::ifstream& in) {
   } else {
     throw IoError(path, "unsupported .npy version " + std::to_string(major));
   }
+  // The length field is up to 4 GiB in version 2: check it against the file before allocating.
+  std::error_code ec;
+  const std::uint64_t file_size = std::filesystem::file_size(path, ec);
+  const auto length_end = in.tellg();
+  if (ec || length_end < 0 || header_length > file_size - static_cast<std::uint64_t>(length_end)) {
+    throw IoError(path, "truncated .npy header: declares " + std::to_string(header_length) +
+                            " bytes, the file has " + std::to_string(file_size));
+  }
   std::string text(header_length, '\0');
   if (!in.read(text.data(), static_cast<std::streamsize>(header_length))) {
     throw IoError(path, "truncated .npy header");
@@ -94,10 +106,14 @@ NpyHeader readNpyHeader(const std::string& path, std::ifstream& in) {
     throw IoError(path, ".npy header has no 'shape'");
   }
   const std::string dims = m[1];
-  const std::regex number(R"(\d+)");
-  for (auto it = std::sregex_iterator(dims.begin(), dims.end(), number);
-       it != std::sregex_iterator(); ++it) {
-    header.shape.push_back(std::stol(it->str()));
+  // "(480, 640)", "(480, 640, 1)", "(5,)": comma-separated counts, a trailing comma allowed.
+  std::istringstream fields(dims);
+  for (std::string field; std::getline(fields, field, ',');) {
+    const auto first = field.find_first_not_of(" \t");
+    if (first == std::string::npos) continue;
+    const auto last = field.find_last_not_of(" \t");
+    header.shape.push_back(
+        parseHeaderCount(path, ".npy shape dimension", field.substr(first, last - first + 1)));
   }
   return header;
 }
@@ -158,6 +174,10 @@ DepthImage readDepthNpy(const std::string& path, double scale) {
       (header.shape.size() == 2 || (header.shape.size() == 3 && header.shape[2] == 1)) &&
       header.shape[0] > 0 && header.shape[1] > 0;
   if (!shape_ok) throw IoError(path, "expected a depth array of shape (H, W) or (H, W, 1)");
+  if (header.shape[0] > INT_MAX || header.shape[1] > INT_MAX) {
+    throw IoError(path, "depth array shape (" + std::to_string(header.shape[0]) + ", " +
+                            std::to_string(header.shape[1]) + ") is too large for an image");
+  }
   std::size_t item = 0;
   if (header.descr == "<f4") {
     item = 4;
@@ -167,6 +187,19 @@ DepthImage readDepthNpy(const std::string& path, double scale) {
     item = 2;
   } else {
     throw IoError(path, "unsupported .npy dtype '" + header.descr + "' (use <f4, <f8 or <u2)");
+  }
+  // Before allocating: the shape must fit in the bytes the file holds (rows and columns are each
+  // below 2^31, so the product of the two and the item size cannot overflow 64 bits).
+  const std::uint64_t needed = header.shape[0] * header.shape[1] * item;
+  std::error_code ec;
+  const std::uint64_t file_size = std::filesystem::file_size(path, ec);
+  const std::uint64_t available =
+      file_size > header.data_offset ? file_size - header.data_offset : 0;
+  if (ec || needed > available) {
+    throw IoError(path, "truncated .npy data: shape (" + std::to_string(header.shape[0]) + ", " +
+                            std::to_string(header.shape[1]) + ") of '" + header.descr + "' needs " +
+                            std::to_string(needed) + " bytes, the file holds " +
+                            std::to_string(available) + " after its header");
   }
   DepthImage depth(static_cast<int>(header.shape[1]), static_cast<int>(header.shape[0]));
   std::vector<char> raw(depth.data.size() * item);

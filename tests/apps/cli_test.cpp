@@ -15,9 +15,12 @@
 namespace skelgrasp {
 namespace {
 
+using test::BadCliInput;
 using test::CliRun;
 using test::countLines;
+using test::lastLine;
 using test::runCli;
+using test::withDir;
 
 TEST(Cli, SkeletonWritesOutputsAndOneSummaryLine) {
   const std::string dir = test::tempDir("cli_ok");
@@ -172,6 +175,68 @@ TEST(Cli, UsageErrorsExitTwo) {
   EXPECT_EQ(runCli("no-such-command", dir).exit_code, 2);
   EXPECT_EQ(runCli("--help", dir).exit_code, 0);
 }
+
+// Strict file readers (issue 13): malformed or hostile files end with exit 2 and one line
+// naming the file, before anything large is allocated or computed.
+class StrictFilesCli : public ::testing::TestWithParam<BadCliInput> {};
+
+TEST_P(StrictFilesCli, ExitsTwoWithOneLineNamingTheFile) {
+  const auto& c = GetParam();
+  const std::string dir = test::tempDir("cli_strict_" + c.name);
+  const std::string ply_start =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n";
+  std::ofstream(dir + "/flat.ply") << ply_start
+                                   << "element face 1\nproperty list uchar int vertex_indices\n"
+                                      "end_header\n0 0\n1 0\n0 1\n3 0 1 2\n";
+  std::ofstream(dir + "/negative.ply")
+      << ply_start
+      << "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+         "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 -7\n";
+  std::ofstream(dir + "/huge.off") << "OFF\n1000000000 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  std::ofstream(dir + "/millions.pcd", std::ios::binary)
+      << "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 5000000\n"
+         "HEIGHT 1\nPOINTS 5000000\nDATA binary\n"
+      << std::string(120, '\x01');
+  std::ofstream(dir + "/far.json") << R"({"contacts": [{"point": [0, 0, 0], "normal": [1, 0, 0]},
+                                         {"point": [1e308, 0, 0], "normal": [1, 0, 0]}]})";
+  std::ofstream many(dir + "/many.json");
+  many << R"({"contacts": [)";
+  for (int i = 0; i < 5000; ++i) {
+    many << (i ? "," : "") << R"({"point": [)" << 0.001 * (i % 97) << ", " << 0.001 * (i % 89)
+         << R"(, 0], "normal": [0, 0, 1]})";
+  }
+  many << "]}";
+  many.close();
+
+  const std::string args = withDir(c.args, dir);
+  for (const std::string quiet : {"", "-q "}) {
+    const CliRun r = runCli(quiet + args, dir);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    const std::string line = lastLine(r.err);
+    EXPECT_EQ(line.rfind("skelgrasp: error: ", 0), 0u) << r.err;
+    EXPECT_NE(line.find(c.expected), std::string::npos) << r.err;
+    if (!quiet.empty()) EXPECT_EQ(countLines(r.err), 1) << r.err;
+    EXPECT_TRUE(r.out.empty()) << r.out;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, StrictFilesCli,
+    ::testing::Values(
+        BadCliInput{"ply_without_z", "skeleton {dir}/flat.ply --out {dir}/out",
+                    "flat.ply: PLY vertex element has no 'z' property"},
+        BadCliInput{"negative_face_index", "skeleton {dir}/negative.ply --out {dir}/out",
+                    "negative.ply: face 0 has a negative vertex index (-7)"},
+        BadCliInput{"off_declares_more_than_file", "skeleton {dir}/huge.off --out {dir}/out",
+                    "huge.off: OFF header declares 1000000000 vertices"},
+        BadCliInput{"pcd_declares_millions", "ingest {dir}/millions.pcd --out {dir}/out.pcd",
+                    "millions.pcd: PCD header declares 5000000 points"},
+        BadCliInput{"quality_on_a_directory", "quality {dir}", "is a directory"},
+        BadCliInput{"quality_huge_coordinates", "quality {dir}/far.json",
+                    "far.json: contact 1 point is 1e+308 m from the origin"},
+        BadCliInput{"quality_too_many_contacts", "quality {dir}/many.json",
+                    "many.json: 5000 contacts, more than the limit of 100"}),
+    [](const auto& info) { return info.param.name; });
 
 }  // namespace
 }  // namespace skelgrasp

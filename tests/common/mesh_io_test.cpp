@@ -2,9 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 
 #include "skelgrasp/common/error.h"
+#include "skelgrasp/common/file_header.h"
 #include "skelgrasp/common/primitives.h"
 #include "test_support.h"
 
@@ -142,11 +144,62 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"missing", "nothing.ply", "", "no such file"},
         BadInput{"unknown_format", "mesh.xyz", "1 2 3\n", "unknown mesh format"},
         BadInput{"empty_file", "empty.obj", "", "file is empty"},
-        BadInput{"garbage_ply", "garbage.ply", "this is not a ply file\n", "cannot parse"},
+        BadInput{"garbage_ply", "garbage.ply", "this is not a ply file\n", "not a PLY file"},
         BadInput{"no_faces", "points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n", "no faces"},
         BadInput{"nan", "nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", "non-finite"},
         BadInput{"index_out_of_range", "bad_index.off",
-                 "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", "index out of range"}),
+                 "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", "index out of range"},
+        // Strict files (issue 13): required properties, index signs, declared counts.
+        BadInput{"ply_without_z", "flat.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                 "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                 "0 0\n1 0\n0 1\n3 0 1 2\n",
+                 "PLY vertex element has no 'z' property"},
+        BadInput{"ply_without_face_indices", "faces.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                 "property float z\nelement face 1\nproperty uchar flags\nend_header\n"
+                 "0 0 0\n1 0 0\n0 1 0\n7\n",
+                 "no 'vertex_indices' list property"},
+        BadInput{"ply_negative_index", "negative.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                 "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                 "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 -7\n",
+                 "face 0 has a negative vertex index (-7)"},
+        BadInput{"off_negative_index", "negative.off",
+                 "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 -7 1\n", "negative vertex index (-7)"},
+        BadInput{"obj_relative_index_before_first", "relative.obj",
+                 "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -7\n",
+                 "relative (negative) vertex index reaching before the first vertex"},
+        BadInput{"ply_index_out_of_range", "beyond.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                 "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                 "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n",
+                 "face 0 references vertex 7, but the file has only 3 vertices"},
+        BadInput{"ply_binary_declares_more_than_file", "huge_binary.ply",
+                 "ply\nformat binary_little_endian 1.0\nelement vertex 1000000000\n"
+                 "property float x\nproperty float y\nproperty float z\nelement face 1\n"
+                 "property list uchar int vertex_indices\nend_header\n" +
+                     std::string(64, '\x01'),
+                 "declares 1000000000 'vertex' elements, which need at least 12000000000 bytes"},
+        BadInput{"ply_ascii_declares_more_than_file", "huge_ascii.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                 "property float z\nelement face 2000000000\n"
+                 "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n"
+                 "3 0 1 2\n",
+                 "declares 2000000000 'face' elements"},
+        BadInput{"ply_negative_count", "negative_count.ply",
+                 "ply\nformat ascii 1.0\nelement vertex -3\nproperty float x\nproperty float y\n"
+                 "property float z\nend_header\n",
+                 "count of element 'vertex' is negative (-3)"},
+        BadInput{"off_declares_more_than_file", "huge.off",
+                 "OFF\n1000000000 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+                 "OFF header declares 1000000000 vertices"},
+        BadInput{"off_negative_count", "negative_count.off", "OFF\n3 -1 0\n0 0 0\n1 0 0\n0 1 0\n",
+                 "face count is negative (-1)"},
+        BadInput{
+            "stl_declares_more_than_file", "huge.stl",
+            std::string(80, 'b') + std::string("\xff\xff\xff\x0f", 4) + std::string(100, '\x01'),
+            "binary STL declares 268435455 triangles"}),
     [](const auto& info) { return info.param.name; });
 
 TEST(MeshIo, RealMeshesKeepTheirVertexCounts) {
@@ -158,6 +211,21 @@ TEST(MeshIo, RealMeshesKeepTheirVertexCounts) {
   EXPECT_EQ(loadMesh(root + "kit/Amicelli_800_tex.obj").numVertices(), 400u);
   EXPECT_EQ(loadMesh(root + "ycb_poisson_simox/pringles-poisson_mesh2.stl").numVertices(), 14531u);
   EXPECT_EQ(loadMesh(root + "ycb_poisson_simox/pringles-poisson_mesh3.stl").numVertices(), 2779u);
+}
+
+// The header checks (required properties, declared counts against file size) accept every mesh
+// of the shared data: strictness must not cost a real file.
+TEST(MeshIo, EveryRealMeshPassesTheHeaderChecks) {
+  SKELGRASP_REQUIRE_SHARED_DATA();
+  std::size_t checked = 0;
+  for (const auto& entry :
+       std::filesystem::recursive_directory_iterator(test::sharedDataDir() + "/objects")) {
+    const std::string ext = fileExtension(entry.path().string());
+    if (ext != "ply" && ext != "off" && ext != "stl" && ext != "obj") continue;
+    EXPECT_NO_THROW(checkMeshFileHeader(entry.path().string(), ext)) << entry.path();
+    ++checked;
+  }
+  EXPECT_GT(checked, 100u);
 }
 
 }  // namespace

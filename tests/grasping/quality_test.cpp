@@ -4,8 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 
+#include "skelgrasp/common/error.h"
 #include "skelgrasp/common/pose.h"
+#include "skelgrasp/grasping/contacts_io.h"
+#include "test_support.h"
 
 namespace skelgrasp::grasping {
 namespace {
@@ -135,6 +140,76 @@ TEST(Quality, RejectsBadParameters) {
                InvalidArgument);
   EXPECT_THROW(evaluateWrenchSpace(threeAroundCylinder(), Eigen::Vector3d::Zero(), 0),
                InvalidArgument);
+}
+
+// Contact files (input of `skelgrasp quality`) are validated on reading: every problem is an
+// IoError naming the file, and the contact for per-contact problems.
+TEST(ContactsFile, ReadsContactsCenterAndTorqueScale) {
+  const std::string path = test::tempDir("contacts_ok") + "/three.json";
+  std::ofstream(path) << R"({"contacts": [{"point": [0.03, 0, 0], "normal": [2, 0, 0]},
+                          {"point": [-0.015, 0.02598, 0], "normal": [-0.5, 0.866, 0]},
+                          {"point": [-0.015, -0.02598, 0], "normal": [-0.5, -0.866, 0]}],
+            "center": [0, 0, 0.01], "torque_scale": 40})";
+  const ContactSet set = readContactsFile(path);
+  ASSERT_EQ(set.contacts.size(), 3u);
+  EXPECT_NEAR(set.contacts[0].normal.norm(), 1.0, 1e-12);  // normalised
+  EXPECT_NEAR(set.center.z(), 0.01, 1e-12);
+  EXPECT_DOUBLE_EQ(set.torque_scale, 40);
+}
+
+TEST(ContactsFile, BadFilesNameTheFileAndTheProblem) {
+  const std::string dir = test::tempDir("contacts_bad");
+  std::string many = R"({"contacts": [)";
+  for (int i = 0; i < 101; ++i) {
+    many += std::string(i ? "," : "") + R"({"point": [0.01, 0, 0], "normal": [1, 0, 0]})";
+  }
+  many += "]}";
+  struct Case {
+    std::string name, content, expected;
+  };
+  for (
+      const Case& c : {
+          Case{"empty", "  \n", "file is empty"},
+          Case{"not_json", "{\"contacts\": [\n  {\"point\": [0, 0, 0],,}\n]}",
+               "not valid JSON at line 2"},
+          Case{"huge_coordinate",
+               R"({"contacts": [{"point": [0, 0, 0], "normal": [1, 0, 0]},
+                                 {"point": [1e308, 0, 0], "normal": [1, 0, 0]}]})",
+               "contact 1 point is 1e+308 m from the origin, beyond the limit of 1e+03 m"},
+          Case{"overflowing_coordinate",
+               R"({"contacts": [{"point": [0, 0, 1e999], "normal": [1, 0, 0]}]})",
+               "not valid JSON"},
+          Case{"zero_normal", R"({"contacts": [{"point": [0, 0, 0], "normal": [0, 0, 0]}]})",
+               "contact 0 normal has zero length"},
+          Case{"string_coordinate",
+               R"({"contacts": [{"point": [0, "a", 0], "normal": [1, 0, 0]}]})",
+               "contact 0 point must be an array of 3 numbers"},
+          Case{
+              "far_center",
+              R"({"contacts": [{"point": [0, 0, 0], "normal": [1, 0, 0]}], "center": [0, 5e3, 0]})",
+              "center is 5e+03 m from the origin"},
+          Case{"bad_torque_scale",
+               R"({"contacts": [{"point": [0, 0, 0], "normal": [1, 0, 0]}], "torque_scale": -1})",
+               "torque_scale must be a positive finite number"},
+          Case{"no_contacts", R"({"contacts": []})", "no contacts"},
+          Case{"too_many", many, "101 contacts, more than the limit of 100"},
+      }) {
+    const std::string path = dir + "/" + c.name + ".json";
+    std::ofstream(path) << c.content;
+    try {
+      readContactsFile(path);
+      ADD_FAILURE() << c.name << ": expected IoError";
+    } catch (const IoError& e) {
+      EXPECT_EQ(e.path(), path);
+      EXPECT_NE(e.problem().find(c.expected), std::string::npos) << c.name << ": " << e.problem();
+    }
+  }
+  try {
+    readContactsFile(dir);
+    ADD_FAILURE() << "expected IoError for a directory";
+  } catch (const IoError& e) {
+    EXPECT_NE(e.problem().find("is a directory"), std::string::npos) << e.problem();
+  }
 }
 
 }  // namespace

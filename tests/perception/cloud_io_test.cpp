@@ -2,9 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include <spdlog/sinks/ostream_sink.h>
+
 #include <fstream>
+#include <random>
+#include <sstream>
 
 #include "skelgrasp/common/error.h"
+#include "skelgrasp/common/logging.h"
 #include "skelgrasp/perception/cloud_ops.h"
 #include "test_support.h"
 
@@ -124,18 +129,102 @@ INSTANTIATE_TEST_SUITE_P(
         BadCloud{"garbage", "garbage.pcd", "this is not a point cloud\n", "cannot parse"},
         BadCloud{"truncated_binary", "short.pcd",
                  kHeader + "WIDTH 100\nHEIGHT 1\nPOINTS 100\nDATA binary\n" + std::string(40, 'x'),
-                 "cannot parse"},
+                 "only 40 bytes follow the header"},
         BadCloud{"truncated_compressed", "short_lzf.pcd",
                  kHeader + "WIDTH 100\nHEIGHT 1\nPOINTS 100\nDATA binary_compressed\n" +
                      std::string(6, '\x01'),
-                 "cannot parse"},
+                 "no compressed data"},
         BadCloud{"no_points", "empty.pcd", kHeader + "WIDTH 0\nHEIGHT 1\nPOINTS 0\nDATA ascii\n",
                  "no points"},
         BadCloud{"no_xyz", "labels.pcd",
                  "VERSION 0.7\nFIELDS label\nSIZE 4\nTYPE U\nCOUNT 1\nWIDTH 2\nHEIGHT 1\n"
                  "POINTS 2\nDATA ascii\n1\n2\n",
-                 "no 'x' field"}),
+                 "no 'x' field"},
+        // Declared sizes are checked against the file before PCL allocates (issue 13).
+        BadCloud{"binary_declares_millions", "millions.pcd",
+                 kHeader + "WIDTH 5000000\nHEIGHT 1\nPOINTS 5000000\nDATA binary\n" +
+                     std::string(120, '\x01'),
+                 "declares 5000000 points of 12 bytes (60000000 bytes of binary data), but only "
+                 "120 bytes follow"},
+        BadCloud{"ascii_declares_millions", "millions_ascii.pcd",
+                 kHeader + "WIDTH 3000\nHEIGHT 1000\nPOINTS 3000000\nDATA ascii\n0 0 0\n1 1 1\n",
+                 "declares 3000000 points"},
+        BadCloud{"compressed_size_mismatch", "mismatch.pcd",
+                 kHeader + "WIDTH 4000000\nHEIGHT 1\nPOINTS 4000000\nDATA binary_compressed\n" +
+                     std::string("\x04\x00\x00\x00\x10\x00\x00\x00", 8) + std::string(4, 'x'),
+                 "compressed data says 16 bytes"},
+        BadCloud{"negative_width", "negative.pcd",
+                 kHeader + "WIDTH -1\nHEIGHT 1\nPOINTS 1\nDATA ascii\n0 0 0\n",
+                 "WIDTH is negative"},
+        BadCloud{"ply_without_z", "flat.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+                 "end_header\n0 0\n1 1\n",
+                 "PLY vertex element has no 'z' property"},
+        BadCloud{"ply_declares_millions", "millions.ply",
+                 "ply\nformat binary_little_endian 1.0\nelement vertex 4000000\nproperty float x\n"
+                 "property float y\nproperty float z\nend_header\n" +
+                     std::string(36, '\x01'),
+                 "declares 4000000 'vertex' elements"}),
     [](const auto& info) { return info.param.name; });
+
+TEST(CloudIo, FilesDeclaringMoreThanTheLimitAreRefusedUnread) {
+  const std::string path = test::tempDir("cloud_over_limit") + "/grid.pcd";
+  PointCloud cloud;
+  for (int i = 0; i < 100; ++i) cloud.points.emplace_back(0.01 * i, 0, 0.5);
+  savePointCloud(path, cloud, PcdEncoding::kBinary);
+  CloudLoadOptions options;
+  options.max_points = 50;
+  try {
+    loadPointCloud(path, options);
+    FAIL() << "expected IoError";
+  } catch (const IoError& e) {
+    EXPECT_EQ(e.path(), path);
+    EXPECT_NE(e.problem().find("declares 100 points, more than the limit of 50"), std::string::npos)
+        << e.problem();
+  }
+}
+
+// A legal scan of a few million points loads, voxel-downsampled under the cap, with a warning.
+TEST(CloudIo, MillionsOfPointsAreVoxelDownsampledOnLoad) {
+  constexpr std::size_t kPoints = 3'000'000;
+  const std::string path = test::tempDir("cloud_three_million") + "/scan.pcd";
+  {
+    // Points on a 0.3 m sphere, written as a binary PCD by hand (no 3M-point PointCloud copy).
+    std::ofstream out(path, std::ios::binary);
+    out << "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH " << kPoints
+        << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << kPoints << "\nDATA binary\n";
+    std::mt19937 rng(13);
+    std::normal_distribution<float> gauss(0.0f, 1.0f);
+    std::vector<float> xyz(3 * kPoints);
+    for (std::size_t i = 0; i < kPoints; ++i) {
+      Eigen::Vector3f p(gauss(rng), gauss(rng), gauss(rng));
+      p = 0.3f * p.normalized();
+      xyz[3 * i] = p.x();
+      xyz[3 * i + 1] = p.y();
+      xyz[3 * i + 2] = p.z();
+    }
+    out.write(reinterpret_cast<const char*>(xyz.data()),
+              static_cast<std::streamsize>(xyz.size() * sizeof(float)));
+  }
+  std::ostringstream warnings;
+  auto sink = std::make_shared<spdlog::sinks::ostream_sink_mt>(warnings);
+  log().sinks().push_back(sink);
+  CloudLoadInfo info;
+  const CloudLoadOptions options;
+  const PointCloud cloud = loadPointCloud(path, options, &info);
+  log().sinks().pop_back();
+
+  EXPECT_EQ(info.points_in_file, kPoints);
+  EXPECT_EQ(info.points, cloud.size());
+  EXPECT_LE(cloud.size(), options.voxel_above_points);
+  EXPECT_GT(cloud.size(), options.voxel_above_points / 10);  // downsampled, not decimated away
+  EXPECT_GT(info.voxel_leaf_m, 0);
+  for (const auto& p : cloud.points) ASSERT_NEAR(p.norm(), 0.3, info.voxel_leaf_m);
+  EXPECT_NE(warnings.str().find("3000000 points exceed the load limit of 2000000"),
+            std::string::npos)
+      << warnings.str();
+  EXPECT_NE(warnings.str().find("voxel-downsampled"), std::string::npos) << warnings.str();
+}
 
 TEST(CloudIo, RealScansKeepLayoutLabelsAndViewpoint) {
   SKELGRASP_REQUIRE_SHARED_DATA();

@@ -54,6 +54,52 @@ TEST(ImageIo, BadNpyFilesNameTheProblem) {
   EXPECT_THROW(readDepthNpy(dir + "/none.npy"), IoError);
 }
 
+// A version 1.0 .npy file with header `dict` followed by `data_bytes` zero bytes.
+void writeNpy(const std::string& path, std::string dict, std::size_t data_bytes) {
+  dict.append(128 - 10 - dict.size() - 1, ' ');
+  dict.push_back('\n');
+  std::ofstream out(path, std::ios::binary);
+  out << "\x93NUMPY" << '\x01' << '\x00' << static_cast<char>(dict.size()) << '\x00' << dict;
+  out << std::string(data_bytes, '\0');
+}
+
+// Shapes are checked against overflow and the file size before anything is allocated, and the
+// error names the file (issue 13: a huge shape used to say "cannot create std::vector larger
+// than max_size()").
+TEST(ImageIo, NpyShapesLargerThanTheFileNameTheFile) {
+  const std::string dir = test::tempDir("npy_shapes");
+  struct Case {
+    std::string name, shape, expected;
+  };
+  for (const Case& c : {
+           Case{"overflow", "(99999999999999999999, 5)", ".npy shape dimension is too large"},
+           Case{"huge", "(4000000000, 4000000000)", "too large for an image"},
+           Case{"beyond_file", "(100000, 100000)",
+                "shape (100000, 100000) of '<f4' needs 40000000000 bytes, the file holds 16"},
+           Case{"negative", "(-4, 4)", ".npy shape dimension is negative (-4)"},
+       }) {
+    const std::string path = dir + "/" + c.name + ".npy";
+    writeNpy(path, "{'descr': '<f4', 'fortran_order': False, 'shape': " + c.shape + ", }", 16);
+    try {
+      readDepthNpy(path);
+      ADD_FAILURE() << c.name << ": expected IoError";
+    } catch (const IoError& e) {
+      EXPECT_EQ(e.path(), path);
+      EXPECT_NE(e.problem().find(c.expected), std::string::npos) << c.name << ": " << e.problem();
+    }
+  }
+  // A version 2.0 header length of 4 GiB in a 16-byte file.
+  const std::string path = dir + "/long_header.npy";
+  std::ofstream(path, std::ios::binary)
+      << "\x93NUMPY" << '\x02' << '\x00' << std::string("\xff\xff\xff\xff", 4) << "{'descr'";
+  try {
+    readDepthNpy(path);
+    ADD_FAILURE() << "expected IoError";
+  } catch (const IoError& e) {
+    EXPECT_NE(e.problem().find("truncated .npy header"), std::string::npos) << e.problem();
+  }
+}
+
 TEST(ImageIo, MasksRoundTripThroughPngAndPbm) {
   MaskImage mask(9, 7, 0);
   for (int v = 2; v < 5; ++v) {

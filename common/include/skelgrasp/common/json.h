@@ -2,6 +2,7 @@
 // nlohmann::json conversions for the shared types, and atomic JSON file output.
 #include <nlohmann/json.hpp>
 
+#include <cstdint>
 #include <string>
 
 #include "skelgrasp/common/atomic_file.h"  // writeFileAtomically, for existing callers
@@ -21,7 +22,14 @@ nlohmann::json numberOrNull(double value);
 // Written atomically (atomic_file.h): readers never see a half-written file. Creates parent
 // directories. Throws IoError.
 void writeJsonFile(const std::string& path, const nlohmann::json& j, int indent = 2);
-// Throws IoError naming the file on missing file or parse error.
-nlohmann::json readJsonFile(const std::string& path);
+// JSON files skelgrasp reads (descriptions, contacts, reports) are kilobytes to a few megabytes;
+// nlohmann's document takes about ten times the text, so larger files are refused unread.
+inline constexpr std::uintmax_t kMaxJsonFileBytes = 64u << 20;
+// Throws IoError naming the file: "no such file", "is a directory", "file is empty", larger
+// than `max_bytes`, or "not valid JSON at line N, column C: <reason>".
+nlohmann::json readJsonFile(const std::string& path, std::uintmax_t max_bytes = kMaxJsonFileBytes);
+// The problem of parsing `text`, as "not valid JSON at line N, column C: <reason>" (parse errors)
+// or "not valid JSON: <reason>" (e.g. a number beyond double's range).
+std::string describeJsonError(const nlohmann::json::exception& error, const std::string& text);
 
 }  // namespace skelgrasp

@@ -1,0 +1,151 @@
+#include "skelgrasp/internal/cloud_file_check.h"
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <vector>
+
+#include "skelgrasp/common/error.h"
+#include "skelgrasp/common/file_header.h"
+
+namespace skelgrasp::internal {
+namespace {
+
+// A PCD header is a dozen short lines; a file without a DATA line in its first MiB is not PCD
+// (PCL then reports it), and the limit keeps a newline-free binary file from being read whole.
+constexpr std::uint64_t kMaxPcdHeaderBytes = 1 << 20;
+// binary_compressed data starts with two uint32: compressed and uncompressed byte counts.
+constexpr std::uint64_t kPcdCompressedPrefixBytes = 8;
+// LZF turns at most 264 repeated bytes into a 3-byte back reference (ratio 88); a header claiming
+// more than this expansion does not describe LZF data, however the bytes decompress.
+constexpr std::uint64_t kLzfMaxExpansion = 100;
+
+constexpr std::uint64_t kSaturated = std::numeric_limits<std::uint64_t>::max();
+
+std::uint64_t mulSaturating(std::uint64_t a, std::uint64_t b) {
+  std::uint64_t r = 0;
+  return __builtin_mul_overflow(a, b, &r) ? kSaturated : r;
+}
+
+std::string bytesText(std::uint64_t bytes) {
+  return bytes == kSaturated ? std::string("more than 2^64") : std::to_string(bytes);
+}
+
+std::uint32_t readUint32Le(const unsigned char* b) {
+  return b[0] | (b[1] << 8) | (b[2] << 16) | (static_cast<std::uint32_t>(b[3]) << 24);
+}
+
+}  // namespace
+
+DeclaredCloud checkPcdDeclaredSize(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(path, "cannot open for reading");
+  std::map<std::string, std::vector<std::string>> keys;
+  std::string data_type;
+  std::uint64_t data_offset = 0;
+  for (std::string line; data_type.empty() && std::getline(in, line);) {
+    const auto offset = in.tellg();
+    if (offset < 0 || static_cast<std::uint64_t>(offset) > kMaxPcdHeaderBytes) return {};
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream tokens(line);
+    std::string keyword;
+    if (!(tokens >> keyword) || keyword[0] == '#') continue;
+    std::vector<std::string> values;
+    for (std::string v; tokens >> v;) values.push_back(v);
+    if (keyword == "DATA") {
+      if (values.empty()) return {};
+      data_type = values[0];
+      data_offset = static_cast<std::uint64_t>(offset);
+    } else {
+      keys[keyword] = values;
+    }
+  }
+  // Headers this check cannot size are left to PCL, which rejects them before reading data.
+  const auto& sizes = keys["SIZE"];
+  if (data_type.empty() || sizes.empty() || keys["WIDTH"].size() != 1) return {};
+  const auto& counts = keys["COUNT"];
+  DeclaredCloud declared;
+  std::uint64_t values_per_point = 0;
+  for (std::size_t i = 0; i < sizes.size(); ++i) {
+    const std::uint64_t size = parseHeaderCount(path, "PCD header: SIZE", sizes[i]);
+    const std::uint64_t count =
+        i < counts.size() ? parseHeaderCount(path, "PCD header: COUNT", counts[i]) : 1;
+    declared.point_bytes += mulSaturating(size, count);
+    values_per_point += count;
+  }
+  const std::uint64_t width = parseHeaderCount(path, "PCD header: WIDTH", keys["WIDTH"][0]);
+  const std::uint64_t height = keys["HEIGHT"].size() == 1
+                                   ? parseHeaderCount(path, "PCD header: HEIGHT", keys["HEIGHT"][0])
+                                   : 1;
+  declared.points = mulSaturating(width, height);
+  if (keys["POINTS"].size() == 1) {
+    declared.points =
+        std::max(declared.points, parseHeaderCount(path, "PCD header: POINTS", keys["POINTS"][0]));
+  }
+
+  std::error_code ec;
+  const std::uint64_t file_size = std::filesystem::file_size(path, ec);
+  if (ec) throw IoError(path, "cannot read file size: " + ec.message());
+  const std::uint64_t available = file_size > data_offset ? file_size - data_offset : 0;
+  const std::uint64_t data_bytes = mulSaturating(declared.points, declared.point_bytes);
+  const std::string declares = "PCD header declares " + std::to_string(declared.points) +
+                               " points of " + std::to_string(declared.point_bytes) + " bytes";
+  const std::string truncated = " bytes follow the header (truncated file or corrupt header)";
+  if (data_type == "binary") {
+    if (data_bytes > available) {
+      throw IoError(path, declares + " (" + bytesText(data_bytes) +
+                              " bytes of binary data), but only " + std::to_string(available) +
+                              truncated);
+    }
+  } else if (data_type == "binary_compressed") {
+    unsigned char prefix[kPcdCompressedPrefixBytes];
+    in.seekg(static_cast<std::streamoff>(data_offset));
+    if (available < kPcdCompressedPrefixBytes ||
+        !in.read(reinterpret_cast<char*>(prefix), sizeof(prefix))) {
+      throw IoError(path, "binary_compressed PCD has no compressed data after its header");
+    }
+    const std::uint64_t compressed = readUint32Le(prefix);
+    const std::uint64_t uncompressed = readUint32Le(prefix + 4);
+    if (compressed > available - kPcdCompressedPrefixBytes) {
+      throw IoError(path, "binary_compressed PCD says " + std::to_string(compressed) +
+                              " bytes of compressed data, but only " +
+                              std::to_string(available - kPcdCompressedPrefixBytes) + truncated);
+    }
+    if (uncompressed != data_bytes) {
+      throw IoError(path, declares + " (" + bytesText(data_bytes) +
+                              " bytes), but its compressed data says " +
+                              std::to_string(uncompressed) + " bytes (corrupt header)");
+    }
+    if (data_bytes > mulSaturating(compressed, kLzfMaxExpansion)) {
+      throw IoError(path, declares + " (" + bytesText(data_bytes) + " bytes) from " +
+                              std::to_string(compressed) +
+                              " bytes of compressed data, more than LZF can expand to (corrupt "
+                              "header)");
+    }
+  } else if (data_type == "ascii") {
+    const std::uint64_t needed =
+        mulSaturating(mulSaturating(declared.points, values_per_point), kMinAsciiBytesPerValue);
+    // The last value may end the file without a separator.
+    if (needed > available + 1) {
+      throw IoError(path, declares + " (at least " + bytesText(needed) +
+                              " bytes of ASCII data), but only " + std::to_string(available) +
+                              truncated);
+    }
+  }
+  return declared;
+}
+
+DeclaredCloud checkPlyCloudHeader(const std::string& path) {
+  const PlyHeader header = readPlyHeader(path);
+  requirePlyVertexXyz(path, header);
+  const PlyElement* vertex = header.element("vertex");
+  DeclaredCloud declared;
+  declared.points = vertex->count;
+  for (const auto& p : vertex->properties) declared.point_bytes += p.is_list ? 0 : p.value_bytes;
+  return declared;
+}
+
+}  // namespace skelgrasp::internal
