@@ -17,8 +17,10 @@ namespace skelgrasp::grasping {
 
 namespace {
 
-// Calibration of estimateSceneOccupancyBytes (docs/limits.md, "Scene occupancy").
-constexpr double kOctreeBytesPerCell = 0;
+// Calibration of estimateSceneOccupancyBytes (docs/limits.md, "Scene occupancy"): `run
+// osd_test2.pcd` at 10, 5 and 2.5 mm (1.2e5, 4.8e5 and 3.0e6 estimated cells; 4.8e4, 3.3e5 and
+// 2.3e6 leaves after pruning) peaked at 178, 202 and 422 MiB: 70-90 bytes per estimated cell.
+constexpr double kOctreeBytesPerCell = 128;
 // The free-space rays go to one point per block of this many cells a side (see the constructor).
 constexpr double kRayBlockCells = 4;
 

@@ -75,7 +75,8 @@ struct RegularisationResult {
 // so it outputs about
 //   triangles = kWrapTrianglesPerArea x A / alpha^2
 // (the offset changes the time far more than the count, docs/regularisation.md),
-// and isotropic remeshing to edge e about 2.3 A / e^2 (equilateral triangles of area 0.43 e^2).
+// and isotropic remeshing to edge e about 2.8 A / e^2 (equilateral triangles of area 0.43 e^2 would
+// give 2.3; CGAL's edges come out a little shorter than the target).
 // bytes = kRegularisedBytesPerTriangle x triangles, fitted to /usr/bin/time -v peak RSS of
 // `skelgrasp skeleton` on YCB meshes (docs/limits.md), so it also covers the skeleton's
 // contraction of that mesh, the next allocation of every caller.
