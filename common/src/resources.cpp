@@ -134,8 +134,12 @@ std::string formatBytes(double bytes) {
   std::ostringstream out;
   out.setf(std::ios::fixed);
   const double gib = bytes / kBytesPerGiB;
-  if (!std::isfinite(gib) || gib >= 1e6) {
-    out << "more than a million GiB";
+  if (!std::isfinite(gib)) {
+    out << "more than 1e+300 GiB";  // an estimate that overflowed a double
+  } else if (gib >= 1e6) {
+    out.setf(std::ios::scientific, std::ios::floatfield);
+    out.precision(1);
+    out << gib << " GiB";
   } else if (gib >= 1) {
     out.precision(gib < 10 ? 1 : 0);
     out << gib << " GiB";

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 namespace skelgrasp {
 namespace {
 
@@ -66,7 +68,8 @@ TEST(Resources, FormatsSizesForHumans) {
   EXPECT_EQ(formatBytes(23.4 * kGiB), "23 GiB");
   EXPECT_EQ(formatBytes(300.0 * kMiB), "300 MiB");
   EXPECT_EQ(formatBytes(10), "1 MiB");
-  EXPECT_EQ(formatBytes(1e300), "more than a million GiB");
+  EXPECT_EQ(formatBytes(1e300), "9.3e+290 GiB");
+  EXPECT_EQ(formatBytes(std::numeric_limits<double>::infinity()), "more than 1e+300 GiB");
 }
 
 }  // namespace

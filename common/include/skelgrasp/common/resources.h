@@ -46,7 +46,7 @@ void setMemoryLimitBytes(std::uint64_t bytes);
 // Throws InvalidArgument for anything else, zero or a non-finite value.
 std::uint64_t parseMemoryLimit(const std::string& text);
 
-// "1.5 GiB", "12 GiB" or (below 1 GiB) "300 MiB".
+// "1.5 GiB", "12 GiB", "3.2e+07 GiB" or (below 1 GiB) "300 MiB".
 std::string formatBytes(double bytes);
 
 // Throws ResourceLimitExceeded when `estimated_bytes` (any finite or infinite value) exceeds
