@@ -5,6 +5,7 @@
 #include "option_checks.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/logging.h"
+#include "skelgrasp/common/resources.h"
 
 namespace skelgrasp::cli {
 
@@ -23,6 +24,12 @@ int main(int argc, char** argv) {
   bool quiet = false, verbose = false;
   app.add_flag("-q,--quiet", quiet, "Only warnings and errors on stderr");
   app.add_flag("-v,--verbose", verbose, "Debug logging on stderr");
+  std::string memory_limit;
+  app.add_option("--memory-limit", memory_limit,
+                 "Refuse work estimated to need more memory: 4G, 512M or a fraction of RAM "
+                 "(default " +
+                     formatBytes(static_cast<double>(defaultMemoryLimitBytes())) +
+                     ", half of this machine's; docs/limits.md)");
 
   cli::Action action;
   cli::registerSkeletonCommand(app, action);
@@ -64,6 +71,7 @@ int main(int argc, char** argv) {
   }
   setLogLevel(verbose ? spdlog::level::debug : quiet ? spdlog::level::warn : spdlog::level::info);
   try {
+    if (!memory_limit.empty()) setMemoryLimitBytes(parseMemoryLimit(memory_limit));
     return action ? action() : cli::kExitOk;
   } catch (const IoError& e) {
     return cli::fail(e.what());

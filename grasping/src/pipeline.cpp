@@ -37,6 +37,10 @@ RunResult runPipeline(const perception::Scan& scan, const HandModel& hand,
     throw InvalidArgument(
         "run plans for one object at a time: use --object largest or nearest:x,y,z");
   }
+  // Fail fast, before reconstruction: the obstacles are a part of the scan, so the whole scan
+  // bounds the occupancy's memory (the constructor checks again with the obstacles themselves).
+  if (params.scene_check)
+    checkSceneOccupancyMemory(scan.cloud, scan.cloud.sensor_origin, params.occupancy);
   Stopwatch total;
   RunResult out;
   auto stage = [&](const char* name, double seconds) { out.stages.push_back({name, seconds}); };

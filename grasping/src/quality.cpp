@@ -8,11 +8,15 @@ extern "C" {
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 
+#include <fmt/format.h>
+
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/common/pose.h"
+#include "skelgrasp/common/resources.h"
 
 namespace skelgrasp::grasping {
 
@@ -85,6 +89,14 @@ std::vector<Wrench> contactWrenches(const std::vector<Contact>& contacts,
 }
 
 namespace {
+
+// Calibration of estimateWrenchHullBytes (docs/limits.md, "Grasp quality"): `quality` on 10, 20,
+// 40, 80 and 160 random contacts on a sphere x 8 cone edges (80-1280 wrenches) gave 6632, 21190,
+// 66835, 208330 and 646139 facets (x 3.1-3.2 per doubling: 4.8 W^1.65), and peak RSS grew by 72
+// and 235 MiB for the two largest: 360-380 bytes per facet.
+constexpr double kHullFacetsScale = 4.8;
+constexpr double kHullFacetsExponent = 1.65;
+constexpr double kHullBytesPerFacet = 400;
 
 struct Hull {
   bool ok = false;
@@ -170,6 +182,16 @@ void decideByLp(const ClosureLpResult& lp, const std::vector<Wrench>& wrenches,
 
 }  // namespace
 
+std::size_t wrenchCount(std::size_t contacts, const QualityParams& params) {
+  const std::size_t per_edge = params.torsional_friction_m > 0 ? 2 : 1;
+  return contacts * static_cast<std::size_t>(std::max(params.cone_edges, 0)) * per_edge;
+}
+
+double estimateWrenchHullBytes(std::size_t wrenches) {
+  return kHullBytesPerFacet * kHullFacetsScale *
+         std::pow(static_cast<double>(wrenches), kHullFacetsExponent);
+}
+
 WrenchSpaceResult evaluateWrenchSpace(const std::vector<Contact>& contacts,
                                       const Eigen::Vector3d& center, double torque_scale,
                                       const QualityParams& params) {
@@ -179,6 +201,15 @@ WrenchSpaceResult evaluateWrenchSpace(const std::vector<Contact>& contacts,
   }
   if (!(torque_scale > 0) || !std::isfinite(torque_scale)) {
     throw InvalidArgument("quality: torque scale must be positive and finite");
+  }
+  const std::size_t wrench_count = wrenchCount(contacts.size(), params);
+  const double hull_bytes = estimateWrenchHullBytes(wrench_count);
+  // The message is built only when refusing: grasp planning evaluates thousands of hulls.
+  if (!(hull_bytes <= static_cast<double>(memoryLimitBytes()))) {
+    checkMemoryEstimate(fmt::format("6D wrench hull of {} wrenches ({} contacts x {} cone edges{})",
+                                    wrench_count, contacts.size(), params.cone_edges,
+                                    params.torsional_friction_m > 0 ? " x 2 torsion" : ""),
+                        hull_bytes, "the number of contacts or --cone-edges");
   }
   WrenchSpaceResult result;
   const bool use_lp = params.fc_test == ForceClosureTest::kLp && !params.reference_compat;

@@ -5,11 +5,96 @@
 #include <fcl/geometry/shape/halfspace.h>
 #include <octomap/OcTree.h>
 
+#include <cmath>
+#include <fstream>
+#include <unordered_set>
+
 #include "fcl_conversions.h"
 #include "skelgrasp/common/atomic_file.h"
 #include "skelgrasp/common/logging.h"
+#include "skelgrasp/common/resources.h"
 
 namespace skelgrasp::grasping {
+
+namespace {
+
+// Calibration of estimateSceneOccupancyBytes (docs/limits.md, "Scene occupancy"): `run
+// osd_test2.pcd` at 10, 5 and 2.5 mm (1.2e5, 4.8e5 and 3.0e6 estimated cells; 4.8e4, 3.3e5 and
+// 2.3e6 leaves after pruning) peaked at 178, 202 and 422 MiB: 70-90 bytes per estimated cell.
+constexpr double kOctreeBytesPerCell = 128;
+// The free-space rays go to one point per block of this many cells a side (see the constructor).
+constexpr double kRayBlockCells = 4;
+
+bool inside(const Eigen::Vector3d& p, const AxisAlignedBox& box) {
+  return (p.array() >= box.min.array()).all() && (p.array() <= box.max.array()).all();
+}
+
+double volume(const AxisAlignedBox& box) {
+  const Eigen::Vector3d e = box.extent();
+  return e.x() * e.y() * e.z();
+}
+
+}  // namespace
+
+double estimateSceneOccupancyBytes(const PointCloud& obstacles,
+                                   const Eigen::Vector3d& sensor_origin,
+                                   const SceneOccupancyParams& params,
+                                   const AxisAlignedBox& target_box) {
+  const double r = params.resolution_m;
+  if (!(r > 0)) throw InvalidArgument("scene occupancy: resolution must be positive");
+  const bool clipped = !params.region.empty();
+  const bool every_ray = params.unknown == UnknownSpace::kOccupied;
+  const bool clip_points = clipped && !every_ray;
+  // Distinct ray blocks, hashed: a collision only undercounts a ray among hundreds of thousands.
+  std::unordered_set<std::uint64_t> blocks;
+  AxisAlignedBox reach;  // points and sensor: every ray lies inside
+  reach.extend(sensor_origin);
+  double observed = 0, ray_length = 0;
+  const double block = kRayBlockCells * r;
+  for (const auto& p : obstacles.points) {
+    if (!p.allFinite() || (clip_points && !inside(p, params.region))) continue;
+    observed += 1;
+    reach.extend(p);
+    const double length = std::min((p - sensor_origin).norm(), params.max_range_m);
+    if (every_ray) {
+      ray_length += length;
+      continue;
+    }
+    const Eigen::Array3d k = (p.array() / block).floor();
+    std::uint64_t key = 1469598103934665603ull;
+    for (int i = 0; i < 3; ++i) {
+      key ^= static_cast<std::uint64_t>(static_cast<std::int64_t>(std::clamp(k[i], -1e15, 1e15)));
+      key *= 1099511628211ull;
+    }
+    if (blocks.insert(key).second) ray_length += length;
+  }
+  const double cell_volume = r * r * r;
+  double cells = observed + std::min(ray_length / r, volume(reach) / cell_volume);
+  if (every_ray && !obstacles.empty()) {
+    AxisAlignedBox region = obstacles.bounds();
+    if (!target_box.empty()) {
+      region.extend(target_box.min);
+      region.extend(target_box.max);
+    }
+    if (clipped) {
+      region.min = region.min.cwiseMax(params.region.min);
+      region.max = region.max.cwiseMin(params.region.max);
+    }
+    if (!region.empty()) cells += volume(region) / cell_volume;
+  }
+  log().debug("scene occupancy estimate: {} points, {} rays, {:.3g} cells", observed,
+              every_ray ? observed : static_cast<double>(blocks.size()), cells);
+  return kOctreeBytesPerCell * cells;
+}
+
+void checkSceneOccupancyMemory(const PointCloud& obstacles, const Eigen::Vector3d& sensor_origin,
+                               const SceneOccupancyParams& params,
+                               const AxisAlignedBox& target_box) {
+  checkMemoryEstimate(fmt::format("scene occupancy octree at {:g} m resolution of {} points",
+                                  params.resolution_m, obstacles.size()),
+                      estimateSceneOccupancyBytes(obstacles, sensor_origin, params, target_box),
+                      "--octree-resolution");
+}
 
 struct SceneOccupancy::Impl {
   std::shared_ptr<octomap::OcTree> tree;
@@ -20,6 +105,7 @@ SceneOccupancy::SceneOccupancy(const PointCloud& obstacles, const Eigen::Vector3
     : impl_(std::make_unique<Impl>()) {
   if (!(params.resolution_m > 0))
     throw InvalidArgument("scene occupancy: resolution must be positive");
+  checkSceneOccupancyMemory(obstacles, sensor_origin, params, target_box);
   Stopwatch watch;
   impl_->tree = std::make_shared<octomap::OcTree>(params.resolution_m);
   octomap::Pointcloud cloud;

@@ -7,6 +7,9 @@ namespace skelgrasp::reconstruction {
 ReconstructionResult reconstructScan(const perception::Scan& scan,
                                      const ReconstructionParams& params) {
   Stopwatch total;
+  // Fail fast, before filtering and segmentation: no object has more points than the scan (the
+  // depth term dominates; meshObject checks again with the object's own points).
+  checkPoissonMemory(scan.cloud.size(), params.meshing.poisson);
   ReconstructionResult result;
   result.ingest = perception::ingestScan(scan, params.ingest);
   if (!result.ingest.status.ok()) {

@@ -12,6 +12,7 @@
 #include <CGAL/alpha_wrap_3.h>
 
 #include "skelgrasp/common/logging.h"
+#include "skelgrasp/common/resources.h"
 #include "skelgrasp/internal/cgal_conversions.h"
 
 namespace skelgrasp::reconstruction {
@@ -95,7 +96,45 @@ bool acceptAsIs(const TriangleMesh& input, const RegularisationParams& params,
   return true;
 }
 
+// Calibration of the estimates (docs/limits.md, "Regularisation"): `skeleton` on YCB
+// 006_mustard_bottle (0.0455 m^2, 0.225 m diagonal) at alpha divisors 50, 100 and 200 output 4052,
+// 12772 and 48282 triangles (1.8, 1.4, 1.3 x A / alpha^2) and its peak RSS grew by about 2.4-3.2
+// KiB per output triangle (wrap, remesh and contraction together).
+constexpr double kWrapTrianglesPerArea = 2.0;
+// Isotropic remeshing: an equilateral triangle of edge e has area sqrt(3)/4 e^2 (2.3 A / e^2), but
+// CGAL's edges come out shorter than the target: the mustard bottle at e = 2 mm gave 31360
+// triangles, 2.76 A / e^2 (peak RSS +74 MiB, 2.4 KiB per triangle).
+constexpr double kRemeshTrianglesPerArea = 2.8;
+constexpr double kRegularisedBytesPerTriangle = 4096;
+
+double surfaceArea(const TriangleMesh& mesh) {
+  double area = 0;
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f) area += mesh.faceArea(f);
+  return area;
+}
+
+std::string describeSize(const TriangleMesh& input) {
+  return fmt::format("{:.3g} m^2 surface, {:.3g} m bounding-box diagonal", surfaceArea(input),
+                     input.bounds().diagonal());
+}
+
 }  // namespace
+
+double estimateAlphaWrapTriangles(const TriangleMesh& input, const RegularisationParams& params) {
+  const double diagonal = input.bounds().diagonal();
+  const double alpha = diagonal / params.alpha_divisor;
+  return kWrapTrianglesPerArea * surfaceArea(input) / (alpha * alpha);
+}
+
+double estimateRemeshTriangles(const TriangleMesh& input, const RegularisationParams& params) {
+  const double edge = params.remesh_target_edge_m;
+  if (!(edge > 0)) return 0;
+  return kRemeshTrianglesPerArea * surfaceArea(input) / (edge * edge);
+}
+
+double estimateRegularisedBytes(double triangles) {
+  return kRegularisedBytesPerTriangle * triangles;
+}
 
 RegularisationResult regularise(const TriangleMesh& input, const RegularisationParams& params) {
   if (params.method != RegularisationMethod::kNone &&
@@ -104,6 +143,12 @@ RegularisationResult regularise(const TriangleMesh& input, const RegularisationP
   }
   if (params.remesh_target_edge_m < 0 || params.remesh_iterations < 0) {
     throw InvalidArgument("regularise: remeshing parameters must be non-negative");
+  }
+  if (!input.empty() && params.remesh_target_edge_m > 0) {
+    checkMemoryEstimate(fmt::format("remeshing to {:g} m edges ({})", params.remesh_target_edge_m,
+                                    describeSize(input)),
+                        estimateRegularisedBytes(estimateRemeshTriangles(input, params)),
+                        "--remesh");
   }
   Stopwatch watch;
   RegularisationResult result;
@@ -152,6 +197,10 @@ RegularisationResult regularise(const TriangleMesh& input, const RegularisationP
       report.orientation_flipped = true;
     }
   } else {
+    checkMemoryEstimate(
+        fmt::format("alpha wrap with alpha {:.3g} m ({})",
+                    report.bbox_diagonal_m / params.alpha_divisor, describeSize(input)),
+        estimateRegularisedBytes(estimateAlphaWrapTriangles(input, params)), "--alpha-divisor");
     std::vector<internal::CgalPoint> points;
     std::vector<std::array<std::size_t, 3>> faces;
     internal::toCgalSoup(input, points, faces);

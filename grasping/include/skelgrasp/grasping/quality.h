@@ -97,7 +97,17 @@ ClosureLpResult solveClosureLp(const std::vector<Wrench>& wrenches);
 // simplex, Qhull's joggle); measurements: docs/hands.md.
 constexpr double kClosureMarginTolerance = 1e-9;
 
-// Throws InvalidArgument for mu < 0, < 3 cone edges or a non-positive torque scale.
+// Wrenches contactWrenches makes: contacts x cone edges, twice that with torsional friction.
+std::size_t wrenchCount(std::size_t contacts, const QualityParams& params);
+// Memory estimate (bytes) of the 6D convex hull of `wrenches` wrenches. Qhull's facet count grows
+// much faster than the input (up to W^3 in 6D by the upper bound theorem); measured on random
+// contact sets it follows facets = kHullFacetsScale x W^kHullFacetsExponent, and
+// bytes = kHullBytesPerFacet x facets (/usr/bin/time -v peak RSS of
+// `skelgrasp quality`, docs/limits.md).
+double estimateWrenchHullBytes(std::size_t wrenches);
+
+// Throws InvalidArgument for mu < 0, < 3 cone edges or a non-positive torque scale, and
+// ResourceLimitExceeded (common/resources.h) when estimateWrenchHullBytes exceeds the limit.
 WrenchSpaceResult evaluateWrenchSpace(const std::vector<Contact>& contacts,
                                       const Eigen::Vector3d& center, double torque_scale,
                                       const QualityParams& params = {});

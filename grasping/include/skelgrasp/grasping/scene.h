@@ -36,10 +36,27 @@ struct SceneOccupancyParams {
   AxisAlignedBox region;
 };
 
+// Memory estimate (bytes) of building SceneOccupancy from these arguments:
+//   cells = ray cells + observed cells (+ with UnknownSpace::kOccupied, the region's volume / r^3),
+//   ray cells = min(sum of ray lengths / r, volume of the box holding points and sensor / r^3)
+// where rays go from the sensor to one point per 4 x 4 x 4-cell block (every point with unknown
+// space occupied), each cut at max_range_m, and bytes = kOctreeBytesPerCell x cells (leaf, inner
+// nodes and OctoMap's key sets during insertion), fitted to /usr/bin/time -v peak RSS of
+// `skelgrasp run` at several resolutions (docs/limits.md).
+double estimateSceneOccupancyBytes(const PointCloud& obstacles,
+                                   const Eigen::Vector3d& sensor_origin,
+                                   const SceneOccupancyParams& params = {},
+                                   const AxisAlignedBox& target_box = {});
+// Throws ResourceLimitExceeded (common/resources.h) when that exceeds the memory limit.
+void checkSceneOccupancyMemory(const PointCloud& obstacles, const Eigen::Vector3d& sensor_origin,
+                               const SceneOccupancyParams& params = {},
+                               const AxisAlignedBox& target_box = {});
+
 class SceneOccupancy {
  public:
   // `obstacles` in the scan frame; rays start at `sensor_origin`. `target_box` (scan frame) is only
-  // used for UnknownSpace::kOccupied. Throws InvalidArgument for a non-positive resolution.
+  // used for UnknownSpace::kOccupied. Throws InvalidArgument for a non-positive resolution and
+  // ResourceLimitExceeded when estimateSceneOccupancyBytes exceeds the memory limit.
   SceneOccupancy(const PointCloud& obstacles, const Eigen::Vector3d& sensor_origin,
                  const SceneOccupancyParams& params = {}, const AxisAlignedBox& target_box = {});
   ~SceneOccupancy();

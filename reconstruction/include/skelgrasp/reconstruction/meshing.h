@@ -29,6 +29,16 @@ struct PoissonParams {
   int threads = 1;
 };
 
+// Peak memory of Poisson reconstruction (bytes) of `points` oriented points at `params.depth`:
+//   bytes = kPoissonBytesPerPoint x points + kPoissonBytesPerNode x nodes,
+//   nodes = min(8^depth, kPoissonSurfaceNodeFactor x 4^depth).
+// A surface crosses about (its area in cells) ~ 4^depth of the 8^depth finest cells of the octree;
+// the constants are fitted to the growth of /usr/bin/time -v peak RSS of `skelgrasp reconstruct`
+// with the depth on a real scan (docs/limits.md).
+double estimatePoissonBytes(std::size_t points, const PoissonParams& params);
+// Throws ResourceLimitExceeded (common/resources.h) when that exceeds the memory limit.
+void checkPoissonMemory(std::size_t points, const PoissonParams& params);
+
 enum class TrimMode {
   kNone,
   kDistance,  // remove faces whose centroid is farther than the threshold from every data point

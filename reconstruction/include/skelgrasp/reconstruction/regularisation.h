@@ -70,7 +70,22 @@ struct RegularisationResult {
   RegularisationReport report;
 };
 
-// Throws InvalidArgument for non-positive divisors; input problems go to the status.
+// Memory estimates (bytes) of regularising `input`, from its surface area A and bounding-box
+// diagonal D. The wrap's facets are Delaunay facets no larger than about alpha = D / alpha_divisor,
+// so it outputs about
+//   triangles = kWrapTrianglesPerArea x A / alpha^2
+// (the offset changes the time far more than the count, docs/regularisation.md),
+// and isotropic remeshing to edge e about 2.8 A / e^2 (equilateral triangles of area 0.43 e^2 would
+// give 2.3; CGAL's edges come out a little shorter than the target).
+// bytes = kRegularisedBytesPerTriangle x triangles, fitted to /usr/bin/time -v peak RSS of
+// `skelgrasp skeleton` on YCB meshes (docs/limits.md), so it also covers the skeleton's
+// contraction of that mesh, the next allocation of every caller.
+double estimateAlphaWrapTriangles(const TriangleMesh& input, const RegularisationParams& params);
+double estimateRemeshTriangles(const TriangleMesh& input, const RegularisationParams& params);
+double estimateRegularisedBytes(double triangles);
+
+// Throws InvalidArgument for non-positive divisors and ResourceLimitExceeded (common/resources.h)
+// when the estimated memory exceeds the limit; input problems go to the status.
 RegularisationResult regularise(const TriangleMesh& input, const RegularisationParams& params = {});
 
 }  // namespace skelgrasp::reconstruction
