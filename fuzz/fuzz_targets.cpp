@@ -71,8 +71,8 @@ const std::string& depthImagePath() {
 int fuzzMeshReader(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;
   static const char* const kExtensions[] = {"ply", "obj", "off", "stl"};
-  const std::string path = writeInput(std::string("mesh.") + kExtensions[data[0] % 4], data + 1,
-                                      size - 1);
+  const std::string path =
+      writeInput(std::string("mesh.") + kExtensions[data[0] % 4], data + 1, size - 1);
   return expectOnlySkelgraspErrors([&] { loadMesh(path); });
 }
 

@@ -20,6 +20,7 @@ class OrderedArena {
   }
   ~OrderedArena() { munmap(base_, reserve_); }
   std::size_t used() const { return used_; }
+  bool overflowed() const { return overflowed_; }
 
   void* allocate(std::size_t bytes) {
     const std::size_t size = roundUp(bytes);
@@ -29,7 +30,13 @@ class OrderedArena {
       list.pop_back();
       return p;
     }
-    if (used_ + size > reserve_) throw OrderedArenaExhausted();
+    if (used_ + size > reserve_) {
+      // Throwing here would unwind through CGAL code that is not exception-safe (it crashed in
+      // Delaunay insertion); the heap keeps this run correct, and the caller repeats it in a
+      // larger arena because heap addresses break the deterministic order.
+      overflowed_ = true;
+      return ::operator new(bytes);
+    }
     void* p = base_ + used_;
     used_ += size;
     return p;
@@ -48,6 +55,7 @@ class OrderedArena {
   std::size_t reserve_ = 0;
   char* base_ = nullptr;
   std::size_t used_ = 0;
+  bool overflowed_ = false;
   std::unordered_map<std::size_t, std::vector<void*>> free_;
 };
 
@@ -79,6 +87,10 @@ OrderedArenaScope::~OrderedArenaScope() {
 
 std::size_t OrderedArenaScope::usedBytes() const {
   return arena_->used();
+}
+
+bool OrderedArenaScope::overflowed() const {
+  return arena_->overflowed();
 }
 
 }  // namespace skelgrasp::internal

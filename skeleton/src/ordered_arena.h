@@ -10,10 +10,11 @@
 // allocations, which depends on the input only.
 //
 // The range is reserved per scope, sized by the caller from its input. Growing it in separate
-// chunks would break the address order (a later chunk may lie below an earlier one), so a scope
-// that runs out throws OrderedArenaExhausted and the caller repeats its work in a larger arena:
-// relative addresses, and so the result, do not depend on the reservation's size. A fixed giant
-// reservation (32 GiB before) fails under any `ulimit -v` below it.
+// chunks would break the address order (a later chunk may lie below an earlier one). Allocations
+// past the range come from the heap instead (throwing would unwind through CGAL code that is not
+// exception-safe) and mark the arena overflowed; the caller then repeats its work in a larger
+// arena. Relative addresses, and so the result, do not depend on the reservation's size. A fixed
+// giant reservation (32 GiB before) fails under any `ulimit -v` below it.
 #include <cstddef>
 #include <memory>
 #include <new>
@@ -21,11 +22,6 @@
 namespace skelgrasp::internal {
 
 class OrderedArena;
-
-// Thrown when an arena's reserved range is used up; the caller retries with a larger one.
-struct OrderedArenaExhausted : std::bad_alloc {
-  const char* what() const noexcept override { return "ordered arena exhausted"; }
-};
 
 // Current arena of this thread, or nullptr.
 OrderedArena* currentOrderedArena();
@@ -43,6 +39,8 @@ class OrderedArenaScope {
   ~OrderedArenaScope();
   // Bytes handed out so far (sizes the next reservation of a similar input).
   std::size_t usedBytes() const;
+  // True when the range ran out and later allocations came from the heap.
+  bool overflowed() const;
   OrderedArenaScope(const OrderedArenaScope&) = delete;
   OrderedArenaScope& operator=(const OrderedArenaScope&) = delete;
 

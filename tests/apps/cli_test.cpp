@@ -64,7 +64,7 @@ INSTANTIATE_TEST_SUITE_P(
                       BadMeshFile{"empty_mesh", "empty.off", "OFF\n0 0 0\n", "no vertices"},
                       BadMeshFile{"nan", "nan.obj", "v 0 0 0\nv 0 nan 0\nv 1 0 0\nf 1 2 3\n",
                                   "non-finite"},
-                      BadMeshFile{"garbage", "junk.ply", "ply\nformat nonsense\n", "cannot parse"}),
+                      BadMeshFile{"garbage", "junk.ply", "ply\nformat nonsense\n", "unknown PLY format"}),
     [](const auto& info) { return info.param.name; });
 
 TEST(Cli, HandsListsTheFourBuiltInHands) {
@@ -237,6 +237,33 @@ INSTANTIATE_TEST_SUITE_P(
         BadCliInput{"quality_too_many_contacts", "quality {dir}/many.json",
                     "many.json: 5000 contacts, more than the limit of 100"}),
     [](const auto& info) { return info.param.name; });
+
+}  // namespace
+}  // namespace skelgrasp
+
+namespace skelgrasp {
+namespace {
+
+// Batch systems and containers cap the address space (`ulimit -v`). The skeleton's ordered arena
+// once reserved 32 GiB up front, so even `plan` on a capsule died with std::bad_alloc under such a
+// limit; it now reserves what the mesh needs.
+TEST(Cli, PlanWorksUnderAnAddressSpaceLimit) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer reserves terabytes of shadow memory: no ulimit -v under ASan";
+#endif
+  constexpr long kAddressSpaceLimitKiB = 6L * 1024 * 1024;  // 6 GiB
+  const std::string dir = test::tempDir("cli_ulimit");
+  saveMesh(dir + "/capsule.ply", primitives::makeNamedShape("capsule"));
+  const std::string cmd = "ulimit -v " + std::to_string(kAddressSpaceLimitKiB) + " && " +
+                          SKELGRASP_CLI_PATH + " plan " + dir +
+                          "/capsule.ply --hand sdh --max-grasps 2 --out " + dir +
+                          "/grasps.json > " + dir + "/out.txt 2> " + dir + "/err.txt";
+  const int status = std::system(("bash -c '" + cmd + "'").c_str());
+  std::ifstream err_file(dir + "/err.txt");
+  const std::string err((std::istreambuf_iterator<char>(err_file)), {});
+  ASSERT_EQ(WEXITSTATUS(status), 0) << err;
+  EXPECT_GE(readJsonFile(dir + "/grasps.json")["grasps"].size(), 1u);
+}
 
 }  // namespace
 }  // namespace skelgrasp

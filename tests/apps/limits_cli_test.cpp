@@ -45,7 +45,8 @@ TEST_P(LimitsCli, RefusesWithOneLineNamingTheEstimate) {
   perception::savePointCloud(dir + "/scene.pcd",
                              test::renderTableScene(41, {0.55, 0.05, 0.6}, true).cloud);
   saveMesh(dir + "/capsule.ply", primitives::makeNamedShape("capsule"));
-  writeContacts(dir + "/contacts.json", 2000);
+  // The most a contact file may hold (grasping::ContactFileLimits): its 6D hull needs ~120 MB.
+  writeContacts(dir + "/contacts.json", 100);
   const CliRun r = runCli(withDir(c.args, dir), dir);
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_EQ(countLines(r.err), 1) << r.err;
@@ -72,7 +73,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadCliInput{"alpha_divisor",
                     "skeleton {dir}/capsule.ply --alpha-divisor 1e6 --out {dir}/out",
                     "--alpha-divisor"},
-        BadCliInput{"quality_contacts", "quality {dir}/contacts.json", "2000 contacts"},
+        BadCliInput{"quality_contacts", "--memory-limit 64M quality {dir}/contacts.json",
+                    "800 wrenches (100 contacts"},
         // A legal default run refuses under a limit far below its estimate.
         BadCliInput{"tiny_limit", "--memory-limit 1M skeleton {dir}/capsule.ply --out {dir}/out",
                     "limit 1 MiB"}),

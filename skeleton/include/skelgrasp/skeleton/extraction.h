@@ -1,6 +1,8 @@
 #pragma once
 // The skeleton stage: input mesh -> regularised closed mesh -> CGAL mean-curvature-flow skeleton
 // -> every input vertex mapped to one skeleton vertex -> classification and segments.
+#include <optional>
+
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/mesh.h"
 #include "skelgrasp/reconstruction/regularisation.h"
@@ -19,6 +21,10 @@ struct ContractionParams {
   bool is_medially_centered = true;
   // Edges shorter than this fraction of the mesh's bounding-box diagonal are collapsed.
   double min_edge_length_fraction = 0.002;
+  // Address space (bytes) of the ordered arena that keeps the contraction deterministic, on the
+  // first attempt; it grows 4x per retry when used up. Unset: 16 KiB per vertex, at least 64 MiB
+  // (a contraction uses about 1 KiB per vertex). The skeleton does not depend on it.
+  std::optional<std::size_t> arena_reserve_bytes;
 };
 
 struct SkeletonParams {
