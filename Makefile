@@ -4,6 +4,9 @@ BUILD_TYPE ?= Release
 JOBS ?= $(shell nproc)
 DEMO_OUT ?= demo_output
 SKELGRASP := $(BUILD_DIR)/apps/skelgrasp
+# ccache (when installed) rewrites paths below the checkout to relative ones, so a fresh clone in
+# another folder reuses the cache of an earlier one.
+export CCACHE_BASEDIR ?= $(CURDIR)
 
 SANITIZE_DIR ?= $(BUILD_DIR)-sanitize
 FUZZ_DIR ?= $(BUILD_DIR)-fuzz
