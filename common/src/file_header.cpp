@@ -19,27 +19,11 @@ constexpr std::uint64_t kMaxPlyHeaderBytes = 1 << 20;
 constexpr std::uint64_t kStlHeaderBytes = 84;
 constexpr std::uint64_t kStlTriangleBytes = 50;
 
-constexpr std::uint64_t kSaturated = std::numeric_limits<std::uint64_t>::max();
-
-std::uint64_t mulSaturating(std::uint64_t a, std::uint64_t b) {
-  std::uint64_t r = 0;
-  return __builtin_mul_overflow(a, b, &r) ? kSaturated : r;
-}
-
-std::uint64_t addSaturating(std::uint64_t a, std::uint64_t b) {
-  std::uint64_t r = 0;
-  return __builtin_add_overflow(a, b, &r) ? kSaturated : r;
-}
-
 std::uint64_t fileSize(const std::string& path) {
   std::error_code ec;
   const auto size = std::filesystem::file_size(path, ec);
   if (ec) throw IoError(path, "cannot read file size: " + ec.message());
   return size;
-}
-
-std::string bytesText(std::uint64_t bytes) {
-  return bytes == kSaturated ? std::string("more than 2^64") : std::to_string(bytes);
 }
 
 std::uint64_t plyTypeBytes(const std::string& path, const std::string& type) {

@@ -23,17 +23,6 @@ constexpr std::uint64_t kPcdCompressedPrefixBytes = 8;
 // more than this expansion does not describe LZF data, however the bytes decompress.
 constexpr std::uint64_t kLzfMaxExpansion = 100;
 
-constexpr std::uint64_t kSaturated = std::numeric_limits<std::uint64_t>::max();
-
-std::uint64_t mulSaturating(std::uint64_t a, std::uint64_t b) {
-  std::uint64_t r = 0;
-  return __builtin_mul_overflow(a, b, &r) ? kSaturated : r;
-}
-
-std::string bytesText(std::uint64_t bytes) {
-  return bytes == kSaturated ? std::string("more than 2^64") : std::to_string(bytes);
-}
-
 std::uint32_t readUint32Le(const unsigned char* b) {
   return b[0] | (b[1] << 8) | (b[2] << 16) | (static_cast<std::uint32_t>(b[3]) << 24);
 }

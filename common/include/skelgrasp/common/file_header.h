@@ -4,10 +4,27 @@
 // declares must fit in the file, so that a tiny file declaring a billion vertices fails at once
 // with a message naming it instead of making the reader allocate gigabytes.
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
 namespace skelgrasp {
+
+// Byte counts declared by a file header can overflow 64 bits; these saturate at kSaturatedBytes
+// instead, which is larger than any file, so a size check against it fails as it should.
+constexpr std::uint64_t kSaturatedBytes = std::numeric_limits<std::uint64_t>::max();
+inline std::uint64_t mulSaturating(std::uint64_t a, std::uint64_t b) {
+  std::uint64_t r = 0;
+  return __builtin_mul_overflow(a, b, &r) ? kSaturatedBytes : r;
+}
+inline std::uint64_t addSaturating(std::uint64_t a, std::uint64_t b) {
+  std::uint64_t r = 0;
+  return __builtin_add_overflow(a, b, &r) ? kSaturatedBytes : r;
+}
+// A byte count for a message ("more than 2^64" when saturated).
+inline std::string bytesText(std::uint64_t bytes) {
+  return bytes == kSaturatedBytes ? std::string("more than 2^64") : std::to_string(bytes);
+}
 
 // Smallest size of one number in a text format: one digit and one separator ("0 ").
 inline constexpr std::uint64_t kMinAsciiBytesPerValue = 2;
