@@ -34,6 +34,22 @@ double volume(const AxisAlignedBox& box) {
   return e.x() * e.y() * e.z();
 }
 
+// With unknown space occupied: the box whose unseen cells count as obstacles, the scan's box
+// grown to hold the target and clipped to the caller's region (the estimate and the map agree).
+AxisAlignedBox unknownRegion(const PointCloud& obstacles, const AxisAlignedBox& target_box,
+                             const SceneOccupancyParams& params) {
+  AxisAlignedBox region = obstacles.bounds();
+  if (!target_box.empty()) {
+    region.extend(target_box.min);
+    region.extend(target_box.max);
+  }
+  if (!params.region.empty()) {
+    region.min = region.min.cwiseMax(params.region.min);
+    region.max = region.max.cwiseMin(params.region.max);
+  }
+  return region;
+}
+
 }  // namespace
 
 double estimateSceneOccupancyBytes(const PointCloud& obstacles,
@@ -71,15 +87,7 @@ double estimateSceneOccupancyBytes(const PointCloud& obstacles,
   const double cell_volume = r * r * r;
   double cells = observed + std::min(ray_length / r, volume(reach) / cell_volume);
   if (every_ray && !obstacles.empty()) {
-    AxisAlignedBox region = obstacles.bounds();
-    if (!target_box.empty()) {
-      region.extend(target_box.min);
-      region.extend(target_box.max);
-    }
-    if (clipped) {
-      region.min = region.min.cwiseMax(params.region.min);
-      region.max = region.max.cwiseMin(params.region.max);
-    }
+    const AxisAlignedBox region = unknownRegion(obstacles, target_box, params);
     if (!region.empty()) cells += volume(region) / cell_volume;
   }
   log().debug("scene occupancy estimate: {} points, {} rays, {:.3g} cells", observed,
@@ -154,15 +162,7 @@ SceneOccupancy::SceneOccupancy(const PointCloud& obstacles, const Eigen::Vector3
   }
   if (params.unknown == UnknownSpace::kOccupied && !obstacles.empty()) {
     // Unseen cells of the scene's box become occupied, away from the target.
-    AxisAlignedBox region = obstacles.bounds();
-    if (!target_box.empty()) {
-      region.extend(target_box.min);
-      region.extend(target_box.max);
-    }
-    if (clipped) {
-      region.min = region.min.cwiseMax(params.region.min);
-      region.max = region.max.cwiseMin(params.region.max);
-    }
+    const AxisAlignedBox region = unknownRegion(obstacles, target_box, params);
     const double r = params.resolution_m;
     const Eigen::Vector3d lo =
         target_box.empty() ? Eigen::Vector3d::Constant(1e9)
