@@ -9,6 +9,7 @@ packages=(
   libopencv-dev libqhull-dev libtbb-dev libhdf5-dev liburdfdom-dev libassimp-dev
   nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev libgtest-dev libbenchmark-dev
   libcurl4-openssl-dev libglpk-dev
+  parallel
 )
 # `make fuzz` also needs clang with its libFuzzer runtime.
 if [[ "${1:-}" == "--fuzz" ]]; then
