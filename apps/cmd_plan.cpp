@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "cli.h"
+#include "export_options.h"
 #include "hand_options.h"
 #include "output_paths.h"
 #include "planner_options.h"
@@ -20,6 +21,7 @@ struct PlanArgs {
   HandOptions hand;
   PlannerOptions planner;
   SkeletonOptions skeleton;
+  ExportOptions exports;
 };
 
 int runPlan(const PlanArgs& args) {
@@ -47,6 +49,7 @@ int runPlan(const PlanArgs& args) {
   }
   writeJsonFile(outputs.stage(args.out), grasping::planToJson(result, hand, name));
   outputs.commit();
+  args.exports.write(args.out, hand);
   std::cout << grasping::planSummaryLine(result, hand.name(), name) << std::endl;
   return kExitOk;
 }
@@ -65,6 +68,7 @@ void registerPlanCommand(CLI::App& app, Action& action) {
   cmd->add_option("--render", args->render,
                   "Render object, skeleton and approach lines to this PNG");
   args->skeleton.addTo(*cmd, false);
+  args->exports.addTo(*cmd);
   cmd->callback([args, &action] { action = [args] { return runPlan(*args); }; });
 }
 

@@ -6,8 +6,8 @@
 
 #include "cli.h"
 #include "hand_options.h"
-#include "output_paths.h"
 #include "option_checks.h"
+#include "output_paths.h"
 #include "planner_options.h"
 #include "reconstruct_options.h"
 #include "run_command.h"
@@ -52,6 +52,7 @@ void RunOptions::addTo(CLI::App& cmd) {
       ->check(finiteIn(0, 1))
       ->capture_default_str();
   cmd.add_flag("--no-scene-check", no_scene_check, "Do not check grasps against the scene");
+  exports.addTo(cmd);
 }
 
 std::string nearestObjectOption(const Eigen::Vector3d& point) {
@@ -65,6 +66,7 @@ int runOnScan(const perception::Scan& scan, const std::string& name, const std::
   if (!result.reconstruction.status.ok())
     return fail(scan.source + ": " + result.reconstruction.status.message);
   grasping::writeRunOutputs(out_dir, result, hand, scan, name);
+  options.exports.write(out_dir + "/grasps.json", hand);
   for (const auto& s : result.stages)
     std::cout << fmt::format("  {:<22} {:7.3f} s\n", s.stage, s.seconds);
   const auto& summary = result.plan.summary;

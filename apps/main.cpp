@@ -43,6 +43,7 @@ int main(int argc, char** argv) {
   cli::registerReconstructCommand(app, action);
   cli::registerIngestCommand(app, action);
   cli::registerDatasetsCommand(app, action);
+  cli::registerExportCommand(app, action);
   cli::registerBenchReconstructCommand(app, action);
   cli::registerBenchRunCommand(app, action);
 

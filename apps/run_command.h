@@ -2,6 +2,7 @@
 // The `run` pipeline's options, shared by `run` and `demo`.
 #include <CLI/CLI.hpp>
 
+#include "export_options.h"
 #include "hand_options.h"
 #include "planner_options.h"
 #include "reconstruct_options.h"
@@ -18,6 +19,7 @@ struct RunOptions {
   double pregrasp_m = grasping::SceneCheckParams{}.pregrasp_distance_m;
   double observed_weight = 0.5;
   bool no_scene_check = false;
+  ExportOptions exports;
 
   void addTo(CLI::App& cmd);
   grasping::RunParams params() const;
