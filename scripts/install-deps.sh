@@ -8,13 +8,18 @@ packages=(
   libeigen3-dev libpcl-dev libcgal-dev libgmp-dev libmpfr-dev libfcl-dev liboctomap-dev
   libopencv-dev libqhull-dev libtbb-dev libhdf5-dev liburdfdom-dev libassimp-dev
   nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev libgtest-dev libbenchmark-dev
-  libcurl4-openssl-dev libglpk-dev libyaml-cpp-dev
-  parallel
+  libcurl4-openssl-dev libglpk-dev libyaml-cpp-dev libjs-three
 )
-# `make fuzz` also needs clang with its libFuzzer runtime.
-if [[ "${1:-}" == "--fuzz" ]]; then
-  packages+=(clang libclang-rt-14-dev llvm)
-fi
+for option in "$@"; do
+  case "$option" in
+    # `make test` also runs GNU parallel (sharded evaluation) and a headless browser (the
+    # report's 3D view).
+    --test) packages+=(parallel chromium) ;;
+    # `make fuzz` also needs clang with its libFuzzer runtime.
+    --fuzz) packages+=(clang libclang-rt-14-dev llvm) ;;
+    *) echo "install-deps: error: unknown option $option (known: --test, --fuzz)" >&2; exit 2 ;;
+  esac
+done
 
 missing=()
 for pkg in "${packages[@]}"; do

@@ -40,6 +40,10 @@ void HtmlReport::heading(const std::string& text, int level) {
   body_ += "<" + tag + ">" + escapeHtml(text) + "</" + tag + ">\n";
 }
 
+void HtmlReport::rawHtml(const std::string& html) {
+  body_ += html;
+}
+
 void HtmlReport::paragraph(const std::string& text) {
   body_ += "<p>" + escapeHtml(text) + "</p>\n";
 }

@@ -24,6 +24,26 @@ TriangleMesh shapeMesh(const CollisionShape& shape) {
 
 }  // namespace
 
+TriangleMesh linkMesh(const HandModel& hand, int link) {
+  TriangleMesh out;
+  for (const auto& shape : hand.links().at(static_cast<std::size_t>(link)).shapes) {
+    TriangleMesh part = shapeMesh(shape);
+    part.transform(shape.origin);
+    part.vertex_colors.clear();
+    if (out.vertices.empty()) {
+      out = part;
+    } else {
+      out.append(part);
+    }
+  }
+  return out;
+}
+
+Rgb linkColour(const HandModel& hand, int link) {
+  const int finger = hand.fingerOfLink(link);
+  return finger < 0 ? Rgb{150, 150, 160} : kFingerColours[finger % 5];
+}
+
 TriangleMesh handMesh(const HandModel& hand, const Pose& hand_pose, const Eigen::VectorXd& q) {
   TriangleMesh out;
   out.vertex_colors.clear();

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "run_scene_view.h"
 #include "skelgrasp/common/atomic_file.h"
 #include "skelgrasp/common/html_report.h"
 #include "skelgrasp/common/json.h"
@@ -153,6 +154,10 @@ void writeRunOutputs(const std::string& dir, const RunResult& r, const HandModel
   report.paragraph(r.status.ok()
                        ? fmt::format("{} ranked grasps on the target object.", r.ranked.size())
                        : "No grasp: " + r.status.message);
+  // The interactive view first: it is what a reader turns to; the PNGs below stay for text-only
+  // readers and tests.
+  report.heading("3D view");
+  report.rawHtml(runSceneView(r, hand, scan).html());
   report.heading("Stages");
   std::vector<std::vector<std::string>> rows;
   for (const auto& s : r.stages) rows.push_back({s.stage, fmt::format("{:.3f}", s.seconds)});

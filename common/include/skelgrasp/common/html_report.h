@@ -12,6 +12,8 @@ class HtmlReport {
 
   void heading(const std::string& text, int level = 2);
   void paragraph(const std::string& text);
+  // Markup inserted as it is (e.g. SceneView3d::html); the caller escapes any text in it.
+  void rawHtml(const std::string& html);
   // `file` relative to the page's directory.
   void image(const std::string& file, const std::string& caption, int width_px = 0);
   void table(const std::vector<std::string>& header,

@@ -12,6 +12,11 @@ namespace skelgrasp::grasping {
 // The hand's collision geometry at (hand_pose, q) as one mesh, coloured per finger (palm grey).
 TriangleMesh handMesh(const HandModel& hand, const Pose& hand_pose, const Eigen::VectorXd& q);
 
+// One link's collision geometry in the link's own frame (empty for a link without shapes), and the
+// colour handMesh gives it.
+TriangleMesh linkMesh(const HandModel& hand, int link);
+Rgb linkColour(const HandModel& hand, int link);
+
 // Draws contacts as points with short normal lines.
 void drawContacts(render::Canvas& canvas, const std::vector<Contact>& contacts,
                   double normal_length_m);
