@@ -5,6 +5,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <set>
 #include <sstream>
 #include <vector>
 
@@ -22,6 +23,10 @@ constexpr std::uint64_t kPcdCompressedPrefixBytes = 8;
 // LZF turns at most 264 repeated bytes into a 3-byte back reference (ratio 88); a header claiming
 // more than this expansion does not describe LZF data, however the bytes decompress.
 constexpr std::uint64_t kLzfMaxExpansion = 100;
+
+const std::set<std::string> kPcdHeaderKeywords = {
+    "VERSION", "FIELDS", "SIZE", "TYPE", "COUNT", "WIDTH", "HEIGHT", "VIEWPOINT", "POINTS"};
+const std::set<std::string> kPcdDataTypes = {"ascii", "binary", "binary_compressed"};
 
 std::uint32_t readUint32Le(const unsigned char* b) {
   return b[0] | (b[1] << 8) | (b[2] << 16) | (static_cast<std::uint32_t>(b[3]) << 24);
@@ -44,12 +49,30 @@ DeclaredCloud checkPcdDeclaredSize(const std::string& path) {
     if (!(tokens >> keyword) || keyword[0] == '#') continue;
     std::vector<std::string> values;
     for (std::string v; tokens >> v;) values.push_back(v);
+    // PCL parses a repeated header line again (a second FIELDS after SIZE and TYPE leaves fields
+    // without sizes) and then writes past its point buffer (found by fuzzing, seen with valgrind
+    // in PCL 1.13): every header line may appear once.
+    if (kPcdHeaderKeywords.count(keyword) && keys.count(keyword)) {
+      throw IoError(path, "PCD header: " + keyword + " appears twice");
+    }
     if (keyword == "DATA") {
-      if (values.empty()) return {};
+      if (values.size() != 1 || !kPcdDataTypes.count(values[0])) {
+        throw IoError(path, "PCD header: DATA must be ascii, binary or binary_compressed");
+      }
       data_type = values[0];
       data_offset = static_cast<std::uint64_t>(offset);
     } else {
       keys[keyword] = values;
+    }
+  }
+  // FIELDS, SIZE, TYPE and COUNT describe the same fields; PCL sizes its buffer from one and
+  // writes by another.
+  const std::size_t fields = keys["FIELDS"].size();
+  for (const char* keyword : {"SIZE", "TYPE", "COUNT"}) {
+    if (keys.count(keyword) && keys[keyword].size() != fields) {
+      throw IoError(path, std::string("PCD header: ") + keyword + " has " +
+                              std::to_string(keys[keyword].size()) + " entries for " +
+                              std::to_string(fields) + " FIELDS");
     }
   }
   // Headers this check cannot size are left to PCL, which rejects them before reading data.

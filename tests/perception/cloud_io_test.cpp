@@ -156,6 +156,18 @@ INSTANTIATE_TEST_SUITE_P(
         BadCloud{"negative_width", "negative.pcd",
                  kHeader + "WIDTH -1\nHEIGHT 1\nPOINTS 1\nDATA ascii\n0 0 0\n",
                  "WIDTH is negative"},
+        // PCL writes past its buffer on these (fuzz/regressions/cloud_reader/pcd-*).
+        BadCloud{
+            "repeated_fields", "twice.pcd",
+            kHeader + "WIDTH 2\nHEIGHT 1\nPOINTS 2\nFIELDS x y z w\nDATA ascii\n0 0 0\n1 1 1\n",
+            "PCD header: FIELDS appears twice"},
+        BadCloud{"unknown_data", "data.pcd",
+                 kHeader + "WIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA asci\n0 0 0\n1 1 1\n",
+                 "DATA must be ascii, binary or binary_compressed"},
+        BadCloud{"size_count", "sizes.pcd",
+                 "VERSION 0.7\nFIELDS x y z\nSIZE 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1\n"
+                 "HEIGHT 1\nPOINTS 1\nDATA ascii\n0 0 0\n",
+                 "SIZE has 2 entries for 3 FIELDS"},
         BadCloud{"ply_without_z", "flat.ply",
                  "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
                  "end_header\n0 0\n1 1\n",
