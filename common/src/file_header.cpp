@@ -5,12 +5,21 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <regex>
 #include <sstream>
 
 #include "skelgrasp/common/error.h"
 
 namespace skelgrasp {
 namespace {
+
+// At most a few characters of `text` for an error line, non-printable bytes as '?'.
+std::string printableText(const std::string& text) {
+  constexpr std::size_t kMaxShownChars = 16;
+  std::string out;
+  for (char c : text.substr(0, kMaxShownChars)) out += (c >= ' ' && c <= '~') ? c : '?';
+  return text.size() > kMaxShownChars ? out + "..." : out;
+}
 
 // A PLY header is a few hundred bytes; a file without "end_header" in its first MiB is not PLY,
 // and stopping there keeps a binary file without newlines from being read whole as one line.
@@ -217,9 +226,16 @@ void checkMeshFileHeader(const std::string& path, const std::string& ext) {
       }
       tokens.push_back(token);
     }
+    // The magic word is OFF with optional prefixes (ST, C, N, 4, n: texture, colour, normal,
+    // homogeneous, n-dimensional). Anything else is not OFF; CGAL's reader reads uninitialised
+    // memory on some such headers (found by make fuzz, seen with valgrind), so it never sees them.
+    static const std::regex kOffMagic("(ST)?C?N?4?n?OFF");
+    if (tokens.empty() || !std::regex_match(tokens[0], kOffMagic)) {
+      throw IoError(path, "OFF header: the file must start with OFF (or COFF, NOFF, ...), not '" +
+                              printableText(tokens.empty() ? std::string() : tokens[0]) + "'");
+    }
     // Variants skelgrasp does not size here (n-dimensional, binary) are left to the parser.
-    if (tokens.size() < 3 || tokens[0].find("OFF") == std::string::npos || tokens[0][0] == 'n' ||
-        tokens[1] == "BINARY") {
+    if (tokens.size() < 3 || tokens[0].find('n') != std::string::npos || tokens[1] == "BINARY") {
       return;
     }
     const std::uint64_t vertices = parseHeaderCount(path, "OFF header: vertex count", tokens[1]);

@@ -196,6 +196,9 @@ INSTANTIATE_TEST_SUITE_P(
                  "OFF header declares 1000000000 vertices"},
         BadInput{"off_negative_count", "negative_count.off", "OFF\n3 -1 0\n0 0 0\n1 0 0\n0 1 0\n",
                  "face count is negative (-1)"},
+        // CGAL's OFF reader reads uninitialised memory on such a magic word (fuzz/regressions).
+        BadInput{"off_bad_magic", "magic.off", std::string("OFF\xc4\x31\x30\x30\n0 0 0\n"),
+                 "OFF header: the file must start with OFF (or COFF, NOFF, ...), not 'OFF?100'"},
         BadInput{
             "stl_declares_more_than_file", "huge.stl",
             std::string(80, 'b') + std::string("\xff\xff\xff\x0f", 4) + std::string(100, '\x01'),
