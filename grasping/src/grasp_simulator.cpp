@@ -11,7 +11,25 @@ struct GraspSimulator::Impl {
   explicit Impl(const HandModel& hand) : geometry(hand) {}
   internal::HandGeometry geometry;
   std::vector<Pose> link_poses;  // object frame, after the last update
+  // The allowed link pairs depend only on the preshape's joints, not on the hand pose: the fast
+  // closing reuses them (robustness samples close the same preshape a hundred times).
+  std::vector<std::pair<Eigen::VectorXd, internal::AllowedPairs>> allowed_cache;
+  internal::AllowedPairs allowed_now;
 };
+
+const internal::AllowedPairs& GraspSimulator::allowedPairsAt(const Eigen::VectorXd& joints,
+                                                             ClosingMethod method) {
+  if (method == ClosingMethod::kStepwise) {
+    impl_->allowed_now = internal::allowedLinkPairs(hand_, impl_->geometry, queries_);
+    return impl_->allowed_now;
+  }
+  for (const auto& [key, pairs] : impl_->allowed_cache) {
+    if (key == joints) return pairs;
+  }
+  impl_->allowed_cache.emplace_back(joints,
+                                    internal::allowedLinkPairs(hand_, impl_->geometry, queries_));
+  return impl_->allowed_cache.back().second;
+}
 
 GraspSimulator::GraspSimulator(const HandModel& hand, const GraspObject& object)
     : hand_(hand), object_(object), impl_(std::make_unique<Impl>(hand)) {}
@@ -66,6 +84,7 @@ ClosingResult GraspSimulator::close(const Pose& hand_pose, const Preshape& presh
   settings.step_m = params.step_m > 0 ? params.step_m : defaults.step_m;
   settings.max_passes = params.max_passes;
   settings.max_iterations_per_pass = params.max_iterations_per_pass;
+  settings.method = params.method;
   const double palm_distance = params.palm_contact_distance_m >= 0
                                    ? params.palm_contact_distance_m
                                    : defaults.palm_contact_distance_m;
@@ -83,9 +102,9 @@ ClosingResult GraspSimulator::close(const Pose& hand_pose, const Preshape& presh
     return result;
   }
 
-  const internal::AllowedPairs allowed = internal::allowedLinkPairs(hand_, geometry, queries_);
-  const internal::AdvanceResult advance = internal::advanceFingers(
-      hand_, geometry, *object_.collisionData().object, hand_pose, allowed, q, settings, queries_);
+  const internal::AllowedPairs& allowed = allowedPairsAt(q, params.method);
+  const internal::AdvanceResult advance =
+      internal::advanceFingers(hand_, geometry, object_, hand_pose, allowed, q, settings, queries_);
   result.iterations = advance.iterations;
   result.passes = advance.passes;
   result.joints = advance.joints;

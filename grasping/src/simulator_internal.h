@@ -19,6 +19,23 @@ struct ShapeInstance {
   std::vector<Eigen::Vector3d> surface_samples;
 };
 
+// Upper bound of how far any point of a link moves when the joints change by a given amount along
+// a straight path in joint space: sum over the joints above the link of |change| times the
+// joint's lever (revolute: the largest distance of the link's geometry from the axis, through the
+// chain of joint origins for joints higher up; prismatic: 1). Built once per hand.
+class MotionBounds {
+ public:
+  explicit MotionBounds(const HandModel& hand);
+  double displacement(int link, const Eigen::VectorXd& joint_change) const;
+
+ private:
+  struct Lever {
+    int joint;
+    double radius;  // metres per radian (revolute) or 1 (prismatic)
+  };
+  std::vector<std::vector<Lever>> levers_;  // per link
+};
+
 // FCL objects of the hand's link shapes, built once per simulator and moved by placeLink.
 struct HandGeometry {
   explicit HandGeometry(const HandModel& hand);
@@ -26,6 +43,7 @@ struct HandGeometry {
   std::vector<int> finger_links;                   // links of fingers that take part in collisions
   std::vector<int> static_links;                   // links with geometry outside every finger
   std::vector<std::vector<int>> links_of_finger;
+  MotionBounds motion;
 };
 
 void placeLink(const Pose& link_pose, std::vector<ShapeInstance>& shapes);
@@ -53,6 +71,7 @@ AllowedPairs allowedLinkPairs(const HandModel& hand, const HandGeometry& geometr
                               std::size_t& queries);
 
 struct AdvanceSettings {
+  ClosingMethod method = ClosingMethod::kFast;
   double step_rad = 0.02;
   double step_m = 0.0005;
   int max_passes = 10;
@@ -67,9 +86,10 @@ struct AdvanceResult {
 };
 
 // Advances every finger drive step by step from `start` (already normalised, collision-free)
-// until each is blocked or at its limits. The finger links are placed at the result on return.
+// until each is blocked or at its limits; kFast jumps over the steps that provably stay clear. The
+// finger links are placed at the result on return.
 AdvanceResult advanceFingers(const HandModel& hand, HandGeometry& geometry,
-                             const fcl::CollisionObjectd& object, const Pose& hand_pose,
+                             const GraspObject& object, const Pose& hand_pose,
                              const AllowedPairs& allowed, const Eigen::VectorXd& start,
                              const AdvanceSettings& settings, std::size_t& queries);
 
