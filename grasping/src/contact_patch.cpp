@@ -1,5 +1,6 @@
 // The contact of one link with the object: the exact gap from FCL, the point at the centre of the
 // touching patch.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -62,6 +63,43 @@ double boundingRadius(const CollisionShape& shape) {
     }
   }
   return std::numeric_limits<double>::infinity();
+}
+
+std::vector<std::pair<Eigen::Vector3d, double>> sphereCover(const CollisionShape& shape) {
+  // Boxes and cylinders are cut along their longest extent into pieces about as long as they are
+  // wide, each covered by its bounding sphere.
+  const auto along = [](const Eigen::Vector3d& half, int axis) {
+    Eigen::Vector3d cross = half;
+    cross[axis] = 0;
+    const double length = 2 * half[axis], width = std::max(2 * cross.maxCoeff(), 1e-6);
+    const int pieces = std::clamp(static_cast<int>(std::ceil(length / width)), 1, 8);
+    std::vector<std::pair<Eigen::Vector3d, double>> cover;
+    Eigen::Vector3d piece_half = half;
+    piece_half[axis] = half[axis] / pieces;
+    for (int k = 0; k < pieces; ++k) {
+      Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+      centre[axis] = -half[axis] + (2 * k + 1) * piece_half[axis];
+      cover.emplace_back(centre, piece_half.norm());
+    }
+    return cover;
+  };
+  switch (shape.type) {
+    case ShapeType::kBox: {
+      const Eigen::Vector3d half = 0.5 * shape.box_size;
+      int axis = 0;
+      half.maxCoeff(&axis);
+      return along(half, axis);
+    }
+    case ShapeType::kCylinder: {
+      // The square around the disc holds the cylinder.
+      return along(Eigen::Vector3d(shape.radius, shape.radius, 0.5 * shape.length), 2);
+    }
+    case ShapeType::kSphere:
+      return {{Eigen::Vector3d::Zero(), shape.radius}};
+    case ShapeType::kMesh:
+      return {{Eigen::Vector3d::Zero(), boundingRadius(shape)}};
+  }
+  return {};
 }
 
 // Object points within this distance beyond the gap belong to the touching patch.

@@ -36,6 +36,7 @@ HandGeometry::HandGeometry(const HandModel& hand) : motion(hand) {
       instance.origin = shape.origin;
       instance.bounding_radius = boundingRadius(shape);
       instance.surface_samples = surfaceSamples(shape);
+      instance.sphere_cover = sphereCover(shape);
       shapes[l].push_back(std::move(instance));
     }
     if (shapes[l].empty()) continue;
@@ -110,6 +111,8 @@ namespace {
 
 // Kept between a link and an obstacle after a jump: covers the tolerance of FCL's distances.
 constexpr double kClearanceMarginM = 1e-5;
+// Longest pause (iterations) between jump attempts of a lockstep group that could not jump.
+constexpr int kMaxBackoffIterations = 16;
 
 enum class Blocker { kNone, kObject, kFinger, kPalm };
 
@@ -217,6 +220,7 @@ class FingerAdvance {
       const std::vector<int> group = lockstepGroups(drives);
       // Per group: iterations still provably clear of the object (no object tests needed).
       std::vector<int> object_budget(fingers.size(), 0);
+      std::vector<int> retry_in(fingers.size(), 0), backoff(fingers.size(), 1);
       int iterations = 0, most_steps = 0;
       bool any_active = true;
       while (any_active) {
@@ -229,11 +233,15 @@ class FingerAdvance {
           }
           if (members.empty()) continue;
           int moved = 0;
-          if (object_budget[g] <= 0) {
+          if (object_budget[g] <= 0 && --retry_in[g] <= 0) {
             double object_safe = 0;
             moved = jumpGroup(members, settings.max_iterations_per_pass, object_safe);
             // Blocked only by the hand itself: steps without object tests while provably clear.
             if (moved == 0) object_budget[g] = static_cast<int>(object_safe);
+            // Near contact the bounds rarely allow a jump: retry after growing pauses, so the
+            // crawl costs no more distance queries than steps.
+            backoff[g] = moved > 0 ? 1 : std::min(2 * backoff[g], kMaxBackoffIterations);
+            retry_in[g] = backoff[g];
           }
           if (moved == 0) {
             // Near an obstacle: one checked step per drive, exactly the stepwise iteration.
@@ -358,17 +366,17 @@ class FingerAdvance {
     const auto& surface = grasp_object_.surfaceQuery();
     double gap = std::numeric_limits<double>::infinity();
     fcl::DistanceRequestd request;
+    // Exact FCL distances to the object's BVH cost about a millisecond: the spheres covering the
+    // link give a bound from a few closest-point queries; too small a bound only means fewer
+    // steps at once.
     for (const auto& s : geometry_.shapes[link]) {
-      const double bound = surface.distance(s.object->getTranslation()) - s.bounding_radius;
-      if (bound >= needed) {
-        gap = std::min(gap, bound);
-        continue;
+      const Pose shape_pose(s.object->getTransform().matrix());
+      for (const auto& [centre, radius] : s.sphere_cover) {
+        gap = std::min(gap, surface.distance(shape_pose * centre) - radius);
+        if (gap < kClearanceMarginM) return gap;
       }
-      fcl::DistanceResultd distance;
-      ++queries_;
-      fcl::distance(&object_, s.object.get(), request, distance);
-      gap = std::min(gap, distance.min_distance);
     }
+    (void)needed;
     return gap;
   }
 

@@ -17,6 +17,9 @@ struct ShapeInstance {
   double bounding_radius = 0;  // about the shape's origin
   // Surface points in the shape's frame, for the contact patch (built once, see contact_patch.cpp).
   std::vector<Eigen::Vector3d> surface_samples;
+  // Spheres (centre in the shape's frame, radius) covering the shape: a cheap lower bound of its
+  // distance to the object's surface (fast closing).
+  std::vector<std::pair<Eigen::Vector3d, double>> sphere_cover;
 };
 
 // Upper bound of how far any point of a link moves when the joints change by a given amount along
@@ -100,6 +103,7 @@ std::optional<Contact> contactPatch(const HandModel& hand, const std::vector<Sha
                                     bool palm, double max_distance, std::size_t& queries);
 
 std::vector<Eigen::Vector3d> surfaceSamples(const CollisionShape& shape);
+std::vector<std::pair<Eigen::Vector3d, double>> sphereCover(const CollisionShape& shape);
 double boundingRadius(const CollisionShape& shape);
 
 }  // namespace skelgrasp::grasping::internal
