@@ -45,6 +45,7 @@ int main(int argc, char** argv) {
   cli::registerDatasetsCommand(app, action);
   cli::registerBenchReconstructCommand(app, action);
   cli::registerBenchRunCommand(app, action);
+  cli::registerBenchJudgeCommand(app, action);
 
   try {
     cli::checkDefaults(app);
