@@ -32,6 +32,8 @@ void registerExportCommand(CLI::App& app, Action& action);
 void registerBenchReconstructCommand(CLI::App& app, Action& action);
 // Adds `bench run`; call after registerBenchCommand.
 void registerBenchRunCommand(CLI::App& app, Action& action);
+// Adds `bench judge`; call after registerBenchCommand.
+void registerBenchJudgeCommand(CLI::App& app, Action& action);
 
 // Prints "skelgrasp: error: <message>" to stderr and returns kExitBadInput.
 int fail(const std::string& message);

@@ -8,9 +8,9 @@
 
 #include "cli.h"
 #include "mesh_list.h"
+#include "option_checks.h"
 #include "output_paths.h"
 #include "quality_options.h"
-#include "option_checks.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/evaluation/batch.h"
 
@@ -38,6 +38,7 @@ struct EvaluateArgs {
   std::uint64_t seed = 1;
   bool reference_compat = false;
   std::string fc_test = defaultForceClosureTest();
+  std::string closing = defaultClosingMethod();
   bool restart = false;
   bool retry_failed = false;
 };
@@ -102,6 +103,7 @@ int runEvaluate(const EvaluateArgs& a) {
   p.quality.friction = a.mu;
   p.quality.reference_compat = a.reference_compat;
   p.quality.fc_test = grasping::parseForceClosureTest(a.fc_test);
+  p.robustness.closing.method = grasping::parseClosingMethod(a.closing);
   p.load.units = parseLengthUnit(a.units);
   p.seed = a.seed;
   p.restart = a.restart;
@@ -156,6 +158,7 @@ void registerEvaluateCommands(CLI::App& app, Action& action) {
   cmd->add_flag("--reference-compat", a->reference_compat,
                 "Quality as the reference code (docs/hands.md)");
   addForceClosureTestOption(*cmd, a->fc_test);
+  addClosingMethodOption(*cmd, a->closing);
   cmd->add_option("--vertex-distance", a->vertex_distance_m,
                   "Skeleton planner vertex distance d (m, 0 = every vertex)")
       ->check(lengthOrZero())

@@ -7,9 +7,9 @@
 
 #include "cli.h"
 #include "hand_options.h"
+#include "option_checks.h"
 #include "output_paths.h"
 #include "quality_options.h"
-#include "option_checks.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
@@ -57,6 +57,7 @@ struct CloseArgs {
   bool json = false;
   bool reference_compat = false;
   std::string fc_test = defaultForceClosureTest();
+  std::string closing = defaultClosingMethod();
   HandOptions hand;
 };
 
@@ -75,7 +76,9 @@ int runClose(const CloseArgs& args) {
   const grasping::GraspObject object(loadMesh(args.mesh, load));
   grasping::GraspSimulator simulator(hand, object);
   const Pose hand_pose = simulator.handPoseForGcp(gcp, preshape);
-  const auto closing = simulator.close(hand_pose, preshape);
+  grasping::ClosingParams closing_params;
+  closing_params.method = grasping::parseClosingMethod(args.closing);
+  const auto closing = simulator.close(hand_pose, preshape, closing_params);
   grasping::QualityParams quality_params;
   quality_params.friction = args.mu;
   quality_params.reference_compat = args.reference_compat;
@@ -203,6 +206,7 @@ void registerHandCommands(CLI::App& app, Action& action) {
   close->add_flag("--reference-compat", c->reference_compat,
                   "Quality as the reference code (fact sheet §9)");
   addForceClosureTestOption(*close, c->fc_test);
+  addClosingMethodOption(*close, c->closing);
   close->add_flag("--json", c->json, "Print JSON");
   close->add_option("--render", c->render, "Render object and hand (preshape, closed) to this PNG");
   close->callback([c, &action] { action = [c] { return runClose(*c); }; });

@@ -46,6 +46,7 @@ int main(int argc, char** argv) {
   cli::registerExportCommand(app, action);
   cli::registerBenchReconstructCommand(app, action);
   cli::registerBenchRunCommand(app, action);
+  cli::registerBenchJudgeCommand(app, action);
 
   try {
     cli::checkDefaults(app);

@@ -23,6 +23,7 @@ struct PlannerOptions {
   double round_ratio = 0;
   bool reference_compat = false;
   std::string fc_test = defaultForceClosureTest();
+  std::string closing = defaultClosingMethod();
 
   // `choice`: also --planner and --hypotheses (commands that can run either planner).
   void addTo(CLI::App& cmd, bool choice = true) {
@@ -62,6 +63,7 @@ struct PlannerOptions {
     cmd.add_flag("--reference-compat", reference_compat,
                  "Quality as the reference code (docs/hands.md)");
     addForceClosureTestOption(cmd, fc_test);
+    addClosingMethodOption(cmd, closing);
   }
 
   grasping::HypothesisParams hypothesis() const {
@@ -69,6 +71,7 @@ struct PlannerOptions {
     h.quality.friction = mu;
     h.quality.reference_compat = reference_compat;
     h.quality.fc_test = grasping::parseForceClosureTest(fc_test);
+    h.closing.method = grasping::parseClosingMethod(closing);
     return h;
   }
 

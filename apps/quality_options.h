@@ -1,10 +1,11 @@
 #pragma once
-// --fc-test, shared by the commands that judge force closure (close, quality, plan, run,
-// evaluate, bench plan).
+// --fc-test and --closing, shared by the commands that judge grasps (close, quality, plan, run,
+// evaluate, bench plan; --closing not on quality, which closes nothing).
 #include <CLI/CLI.hpp>
 
 #include <string>
 
+#include "skelgrasp/grasping/grasp_simulator.h"
 #include "skelgrasp/grasping/quality.h"
 
 namespace skelgrasp::cli {
@@ -20,6 +21,20 @@ inline CLI::Option* addForceClosureTestOption(CLI::App& cmd, std::string& value)
       .add_option("--fc-test", value,
                   "Force-closure test: lp (linear program) or hull (6D convex hull, the old path)")
       ->check(CLI::IsMember({"hull", "lp"}))
+      ->capture_default_str();
+}
+
+inline std::string defaultClosingMethod() {
+  return grasping::toString(grasping::ClosingParams{}.method);
+}
+
+// `value` keeps "stepwise" or "fast" (grasping::parseClosingMethod turns it into the enum).
+inline CLI::Option* addClosingMethodOption(CLI::App& cmd, std::string& value) {
+  return cmd
+      .add_option("--closing", value,
+                  "Finger closing: fast (jumps over provably free steps) or stepwise (0.02 rad "
+                  "steps, the old path)")
+      ->check(CLI::IsMember({"stepwise", "fast"}))
       ->capture_default_str();
 }
 

@@ -119,6 +119,7 @@ class ObjectEvaluator {
     grasping::PlanResult result;
     grasping::HypothesisParams hypothesis;
     hypothesis.quality = p_.quality;
+    hypothesis.closing.method = p_.robustness.closing.method;  // --closing judges both
     if (planner == "skeleton") {
       grasping::SkeletonPlannerParams sp;
       sp.timeout_s = p_.timeout_s;

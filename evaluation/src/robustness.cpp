@@ -1,6 +1,10 @@
 #include "skelgrasp/evaluation/robustness.h"
 
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
 #include <cmath>
+#include <memory>
 #include <random>
 
 #include "skelgrasp/common/logging.h"
@@ -47,13 +51,23 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
   // Only the verdict counts: with the LP test (default) no hull is built at all.
   quality.compute_volume = false;
   quality.compute_epsilon = false;
-  // Paper: fresh samples per grasp; reference: one default-seeded sequence for every grasp.
-  std::mt19937_64 rng(paper ? params.seed * 0x9E3779B97F4A7C15ULL + grasp_index : params.seed);
-  std::normal_distribution<double> position(0.0, sigma_p), angle(0.0, sigma_r);
-
-  RobustnessResult result;
-  result.samples = params.samples;
-  for (int i = 0; i < params.samples; ++i) {
+  // Paper: fresh samples per grasp; reference: one default-seeded sequence for every grasp. Each
+  // sample draws from its own generator (base seed + sample index), so the samples, and the
+  // score, do not depend on how many threads run them.
+  const std::uint64_t base_seed =
+      paper ? params.seed * 0x9E3779B97F4A7C15ULL + grasp_index : params.seed;
+  enum Outcome : char { kFailed, kCollision, kForceClosure };
+  std::vector<char> outcomes(params.samples, kFailed);
+  // A simulator moves its hand's collision objects: one per thread, sharing hand and object.
+  tbb::enumerable_thread_specific<std::unique_ptr<grasping::GraspSimulator>> simulators([&] {
+    return std::make_unique<grasping::GraspSimulator>(simulator.hand(), simulator.object());
+  });
+  tbb::parallel_for(0, params.samples, [&](int i) {
+    std::seed_seq sample_seed{static_cast<std::uint32_t>(base_seed),
+                              static_cast<std::uint32_t>(base_seed >> 32),
+                              static_cast<std::uint32_t>(i)};
+    std::mt19937_64 rng(sample_seed);
+    std::normal_distribution<double> position(0.0, sigma_p), angle(0.0, sigma_r);
     const Eigen::Vector3d dp(position(rng), position(rng), position(rng));
     const double roll = angle(rng), pitch = angle(rng), yaw = angle(rng);
     Pose error = Pose::Identity();
@@ -66,15 +80,22 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
     // error is moving the hand by its inverse.
     const Pose about = Eigen::Translation3d(centre) * error * Eigen::Translation3d(-centre);
     const Pose hand_pose = paper ? about * grasp.hand_pose : about.inverse() * grasp.hand_pose;
-    if (simulator.inCollision(hand_pose, preshape.joints)) {
-      ++result.collisions;
-      continue;
+    auto& local = *simulators.local();
+    if (local.inCollision(hand_pose, preshape.joints)) {
+      outcomes[i] = kCollision;
+      return;
     }
-    const auto closed = simulator.close(hand_pose, preshape, closing);
-    if (!closed.status.ok()) continue;
-    if (grasping::evaluateGrasp(closed.contacts, simulator.object(), quality).force_closure) {
-      ++result.force_closure;
-    }
+    const auto closed = local.close(hand_pose, preshape, closing);
+    if (!closed.status.ok()) return;
+    if (grasping::evaluateGrasp(closed.contacts, local.object(), quality).force_closure)
+      outcomes[i] = kForceClosure;
+  });
+
+  RobustnessResult result;
+  result.samples = params.samples;
+  for (char outcome : outcomes) {
+    result.collisions += outcome == kCollision;
+    result.force_closure += outcome == kForceClosure;
   }
   result.score = static_cast<double>(result.force_closure) / result.samples;
   std::tie(result.wilson_low, result.wilson_high) =

@@ -59,12 +59,12 @@ TEST_P(CliBadInput, ExitsTwoWithOneErrorLineNamingTheFile) {
 
 INSTANTIATE_TEST_SUITE_P(
     Cases, CliBadInput,
-    ::testing::Values(BadMeshFile{"missing", "none.ply", "", "no such file"},
-                      BadMeshFile{"unknown_format", "mesh.abc", "x", "unknown mesh format"},
-                      BadMeshFile{"empty_mesh", "empty.off", "OFF\n0 0 0\n", "no vertices"},
-                      BadMeshFile{"nan", "nan.obj", "v 0 0 0\nv 0 nan 0\nv 1 0 0\nf 1 2 3\n",
-                                  "non-finite"},
-                      BadMeshFile{"garbage", "junk.ply", "ply\nformat nonsense\n", "unknown PLY format"}),
+    ::testing::Values(
+        BadMeshFile{"missing", "none.ply", "", "no such file"},
+        BadMeshFile{"unknown_format", "mesh.abc", "x", "unknown mesh format"},
+        BadMeshFile{"empty_mesh", "empty.off", "OFF\n0 0 0\n", "no vertices"},
+        BadMeshFile{"nan", "nan.obj", "v 0 0 0\nv 0 nan 0\nv 1 0 0\nf 1 2 3\n", "non-finite"},
+        BadMeshFile{"garbage", "junk.ply", "ply\nformat nonsense\n", "unknown PLY format"}),
     [](const auto& info) { return info.param.name; });
 
 TEST(Cli, HandsListsTheFourBuiltInHands) {
@@ -263,6 +263,31 @@ TEST(Cli, PlanWorksUnderAnAddressSpaceLimit) {
   const std::string err((std::istreambuf_iterator<char>(err_file)), {});
   ASSERT_EQ(WEXITSTATUS(status), 0) << err;
   EXPECT_GE(readJsonFile(dir + "/grasps.json")["grasps"].size(), 1u);
+}
+
+TEST(Cli, BenchJudgeWritesOldAndNewMediansPerHand) {
+  SKELGRASP_REQUIRE_SHARED_DATA();
+  const std::string dir = test::tempDir("bench_judge");
+  const auto run = test::runCli(
+      "bench judge --hands parallel_gripper --samples 3 --repeat 1 "
+      "--objects " +
+          test::sharedDataDir() + "/objects/ycb --json " + dir + "/judge.json",
+      dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto j = readJsonFile(dir + "/judge.json");
+  EXPECT_EQ(j["threads"], 1);
+  ASSERT_EQ(j["hands"].size(), 1u);
+  for (const char* path : {"old", "new"}) {
+    const auto& m = j["hands"]["parallel_gripper"][path];
+    for (const char* key : {"close_ms", "fc_ms", "epsilon_ms", "robustness_s"}) {
+      ASSERT_TRUE(m.contains(key)) << path << " " << key;
+      EXPECT_GT(m[key].get<double>(), 0.0) << path << " " << key;
+    }
+  }
+  const auto missing = test::runCli("bench judge --objects " + dir + "/nowhere", dir);
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_NE(missing.err.find("skelgrasp: error: " + dir + "/nowhere"), std::string::npos)
+      << missing.err;
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "skelgrasp/evaluation/robustness.h"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include "skelgrasp/common/primitives.h"
 #include "skelgrasp/grasping/planners.h"
@@ -122,6 +123,34 @@ TEST(Robustness, IsIdenticalForTheSameSeed) {
   EXPECT_EQ(ref.samples, 30);
   EXPECT_EQ(ref.force_closure,
             evaluateRobustness(sim, g, rp, 4).force_closure);  // same samples per grasp
+}
+
+TEST(Robustness, IsIdenticalAtOneAndTwoThreadsAndTheClosingsAgree) {
+  const auto hand = grasping::loadBuiltinHand("armar3");
+  const TriangleMesh mesh = primitives::makeCapsule(0.025, 0.12);
+  const grasping::GraspObject object(mesh);
+  grasping::SkeletonPlannerParams params;
+  params.max_grasps = 1;
+  const auto plan =
+      grasping::planSkeletonGrasps(hand, object, skeleton::extractSkeleton(mesh).skeleton, params);
+  ASSERT_FALSE(plan.grasps.empty());
+  grasping::GraspSimulator sim(hand, object);
+  RobustnessParams rp;
+  rp.samples = 40;
+  rp.seed = 5;
+  const auto run = [&](int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    return evaluateRobustness(sim, plan.grasps.front(), rp, 2);
+  };
+  const auto one = run(1), two = run(2);
+  EXPECT_EQ(one.force_closure, two.force_closure);
+  EXPECT_EQ(one.collisions, two.collisions);
+  EXPECT_EQ(one.score, two.score);
+  // The stepwise closing (the old path) gives r within the fast closing's Wilson interval.
+  rp.closing.method = grasping::ClosingMethod::kStepwise;
+  const auto stepwise = evaluateRobustness(sim, plan.grasps.front(), rp, 2);
+  EXPECT_GE(stepwise.score, one.wilson_low);
+  EXPECT_LE(stepwise.score, one.wilson_high);
 }
 
 }  // namespace

@@ -40,6 +40,8 @@ struct RobustnessResult {
 // Wilson score interval for k successes in n trials (z = 1.96).
 std::pair<double, double> wilsonInterval(int successes, int trials, double z = 1.959964);
 
+// The samples run in parallel (TBB, one simulator per thread built from `simulator`'s hand and
+// object); the result for a seed does not depend on the thread count.
 // The perturbations are applied about the centre of the grasp's contacts (their mean point),
 // rotation axes along the object frame. `grasp_index` decorrelates the paper variant's samples
 // between grasps while keeping them a function of (seed, grasp_index). Throws InvalidArgument for

@@ -11,6 +11,19 @@
 #include "skelgrasp/grasping/hand_model.h"
 
 namespace skelgrasp::grasping {
+namespace internal {
+class AllowedPairs;
+}
+
+// How the fingers advance (docs/hands.md, "Closing: fast or stepwise").
+enum class ClosingMethod {
+  kStepwise,  // one step per drive and iteration, a collision test per step (the reference's way)
+  kFast,      // the same steps, but the steps that provably stay clear of every obstacle (by the
+              // exact distance and the links' levers about the joint axes) are taken at once
+};
+const char* toString(ClosingMethod method);
+// "stepwise" or "fast"; throws InvalidArgument otherwise.
+ClosingMethod parseClosingMethod(const std::string& text);
 
 struct ClosingParams {
   double step_rad = 0;  // revolute step per iteration; 0: the hand's default (0.02 rad)
@@ -24,6 +37,9 @@ struct ClosingParams {
   // Re-runs from the reached configuration let fingers blocked by other fingers continue.
   int max_passes = 10;
   int max_iterations_per_pass = 5000;
+  // Stepwise stays the default while the fast closing is slower on the YCB meshes (docs/hands.md,
+  // "Closing: fast or stepwise": its distance bounds cost more than the steps they save).
+  ClosingMethod method = ClosingMethod::kStepwise;
 };
 
 struct ClosingResult {
@@ -71,6 +87,8 @@ class GraspSimulator {
 
  private:
   struct Impl;
+  // The shapes must be placed at `joints` (any hand pose).
+  const internal::AllowedPairs& allowedPairsAt(const Eigen::VectorXd& joints, ClosingMethod method);
   const HandModel& hand_;
   const GraspObject& object_;
   std::unique_ptr<Impl> impl_;

@@ -1,0 +1,174 @@
+// The contact of one link with the object: the exact gap from FCL, the point at the centre of the
+// touching patch.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "simulator_internal.h"
+
+namespace skelgrasp::grasping::internal {
+
+// Points on a shape's surface in its own frame: box corners, edge midpoints and face centres;
+// sphere and cylinder points on their axes and rims; up to 64 mesh vertices.
+std::vector<Eigen::Vector3d> surfaceSamples(const CollisionShape& shape) {
+  std::vector<Eigen::Vector3d> samples;
+  switch (shape.type) {
+    case ShapeType::kBox:
+      for (int x = -1; x <= 1; ++x) {
+        for (int y = -1; y <= 1; ++y) {
+          for (int z = -1; z <= 1; ++z) {
+            if (x || y || z)
+              samples.push_back(0.5 * shape.box_size.cwiseProduct(Eigen::Vector3d(x, y, z)));
+          }
+        }
+      }
+      break;
+    case ShapeType::kSphere:
+      for (int a = 0; a < 3; ++a) {
+        for (int sign : {-1, 1}) samples.push_back(sign * shape.radius * Eigen::Vector3d::Unit(a));
+      }
+      break;
+    case ShapeType::kCylinder:
+      for (double z : {-0.5, 0.0, 0.5}) {
+        if (z != 0.0) samples.emplace_back(0, 0, z * shape.length);
+        for (int k = 0; k < 8; ++k) {
+          const double a = k * 3.14159265358979 / 4;
+          samples.emplace_back(shape.radius * std::cos(a), shape.radius * std::sin(a),
+                               z * shape.length);
+        }
+      }
+      break;
+    case ShapeType::kMesh: {
+      const auto& v = shape.mesh->vertices;
+      const std::size_t stride = std::max<std::size_t>(1, v.size() / 64);
+      for (std::size_t i = 0; i < v.size(); i += stride) samples.push_back(v[i]);
+      break;
+    }
+  }
+  return samples;
+}
+
+double boundingRadius(const CollisionShape& shape) {
+  switch (shape.type) {
+    case ShapeType::kBox:
+      return 0.5 * shape.box_size.norm();
+    case ShapeType::kSphere:
+      return shape.radius;
+    case ShapeType::kCylinder:
+      return std::hypot(shape.radius, 0.5 * shape.length);
+    case ShapeType::kMesh: {
+      double r = 0;
+      for (const auto& v : shape.mesh->vertices) r = std::max(r, v.norm());
+      return r;
+    }
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
+std::vector<std::pair<Eigen::Vector3d, double>> sphereCover(const CollisionShape& shape) {
+  // Boxes and cylinders are cut along their longest extent into pieces about as long as they are
+  // wide, each covered by its bounding sphere.
+  const auto along = [](const Eigen::Vector3d& half, int axis) {
+    Eigen::Vector3d cross = half;
+    cross[axis] = 0;
+    const double length = 2 * half[axis], width = std::max(2 * cross.maxCoeff(), 1e-6);
+    const int pieces = std::clamp(static_cast<int>(std::ceil(length / width)), 1, 8);
+    std::vector<std::pair<Eigen::Vector3d, double>> cover;
+    Eigen::Vector3d piece_half = half;
+    piece_half[axis] = half[axis] / pieces;
+    for (int k = 0; k < pieces; ++k) {
+      Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+      centre[axis] = -half[axis] + (2 * k + 1) * piece_half[axis];
+      cover.emplace_back(centre, piece_half.norm());
+    }
+    return cover;
+  };
+  switch (shape.type) {
+    case ShapeType::kBox: {
+      const Eigen::Vector3d half = 0.5 * shape.box_size;
+      int axis = 0;
+      half.maxCoeff(&axis);
+      return along(half, axis);
+    }
+    case ShapeType::kCylinder: {
+      // The square around the disc holds the cylinder.
+      return along(Eigen::Vector3d(shape.radius, shape.radius, 0.5 * shape.length), 2);
+    }
+    case ShapeType::kSphere:
+      return {{Eigen::Vector3d::Zero(), shape.radius}};
+    case ShapeType::kMesh:
+      return {{Eigen::Vector3d::Zero(), boundingRadius(shape)}};
+  }
+  return {};
+}
+
+// Object points within this distance beyond the gap belong to the touching patch.
+constexpr double kPatchBandM = 0.001;
+
+std::optional<Contact> contactPatch(const HandModel& hand, const std::vector<ShapeInstance>& shapes,
+                                    int link, const Pose& link_pose, const GraspObject& object,
+                                    bool palm, double max_distance, std::size_t& queries) {
+  const auto& surface = object.surfaceQuery();
+  if (std::isfinite(max_distance)) {
+    // A link whose bounding spheres all stay farther than max_distance from the surface cannot
+    // be in contact: one closest-point query instead of an exact FCL distance, which dominated
+    // closing.
+    bool near = false;
+    for (const auto& s : shapes) {
+      const Eigen::Vector3d centre = link_pose * s.origin.translation();
+      near = near || surface.distance(centre) <= s.bounding_radius + max_distance;
+    }
+    if (!near) return std::nullopt;
+  }
+  // FCL gives the exact gap but an arbitrary point of a flat contact patch (a pad on a face), so
+  // the point is the centre of the patch: the object points closest to the link's surface samples
+  // that lie within kPatchBandM of the gap.
+  const auto& fcl_object = *object.collisionData().object;
+  fcl::DistanceRequestd request(true);
+  double best = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d object_point = Eigen::Vector3d::Zero(), link_point = Eigen::Vector3d::Zero();
+  for (const auto& s : shapes) {
+    fcl::DistanceResultd distance;
+    ++queries;
+    // The object goes first: FCL 0.7 reports mesh-shape pairs with the mesh as object 1 (b1,
+    // nearest_points[0]) whatever the argument order.
+    fcl::distance(&fcl_object, s.object.get(), request, distance);
+    if (distance.min_distance < best) {
+      best = distance.min_distance;
+      object_point = distance.nearest_points[0];
+      link_point = distance.nearest_points[1];
+    }
+  }
+  if (best > max_distance) return std::nullopt;
+  const double gap = std::max(0.0, best);
+  // FCL's point is only a fallback: on a flat patch it is any point, and it would bias the mean.
+  Eigen::Vector3d patch_sum = Eigen::Vector3d::Zero(), link_sum = Eigen::Vector3d::Zero();
+  int patch_count = 0;
+  for (const auto& s : shapes) {
+    const Pose shape_pose = link_pose * s.origin;
+    for (const auto& sample : s.surface_samples) {
+      const Eigen::Vector3d p = shape_pose * sample;
+      const Eigen::Vector3d closest = surface.closestPoint(p);
+      if ((p - closest).norm() <= gap + kPatchBandM) {
+        patch_sum += closest;
+        link_sum += p;
+        ++patch_count;
+      }
+    }
+  }
+  if (patch_count == 0) {
+    patch_sum = object_point;
+    link_sum = link_point;
+    patch_count = 1;
+  }
+  Contact contact;
+  const auto [point, face] = surface.closestPointAndFace(patch_sum / patch_count);
+  contact.point = point;
+  contact.normal = object.surfaceNormal(point, face, link_sum / patch_count - point);
+  contact.link = hand.links()[link].name;
+  contact.palm = palm;
+  contact.distance = gap;
+  return contact;
+}
+
+}  // namespace skelgrasp::grasping::internal

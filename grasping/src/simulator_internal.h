@@ -1,0 +1,109 @@
+#pragma once
+// Internal: the pieces of GraspSimulator::close — the hand's FCL geometry, the link pairs allowed
+// to intersect, the finger advance (stepwise or fast) and the contact patch of a link.
+#include <optional>
+#include <vector>
+
+#include "fcl_conversions.h"
+#include "skelgrasp/grasping/contact.h"
+#include "skelgrasp/grasping/grasp_simulator.h"
+
+namespace skelgrasp::grasping::internal {
+
+struct ShapeInstance {
+  std::shared_ptr<fcl::CollisionGeometryd> geometry;
+  std::unique_ptr<fcl::CollisionObjectd> object;
+  Pose origin;
+  double bounding_radius = 0;  // about the shape's origin
+  // Surface points in the shape's frame, for the contact patch (built once, see contact_patch.cpp).
+  std::vector<Eigen::Vector3d> surface_samples;
+  // Spheres (centre in the shape's frame, radius) covering the shape: a cheap lower bound of its
+  // distance to the object's surface (fast closing).
+  std::vector<std::pair<Eigen::Vector3d, double>> sphere_cover;
+};
+
+// Upper bound of how far any point of a link moves when the joints change by a given amount along
+// a straight path in joint space: sum over the joints above the link of |change| times the
+// joint's lever (revolute: the largest distance of the link's geometry from the axis, through the
+// chain of joint origins for joints higher up; prismatic: 1). Built once per hand.
+class MotionBounds {
+ public:
+  explicit MotionBounds(const HandModel& hand);
+  double displacement(int link, const Eigen::VectorXd& joint_change) const;
+
+ private:
+  struct Lever {
+    int joint;
+    double radius;  // metres per radian (revolute) or 1 (prismatic)
+  };
+  std::vector<std::vector<Lever>> levers_;  // per link
+};
+
+// FCL objects of the hand's link shapes, built once per simulator and moved by placeLink.
+struct HandGeometry {
+  explicit HandGeometry(const HandModel& hand);
+  std::vector<std::vector<ShapeInstance>> shapes;  // per link
+  std::vector<int> finger_links;                   // links of fingers that take part in collisions
+  std::vector<int> static_links;                   // links with geometry outside every finger
+  std::vector<std::vector<int>> links_of_finger;
+  MotionBounds motion;
+};
+
+void placeLink(const Pose& link_pose, std::vector<ShapeInstance>& shapes);
+bool linksCollide(const std::vector<ShapeInstance>& a, const std::vector<ShapeInstance>& b,
+                  std::size_t& queries);
+bool linkHitsObject(const std::vector<ShapeInstance>& link, const fcl::CollisionObjectd& object,
+                    std::size_t& queries);
+
+// Link pairs (finger-finger of different fingers, finger-static) that are not checked while
+// closing: those already intersecting in the preshape are attached by design (a finger mounted
+// in the palm box).
+class AllowedPairs {
+ public:
+  explicit AllowedPairs(std::size_t links = 0) : links_(links), flags_(links * links, 0) {}
+  bool allowed(int a, int b) const { return flags_[a * links_ + b] != 0; }
+  void allow(int a, int b) { flags_[a * links_ + b] = 1; }
+
+ private:
+  std::size_t links_;
+  std::vector<char> flags_;
+};
+
+// The hand's shapes must be placed at the preshape.
+AllowedPairs allowedLinkPairs(const HandModel& hand, const HandGeometry& geometry,
+                              std::size_t& queries);
+
+struct AdvanceSettings {
+  ClosingMethod method = ClosingMethod::kFast;
+  double step_rad = 0.02;
+  double step_m = 0.0005;
+  int max_passes = 10;
+  int max_iterations_per_pass = 5000;
+};
+
+struct AdvanceResult {
+  Eigen::VectorXd joints;
+  std::vector<char> touched;  // per link: blocked by the object at some point
+  int iterations = 0;
+  int passes = 0;
+};
+
+// Advances every finger drive step by step from `start` (already normalised, collision-free)
+// until each is blocked or at its limits; kFast jumps over the steps that provably stay clear. The
+// finger links are placed at the result on return.
+AdvanceResult advanceFingers(const HandModel& hand, HandGeometry& geometry,
+                             const GraspObject& object, const Pose& hand_pose,
+                             const AllowedPairs& allowed, const Eigen::VectorXd& start,
+                             const AdvanceSettings& settings, std::size_t& queries);
+
+// The contact of one link (placed at `link_pose`) with the object, or nullopt when the link is
+// farther than `max_distance` (infinity: always a contact).
+std::optional<Contact> contactPatch(const HandModel& hand, const std::vector<ShapeInstance>& shapes,
+                                    int link, const Pose& link_pose, const GraspObject& object,
+                                    bool palm, double max_distance, std::size_t& queries);
+
+std::vector<Eigen::Vector3d> surfaceSamples(const CollisionShape& shape);
+std::vector<std::pair<Eigen::Vector3d, double>> sphereCover(const CollisionShape& shape);
+double boundingRadius(const CollisionShape& shape);
+
+}  // namespace skelgrasp::grasping::internal

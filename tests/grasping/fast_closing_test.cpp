@@ -1,0 +1,195 @@
+// Fast closing (conservative advancement) against the stepwise closing it replaces: same reached
+// joints within one step, same contact links, same force-closure verdict on real grasps.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <random>
+
+#include "skelgrasp/common/logging.h"
+#include "skelgrasp/common/mesh_io.h"
+#include "skelgrasp/common/pose.h"
+#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/grasping/grasp_simulator.h"
+#include "skelgrasp/grasping/quality.h"
+#include "test_support.h"
+
+namespace skelgrasp::grasping {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+TEST(FastClosing, MethodNamesRoundTrip) {
+  EXPECT_EQ(parseClosingMethod("fast"), ClosingMethod::kFast);
+  EXPECT_EQ(parseClosingMethod("stepwise"), ClosingMethod::kStepwise);
+  EXPECT_STREQ(toString(ClosingParams{}.method), "stepwise");  // until fast is faster
+  EXPECT_THROW(parseClosingMethod("quick"), InvalidArgument);
+}
+
+std::vector<std::string> sortedLinks(const ClosingResult& r) {
+  std::vector<std::string> links;
+  for (const auto& c : r.contacts) links.push_back(c.link + (c.palm ? " (palm)" : ""));
+  std::sort(links.begin(), links.end());
+  return links;
+}
+
+struct Tally {
+  int poses = 0, agree = 0, joints_within_step = 0, same_links = 0, same_verdict = 0;
+  int closures = 0;
+  std::size_t stepwise_queries = 0, fast_queries = 0;
+};
+
+// Largest joint difference in units of the joint's step (0.02 rad or 0.5 mm).
+double differenceInSteps(const HandModel& hand, const Eigen::VectorXd& a,
+                         const Eigen::VectorXd& b) {
+  const auto& steps = hand.closingDefaults();
+  double worst = 0;
+  for (std::size_t j = 0; j < hand.joints().size(); ++j) {
+    const double step =
+        hand.joints()[j].type == JointType::kPrismatic ? steps.step_m : steps.step_rad;
+    worst = std::max(worst, std::abs(a[j] - b[j]) / step);
+  }
+  return worst;
+}
+
+// Poses sampled on the surface (as the surface planner): the preshape's approach against the
+// surface normal with a random roll, backed off until the open hand is free; each is closed both
+// ways and compared.
+void comparePoses(const HandModel& hand, const GraspObject& object, const std::string& object_name,
+                  std::uint64_t seed, int poses_per_preshape, Tally& tally) {
+  GraspSimulator stepwise_sim(hand, object), fast_sim(hand, object);
+  const auto& mesh = object.mesh();
+  std::mt19937_64 rng(seed);
+  std::uniform_int_distribution<std::size_t> pick_face(0, mesh.numFaces() - 1);
+  std::uniform_real_distribution<double> unit(0, 1);
+  QualityParams quality;
+  quality.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
+  quality.compute_epsilon = false;
+  quality.compute_volume = false;
+  ClosingParams stepwise, fast;
+  stepwise.method = ClosingMethod::kStepwise;
+  fast.method = ClosingMethod::kFast;
+  for (const auto& [name, preshape] : hand.preshapes()) {
+    int found = 0;
+    for (int attempt = 0; attempt < 4 * poses_per_preshape && found < poses_per_preshape;
+         ++attempt) {
+      const std::size_t face = pick_face(rng);
+      const Eigen::Vector3d normal = object.faceNormal(face);
+      const double roll = 2 * kPi * unit(rng);
+      if (normal.isZero()) continue;
+      const auto& t = mesh.faces[face];
+      const Eigen::Vector3d point =
+          (mesh.vertices[t[0]] + mesh.vertices[t[1]] + mesh.vertices[t[2]]) / 3;
+      const Eigen::Vector3d u = anyPerpendicular(normal), w = normal.cross(u);
+      Pose gcp = Pose::Identity();
+      gcp.linear() = frameFromZY(-normal, std::cos(roll) * u + std::sin(roll) * w);
+      Pose hand_pose = Pose::Identity();
+      bool free = false;
+      for (double retreat = 0; retreat < 0.15 && !free; retreat += 0.004) {
+        gcp.translation() = point + retreat * normal;
+        hand_pose = stepwise_sim.handPoseForGcp(gcp, preshape);
+        free = !stepwise_sim.inCollision(hand_pose, preshape.joints);
+      }
+      if (!free) continue;
+      ++found;
+      const std::size_t q0 = stepwise_sim.collisionQueries(), f0 = fast_sim.collisionQueries();
+      const auto a = stepwise_sim.close(hand_pose, preshape, stepwise);
+      const auto b = fast_sim.close(hand_pose, preshape, fast);
+      tally.stepwise_queries += stepwise_sim.collisionQueries() - q0;
+      tally.fast_queries += fast_sim.collisionQueries() - f0;
+      const bool fc_a = a.status.ok() && evaluateGrasp(a.contacts, object, quality).force_closure;
+      const bool fc_b = b.status.ok() && evaluateGrasp(b.contacts, object, quality).force_closure;
+      const double steps = differenceInSteps(hand, a.joints, b.joints);
+      const bool joints_ok = steps <= 1 + 1e-9;
+      const bool links_ok = sortedLinks(a) == sortedLinks(b);
+      const bool verdict_ok = fc_a == fc_b;
+      ++tally.poses;
+      tally.closures += fc_a;
+      tally.joints_within_step += joints_ok;
+      tally.same_links += links_ok;
+      tally.same_verdict += verdict_ok;
+      tally.agree += joints_ok && links_ok && verdict_ok;
+      if (!(joints_ok && links_ok && verdict_ok)) {
+        std::string la, lb;
+        for (const auto& l : sortedLinks(a)) la += l + " ";
+        for (const auto& l : sortedLinks(b)) lb += l + " ";
+        std::printf(
+            "disagreement: %s %s %s pose %d: max |dq| %.2f steps, contacts stepwise [%s] fast "
+            "[%s], force closure %d/%d\n",
+            hand.name().c_str(), name.c_str(), object_name.c_str(), found, steps, la.c_str(),
+            lb.c_str(), fc_a, fc_b);
+      }
+    }
+  }
+}
+
+TEST(FastClosing, AgreesWithStepwiseOnRealGraspsOfTheFourHands) {
+  SKELGRASP_REQUIRE_SHARED_DATA();
+  setLogLevel(spdlog::level::warn);
+  const std::vector<std::string> objects = {"006_mustard_bottle", "003_cracker_box", "011_banana",
+                                            "025_mug", "005_tomato_soup_can"};
+  std::vector<std::unique_ptr<GraspObject>> meshes;  // not movable
+  for (const auto& name : objects) {
+    const std::string path = test::sharedDataDir() + "/objects/ycb/" + name + ".ply";
+    if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not found";
+    meshes.push_back(std::make_unique<GraspObject>(loadMesh(path)));
+  }
+  constexpr int kPosesPerPreshape = 26;  // 4 hands x 5 objects x 2 preshapes x 26 = 1040
+  Tally total;
+  for (const auto& hand_name : builtinHandNames()) {
+    const HandModel hand = loadBuiltinHand(hand_name);
+    Tally tally;
+    for (std::size_t i = 0; i < meshes.size(); ++i)
+      comparePoses(hand, *meshes[i], objects[i], 100 + i, kPosesPerPreshape, tally);
+    std::printf(
+        "%s: %d poses, all three agree %d, joints within one step %d, same contact links %d, same "
+        "verdict %d, force closures %d; FCL queries stepwise %zu, fast %zu\n",
+        hand_name.c_str(), tally.poses, tally.agree, tally.joints_within_step, tally.same_links,
+        tally.same_verdict, tally.closures, tally.stepwise_queries, tally.fast_queries);
+    total.poses += tally.poses;
+    total.agree += tally.agree;
+    total.closures += tally.closures;
+  }
+  std::printf("total: %d poses, %d agree (%.2f %%), %d force closures\n", total.poses, total.agree,
+              100.0 * total.agree / std::max(1, total.poses), total.closures);
+  EXPECT_GE(total.poses, 1000);
+  EXPECT_GE(total.agree, 0.99 * total.poses);
+  EXPECT_GT(total.closures, 50);
+}
+
+TEST(FastClosing, StaysStepwiseNearObstaclesOnGeneratedShapes) {
+  // A closing on nothing (fingers meet each other and the palm) and on a cylinder: the same
+  // configuration as the stepwise closing.
+  const GraspObject cylinder(primitives::makeCylinder(0.03, 0.2, 48, 10));
+  for (const std::string name : {"armar3", "sdh", "shadow", "parallel_gripper"}) {
+    const HandModel hand = loadBuiltinHand(name);
+    GraspSimulator sim(hand, cylinder);
+    ClosingParams stepwise, fast;
+    stepwise.method = ClosingMethod::kStepwise;
+    fast.method = ClosingMethod::kFast;
+    for (const auto& [preshape_name, preshape] : hand.preshapes()) {
+      for (double x : {0.5, 0.0}) {
+        Pose placed = Pose::Identity();
+        for (double d = x; d < x + 0.15; d += 0.001) {
+          Pose gcp = Pose::Identity();
+          gcp.linear() = frameFromZY({-1, 0, 0}, {0, 0, 1});
+          gcp.translation() = Eigen::Vector3d(d, 0, 0);
+          placed = sim.handPoseForGcp(gcp, preshape);
+          if (!sim.inCollision(placed, preshape.joints)) break;
+        }
+        const auto a = sim.close(placed, preshape, stepwise);
+        const auto b = sim.close(placed, preshape, fast);
+        EXPECT_LE(differenceInSteps(hand, a.joints, b.joints), 1 + 1e-9)
+            << name << " " << preshape_name << " x " << x;
+        EXPECT_EQ(sortedLinks(a), sortedLinks(b)) << name << " " << preshape_name << " x " << x;
+        // The fast closing never ends in a collision.
+        EXPECT_FALSE(sim.inCollision(placed, b.joints)) << name << " " << preshape_name;
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace skelgrasp::grasping
