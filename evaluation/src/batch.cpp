@@ -153,7 +153,8 @@ class ObjectEvaluator {
     grasping::GraspSimulator simulator(hand, object);
     RobustnessParams rp = p_.robustness;
     rp.quality = p_.quality;
-    rp.quality.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
+    if (!rp.quality.torsional_friction_m)
+      rp.quality.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
     rp.seed = seed;
     std::map<std::size_t, RobustnessResult> robustness;
     double robustness_s = 0, robustness_sum = 0;
@@ -238,7 +239,8 @@ void checkBatchParams(const BatchParams& p) {
   nonNegative(p.timeout_s, "timeout");
   nonNegative(p.vertex_distance_m, "vertex distance");
   nonNegative(p.quality.friction, "friction coefficient mu");
-  nonNegative(p.quality.torsional_friction_m, "torsional friction");
+  if (p.quality.torsional_friction_m)
+    nonNegative(*p.quality.torsional_friction_m, "torsional friction");
   if (p.quality.cone_edges < 3) throw InvalidArgument("friction cones need at least 3 edges");
   if (p.robustness.samples < 1) throw InvalidArgument("robustness needs at least one sample");
 }
