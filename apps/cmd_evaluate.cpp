@@ -20,22 +20,29 @@ namespace {
 // Perturbed poses per grasp: the estimate's standard error is already below 0.1 % at a million.
 constexpr std::uint64_t kMaxRobustnessSamples = 1'000'000;
 
+std::string join(const std::vector<std::string>& items, char sep) {
+  std::string text;
+  for (const auto& item : items) text += (text.empty() ? "" : std::string(1, sep)) + item;
+  return text;
+}
+
+// Defaults are BatchParams' (never a typed copy of a number).
 struct EvaluateArgs {
   std::vector<std::string> objects;
-  std::string hands = "armar3,sdh,shadow";
-  std::string planners = "skeleton,surface";
-  std::string out = "evaluation";
+  std::string hands = join(evaluation::BatchParams{}.hands, ',');
+  std::string planners = join(evaluation::BatchParams{}.planners, ',');
+  std::string out = evaluation::BatchParams{}.out_dir;
   std::string shard = "0/1";
-  std::string variant = "paper";
+  std::string variant = evaluation::toString(evaluation::RobustnessParams{}.variant);
   std::string units = "auto";
-  int samples = 100;
-  std::size_t robustness_grasps = 20;
-  int jobs = 1;
-  double timeout_s = 30;
-  double mu = 0.35;
-  double vertex_distance_m = 0;
-  std::size_t limit = 0;
-  std::uint64_t seed = 1;
+  int samples = evaluation::RobustnessParams{}.samples;
+  std::size_t robustness_grasps = evaluation::BatchParams{}.robustness_grasps;
+  int jobs = evaluation::BatchParams{}.jobs;
+  double timeout_s = evaluation::BatchParams{}.timeout_s;
+  double mu = grasping::QualityParams{}.friction;
+  double vertex_distance_m = evaluation::BatchParams{}.vertex_distance_m;
+  std::size_t limit = evaluation::BatchParams{}.object_limit;
+  std::uint64_t seed = evaluation::BatchParams{}.seed;
   bool reference_compat = false;
   std::string fc_test = defaultForceClosureTest();
   std::string closing = defaultClosingMethod();

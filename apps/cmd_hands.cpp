@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <iostream>
+#include <optional>
 
 #include "cli.h"
 #include "hand_options.h"
@@ -53,7 +54,7 @@ struct CloseArgs {
   std::string pose;
   std::string units = "auto";
   std::string render;
-  double mu = 0.35;
+  double mu = grasping::QualityParams{}.friction;
   bool json = false;
   bool reference_compat = false;
   std::string fc_test = defaultForceClosureTest();
@@ -139,9 +140,9 @@ int runClose(const CloseArgs& args) {
 
 struct QualityArgs {
   std::string path;
-  double mu = 0.35;
-  int edges = 8;
-  double torsion_m = 0;
+  double mu = grasping::QualityParams{}.friction;
+  int edges = grasping::QualityParams{}.cone_edges;
+  std::optional<double> torsion_m;  // unset: point contacts (contact sets carry no hand)
   bool json = false;
   bool reference_compat = false;
   std::string fc_test = defaultForceClosureTest();
@@ -226,9 +227,9 @@ void registerHandCommands(CLI::App& app, Action& action) {
       ->capture_default_str();
   quality
       ->add_option("--torsional-friction", q->torsion_m,
-                   "Soft-finger contacts: torsional friction length in metres (0 = point contacts)")
-      ->check(lengthOrZero())
-      ->capture_default_str();
+                   "Soft-finger contacts: torsional friction length in metres (default: point "
+                   "contacts)")
+      ->check(lengthOrZero());
   quality->add_flag("--reference-compat", q->reference_compat,
                     "Reproduce the reference code's quirks");
   addForceClosureTestOption(*quality, q->fc_test);

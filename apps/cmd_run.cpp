@@ -19,8 +19,6 @@ grasping::RunParams RunOptions::params() const {
   grasping::RunParams p;
   p.reconstruction = reconstruction.params();
   p.planner = planner.skeletonParams();
-  p.planner.timeout_s = planner.timeout_s;
-  p.planner.max_grasps = planner.max_grasps;
   p.scene_check = !no_scene_check;
   p.occupancy.resolution_m = octree_resolution_m;
   p.occupancy.unknown =
@@ -32,8 +30,9 @@ grasping::RunParams RunOptions::params() const {
 
 void RunOptions::addTo(CLI::App& cmd) {
   hand.addTo(cmd);
-  planner.timeout_s = 10;
-  planner.max_grasps = 20;
+  // run's own planning limits (RunParams), not plan's.
+  planner.timeout_s = grasping::RunParams{}.planner.timeout_s;
+  planner.max_grasps = grasping::RunParams{}.planner.max_grasps;
   planner.addTo(cmd, false);
   reconstruction.addInputOptions(cmd);
   reconstruction.addIngestOptions(cmd);

@@ -4,23 +4,32 @@
 
 #include "option_checks.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <optional>
 
 #include "quality_options.h"
 #include "skelgrasp/grasping/planners.h"
 
 namespace skelgrasp::cli {
 
+// Planning time limit of the commands (the library's default is none: on the command line a
+// forgotten limit would let a planner run for minutes on a large mesh).
+constexpr double kDefaultPlanningTimeoutS = 30;
+
+// Defaults are the library's Params (never a typed copy of a number), except the time limit.
 struct PlannerOptions {
   std::string planner = "skeleton";
-  double timeout_s = 30;
-  std::size_t max_grasps = 0;
-  std::size_t surface_hypotheses = 0;  // 0: as many as the timeout allows (or 500 without one)
-  std::uint64_t seed = 1;
-  double min_epsilon = 0;
-  double mu = 0.35;
-  double vertex_distance_m = 0;
-  double round_ratio = 0;
+  double timeout_s = kDefaultPlanningTimeoutS;
+  std::size_t max_grasps = grasping::SkeletonPlannerParams{}.max_grasps;
+  // 0: as many as the timeout allows (or SurfacePlannerParams' count without one).
+  std::size_t surface_hypotheses = 0;
+  std::uint64_t seed = grasping::SkeletonPlannerParams{}.seed;
+  double min_epsilon = grasping::HypothesisParams{}.min_epsilon;
+  double mu = grasping::QualityParams{}.friction;
+  double vertex_distance_m = grasping::SkeletonPlannerParams{}.vertex_distance_m;
+  std::optional<double> round_ratio;  // unset: the hand's
   bool reference_compat = false;
   std::string fc_test = defaultForceClosureTest();
   std::string closing = defaultClosingMethod();
@@ -31,9 +40,10 @@ struct PlannerOptions {
       cmd.add_option("--planner", planner, "skeleton or surface")
           ->check(CLI::IsMember({"skeleton", "surface"}))
           ->capture_default_str();
-      cmd.add_option(
-             "--hypotheses", surface_hypotheses,
-             "Surface planner: number of hypotheses (0 = until the timeout, 500 without one)")
+      cmd.add_option("--hypotheses", surface_hypotheses,
+                     fmt::format("Surface planner: number of hypotheses (0 = until the timeout, {} "
+                                 "without one)",
+                                 grasping::SurfacePlannerParams{}.max_hypotheses))
           ->transform(countIn(0, kMaxCount))
           ->capture_default_str();
     }
@@ -56,10 +66,12 @@ struct PlannerOptions {
                    "Skeleton vertex distance d in metres (0 = every vertex)")
         ->check(lengthOrZero())
         ->capture_default_str();
+    // No shown default: unset means the hand's own ratio.
     cmd.add_option("--round-ratio", round_ratio,
-                   "lambda1/lambda2 below this is round (0 = the hand's, 1.2)")
-        ->check(finiteIn(0, kMaxRatio))
-        ->capture_default_str();
+                   fmt::format("lambda1/lambda2 below this is round (default: the hand's; {} for "
+                               "the built-in hands)",
+                               grasping::PlannerThresholds{}.round_ratio))
+        ->check(finiteIn(0, kMaxRatio));
     cmd.add_flag("--reference-compat", reference_compat,
                  "Quality as the reference code (docs/hands.md)");
     addForceClosureTestOption(cmd, fc_test);
@@ -68,6 +80,7 @@ struct PlannerOptions {
 
   grasping::HypothesisParams hypothesis() const {
     grasping::HypothesisParams h;
+    h.min_epsilon = min_epsilon;
     h.quality.friction = mu;
     h.quality.reference_compat = reference_compat;
     h.quality.fc_test = grasping::parseForceClosureTest(fc_test);
@@ -80,7 +93,6 @@ struct PlannerOptions {
     p.timeout_s = timeout_s;
     p.max_grasps = max_grasps;
     p.seed = seed;
-    p.min_epsilon = min_epsilon;
     p.vertex_distance_m = vertex_distance_m;
     p.round_ratio = round_ratio;
     p.hypothesis = hypothesis();
@@ -90,10 +102,9 @@ struct PlannerOptions {
   grasping::SurfacePlannerParams surfaceParams() const {
     grasping::SurfacePlannerParams p;
     p.timeout_s = timeout_s;
-    p.max_hypotheses = surface_hypotheses > 0 ? surface_hypotheses : (timeout_s > 0 ? 0 : 500);
+    if (surface_hypotheses > 0 || timeout_s > 0) p.max_hypotheses = surface_hypotheses;
     p.max_grasps = max_grasps;
     p.seed = seed;
-    p.min_epsilon = min_epsilon;
     p.hypothesis = hypothesis();
     return p;
   }

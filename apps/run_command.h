@@ -17,7 +17,7 @@ struct RunOptions {
   double octree_resolution_m = grasping::SceneOccupancyParams{}.resolution_m;
   std::string unknown = "free";
   double pregrasp_m = grasping::SceneCheckParams{}.pregrasp_distance_m;
-  double observed_weight = 0.5;
+  double observed_weight = grasping::RunParams{}.observed_weight;
   bool no_scene_check = false;
   ExportOptions exports;
 

@@ -2,6 +2,10 @@
 // Helpers shared by the test suites.
 #include <gtest/gtest.h>
 
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -29,12 +33,62 @@ inline std::vector<std::string> sharedFiles(const std::string& subdir,
   return files;
 }
 
-// A fresh temporary directory for one test.
+namespace detail {
+
+// Removes the directories tempDir made during a test when the test ends (kept when the
+// environment variable SKELGRASP_KEEP_TEST_DIRS is set, to look at a failure).
+class TempDirCleaner : public ::testing::EmptyTestEventListener {
+ public:
+  static std::vector<std::string>& made() {
+    static std::vector<std::string> dirs;
+    return dirs;
+  }
+  void OnTestEnd(const ::testing::TestInfo&) override {
+    if (std::getenv("SKELGRASP_KEEP_TEST_DIRS") == nullptr) {
+      for (const auto& dir : made()) {
+        std::error_code ignored;
+        std::filesystem::remove_all(dir, ignored);
+      }
+    }
+    made().clear();
+  }
+};
+
+// Registered once per test program, before main (gtest owns the listener).
+inline const bool kTempDirCleanerRegistered = [] {
+  ::testing::UnitTest::GetInstance()->listeners().Append(new TempDirCleaner);
+  return true;
+}();
+
+// Characters of a test name that are safe in a file name.
+inline std::string fileNameSafe(std::string text) {
+  for (char& c : text) {
+    const bool keep = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                      c == '_' || c == '-' || c == '.';
+    if (!keep) c = '_';
+  }
+  return text;
+}
+
+}  // namespace detail
+
+// A fresh, empty temporary directory of its own for the running test: its name holds the test's
+// name, `name`, the process id and a unique suffix (mkdtemp), so parameterised tests and tests run
+// in parallel by `ctest -j` never share one. Removed when the test ends.
 inline std::string tempDir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("skelgrasp_test_" + name);
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir.string();
+  std::string test = "no_test";
+  if (const auto* info = ::testing::UnitTest::GetInstance()->current_test_info())
+    test = std::string(info->test_suite_name()) + "." + info->name();
+  const auto pattern = std::filesystem::temp_directory_path() /
+                       detail::fileNameSafe("skelgrasp_test_" + test + "_" + name + "_" +
+                                            std::to_string(::getpid()) + "_XXXXXX");
+  std::string buffer = pattern.string();
+  if (::mkdtemp(buffer.data()) == nullptr) {
+    ADD_FAILURE() << "cannot create a temporary directory " << buffer;
+    return buffer;
+  }
+  detail::TempDirCleaner::made().push_back(buffer);
+  return buffer;
 }
 
 }  // namespace skelgrasp::test

@@ -91,13 +91,21 @@ class ObjectEvaluator {
         skel.reset();
       }
     }
+    // The skeleton planner runs first whatever the order of `planners`: its pose count is the
+    // surface planner's budget, which must not depend on that order.
+    std::vector<std::string> planners = p_.planners;
+    std::stable_partition(planners.begin(), planners.end(),
+                          [](const std::string& planner) { return planner == "skeleton"; });
     for (const auto& hand : hands_) {
-      std::size_t skeleton_poses = 0;
-      for (const auto& planner : p_.planners) {
+      // As many surface hypotheses as the skeleton planner's poses on this object and hand (the
+      // paper's comparison), else surface_hypotheses.
+      std::size_t surface_budget = p_.surface_hypotheses;
+      for (const auto& planner : planners) {
         if (planner == "skeleton" && !skel) continue;  // recorded as failed above
         try {
-          skeleton_poses = plan(id, hand, planner, skeleton_poses, *object,
-                                planner == "skeleton" ? &*skel : nullptr, out);
+          const std::size_t poses = plan(id, hand, planner, surface_budget, *object,
+                                         planner == "skeleton" ? &*skel : nullptr, out);
+          if (planner == "skeleton" && poses > 0) surface_budget = poses;
         } catch (...) {
           const std::string error = objectError(id, std::current_exception());
           log().warn("evaluate: {} ({}, {})", error, hand.name(), planner);
@@ -109,10 +117,10 @@ class ObjectEvaluator {
   }
 
  private:
-  // One planner run and its records; returns the skeleton planner's pose count (the surface
-  // planner's budget), else `skeleton_poses` unchanged.
+  // One planner run and its records; returns the run's pose count. `surface_budget`: the surface
+  // planner's number of hypotheses.
   std::size_t plan(const ObjectIdentity& id, const grasping::HandModel& hand,
-                   const std::string& planner, std::size_t skeleton_poses,
+                   const std::string& planner, std::size_t surface_budget,
                    const grasping::GraspObject& object, const skeleton::SkeletonResult* skel,
                    ObjectOutcome& out) const {
     const std::uint64_t seed = internal::fnv1a(id.id + "|" + hand.name() + "|" + planner, p_.seed);
@@ -127,17 +135,16 @@ class ObjectEvaluator {
       sp.vertex_distance_m = p_.vertex_distance_m;
       sp.hypothesis = hypothesis;
       result = grasping::planSkeletonGrasps(hand, object, skel->skeleton, sp);
-      skeleton_poses = result.summary.poses;
     } else {
       grasping::SurfacePlannerParams fp;
       fp.timeout_s = p_.timeout_s;
       fp.seed = seed;
-      fp.max_hypotheses = skeleton_poses > 0 ? skeleton_poses : p_.surface_hypotheses;
+      fp.max_hypotheses = surface_budget;
       fp.hypothesis = hypothesis;
       result = grasping::planSurfaceGrasps(hand, object, fp);
     }
     record(id, hand, planner, seed, object, result, skel, out);
-    return skeleton_poses;
+    return result.summary.poses;
   }
 
   void record(const ObjectIdentity& id, const grasping::HandModel& hand, const std::string& planner,
@@ -154,7 +161,8 @@ class ObjectEvaluator {
     grasping::GraspSimulator simulator(hand, object);
     RobustnessParams rp = p_.robustness;
     rp.quality = p_.quality;
-    rp.quality.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
+    if (!rp.quality.torsional_friction_m)
+      rp.quality.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
     rp.seed = seed;
     std::map<std::size_t, RobustnessResult> robustness;
     double robustness_s = 0, robustness_sum = 0;
@@ -239,7 +247,8 @@ void checkBatchParams(const BatchParams& p) {
   nonNegative(p.timeout_s, "timeout");
   nonNegative(p.vertex_distance_m, "vertex distance");
   nonNegative(p.quality.friction, "friction coefficient mu");
-  nonNegative(p.quality.torsional_friction_m, "torsional friction");
+  if (p.quality.torsional_friction_m)
+    nonNegative(*p.quality.torsional_friction_m, "torsional friction");
   if (p.quality.cone_edges < 3) throw InvalidArgument("friction cones need at least 3 edges");
   if (p.robustness.samples < 1) throw InvalidArgument("robustness needs at least one sample");
 }

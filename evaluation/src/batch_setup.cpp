@@ -93,7 +93,8 @@ nlohmann::json resultOptions(const BatchParams& p) {
       {"reference_compat", q.reference_compat},
       {"quality",
        {{"cone_edges", q.cone_edges},
-        {"torsional_friction_m", q.torsional_friction_m},
+        // The hand's model (nullopt) is recorded as 0, as before the option became optional.
+        {"torsional_friction_m", q.torsional_friction_m.value_or(0.0)},
         {"compute_volume", q.compute_volume}}},
       {"robustness_grasps", p.robustness_grasps},
       {"robustness",

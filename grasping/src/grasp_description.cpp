@@ -138,12 +138,12 @@ void applyGraspDescription(HandModel& hand, const std::string& description_json,
 
     PlannerThresholds thresholds;
     const json& t = d.at("thresholds");
-    thresholds.round_ratio = reader.positive(t, "round_ratio", 1.2);
+    thresholds.round_ratio = reader.positive(t, "round_ratio", thresholds.round_ratio);
     if (!t.at("precision").is_null())
       thresholds.precision = reader.thresholds(t.at("precision"), "precision thresholds");
     if (!t.at("power").is_null())
       thresholds.power = reader.thresholds(t.at("power"), "power thresholds");
-    thresholds.power_retreat_m = t.value("power_retreat_m", 0.015);
+    thresholds.power_retreat_m = t.value("power_retreat_m", thresholds.power_retreat_m);
 
     const json& intervals = d.at("intervals");
     const double precision_m = reader.positive(intervals, "precision_m", 0.047);
@@ -155,7 +155,7 @@ void applyGraspDescription(HandModel& hand, const std::string& description_json,
     closing.step_m = reader.positive(c, "step_m", closing.step_m);
     closing.palm_contact_distance_m =
         reader.positive(c, "palm_contact_distance_m", closing.palm_contact_distance_m);
-    closing.torsional_friction_m = c.value("torsional_friction_m", 0.0);
+    closing.torsional_friction_m = c.value("torsional_friction_m", closing.torsional_friction_m);
     if (!(closing.torsional_friction_m >= 0)) reader.fail("'torsional_friction_m' must be >= 0");
 
     hand.setDescription(std::move(fingers), std::move(palm), std::move(preshapes), thresholds,

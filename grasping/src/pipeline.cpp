@@ -6,13 +6,6 @@
 
 namespace skelgrasp::grasping {
 
-RunParams::RunParams() {
-  // Reconstructions are closed single-part manifolds already: no second wrap (0.5 s saved).
-  skeleton.regularisation.method = reconstruction::RegularisationMethod::kNone;
-  planner.timeout_s = 10;
-  planner.max_grasps = 20;
-}
-
 namespace {
 
 // Share of the contacts lying on observed surface: a contact counts when at least two vertices of
@@ -71,10 +64,11 @@ RunResult runPipeline(const perception::Scan& scan, const HandModel& hand,
   out.skeleton = skeleton::extractSkeleton(out.mesh, params.skeleton);
   if (out.skeleton->status.code == StatusCode::kInvalidInput &&
       params.skeleton.regularisation.method == reconstruction::RegularisationMethod::kNone) {
-    // The reconstruction is normally a closed single-part manifold already; wrap it if not.
-    skeleton::SkeletonParams wrapped = params.skeleton;
-    wrapped.regularisation.method = reconstruction::RegularisationMethod::kAlphaWrap;
-    out.skeleton = skeleton::extractSkeleton(out.mesh, wrapped);
+    // The reconstruction is normally a closed single-part manifold already; if not, the
+    // regularisation's automatic mode fills its pinholes or wraps it.
+    skeleton::SkeletonParams regularised = params.skeleton;
+    regularised.regularisation.method = reconstruction::RegularisationMethod::kAuto;
+    out.skeleton = skeleton::extractSkeleton(out.mesh, regularised);
   }
   stage("skeleton", watch.seconds());
   if (!out.skeleton->status.ok()) {

@@ -66,6 +66,8 @@ std::vector<Wrench> contactWrenches(const std::vector<Contact>& contacts,
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter);
     plane_normal = eigen.eigenvectors().col(0);
   }
+  // No hand here: the hand's contact model (nullopt) means point contacts.
+  const double torsion_m = params.torsional_friction_m.value_or(0.0);
   for (const auto& c : contacts) {
     const Eigen::Vector3d r = c.point - center;
     const Eigen::Vector3d inward = -c.normal.normalized();
@@ -75,9 +77,8 @@ std::vector<Wrench> contactWrenches(const std::vector<Contact>& contacts,
     for (const auto& f : frictionConeEdges(c.normal, params, reference)) {
       Wrench w;
       w << f, torque_scale * r.cross(f);
-      if (params.torsional_friction_m > 0) {
-        const Eigen::Vector3d torsion =
-            torque_scale * params.torsional_friction_m * f.dot(inward) * inward;
+      if (torsion_m > 0) {
+        const Eigen::Vector3d torsion = torque_scale * torsion_m * f.dot(inward) * inward;
         w.tail<3>() += torsion;
         wrenches.push_back(w);
         w.tail<3>() -= 2 * torsion;
@@ -183,7 +184,7 @@ void decideByLp(const ClosureLpResult& lp, const std::vector<Wrench>& wrenches,
 }  // namespace
 
 std::size_t wrenchCount(std::size_t contacts, const QualityParams& params) {
-  const std::size_t per_edge = params.torsional_friction_m > 0 ? 2 : 1;
+  const std::size_t per_edge = params.torsional_friction_m.value_or(0.0) > 0 ? 2 : 1;
   return contacts * static_cast<std::size_t>(std::max(params.cone_edges, 0)) * per_edge;
 }
 
@@ -195,7 +196,8 @@ double estimateWrenchHullBytes(std::size_t wrenches) {
 WrenchSpaceResult evaluateWrenchSpace(const std::vector<Contact>& contacts,
                                       const Eigen::Vector3d& center, double torque_scale,
                                       const QualityParams& params) {
-  if (!(params.friction >= 0) || params.cone_edges < 3 || !(params.torsional_friction_m >= 0)) {
+  if (!(params.friction >= 0) || params.cone_edges < 3 ||
+      !(params.torsional_friction_m.value_or(0.0) >= 0)) {
     throw InvalidArgument(
         "quality: need friction >= 0, torsional friction >= 0 and >= 3 cone edges");
   }
@@ -206,10 +208,11 @@ WrenchSpaceResult evaluateWrenchSpace(const std::vector<Contact>& contacts,
   const double hull_bytes = estimateWrenchHullBytes(wrench_count);
   // The message is built only when refusing: grasp planning evaluates thousands of hulls.
   if (!(hull_bytes <= static_cast<double>(memoryLimitBytes()))) {
-    checkMemoryEstimate(fmt::format("6D wrench hull of {} wrenches ({} contacts x {} cone edges{})",
-                                    wrench_count, contacts.size(), params.cone_edges,
-                                    params.torsional_friction_m > 0 ? " x 2 torsion" : ""),
-                        hull_bytes, "the number of contacts or --cone-edges");
+    checkMemoryEstimate(
+        fmt::format("6D wrench hull of {} wrenches ({} contacts x {} cone edges{})", wrench_count,
+                    contacts.size(), params.cone_edges,
+                    params.torsional_friction_m.value_or(0.0) > 0 ? " x 2 torsion" : ""),
+        hull_bytes, "the number of contacts or --cone-edges");
   }
   WrenchSpaceResult result;
   const bool use_lp = params.fc_test == ForceClosureTest::kLp && !params.reference_compat;

@@ -127,8 +127,7 @@ PlanResult planSkeletonGrasps(const HandModel& hand, const GraspObject& object,
   GraspSimulator simulator(hand, object);
   LocalShapeParams shape_params;
   shape_params.curvature_limit_per_m = params.curvature_limit_per_m;
-  shape_params.round_ratio =
-      params.round_ratio > 0 ? params.round_ratio : hand.thresholds().round_ratio;
+  shape_params.round_ratio = params.round_ratio.value_or(hand.thresholds().round_ratio);
 
   std::vector<int> order = selectVertices(skel, params.vertex_distance_m);
   if (params.shuffle_vertices)
@@ -177,9 +176,8 @@ PlanResult planSkeletonGrasps(const HandModel& hand, const GraspObject& object,
       }
       const Preshape& preshape = hand.preshape(precision ? "precision" : "power");
       HypothesisParams hp = params.hypothesis;
-      hp.min_epsilon = params.min_epsilon;
-      // The hand's contact model unless the caller chose one.
-      if (hp.quality.torsional_friction_m == 0)
+      // The hand's contact model unless the caller chose one (0 = point contacts).
+      if (!hp.quality.torsional_friction_m)
         hp.quality.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
       hp.extra_retreat_m = precision ? 0.0 : hand.thresholds().power_retreat_m;
       for (const Pose& frame : hypothesisFrames(v.position, shape, endpoint, params)) {

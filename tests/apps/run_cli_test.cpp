@@ -1,6 +1,7 @@
 // skelgrasp run / demo: the product's main job from the command line.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -122,11 +123,13 @@ TEST(BenchRunCli, ReportsEveryStageOfEveryInput) {
   for (const char* stage :
        {"filter", "segment", "reconstruct", "skeleton", "occupancy", "plan", "rank"}) {
     ASSERT_TRUE(row["stages_s"].contains(stage)) << stage;
-    sum += row["stages_s"][stage].get<double>();
+    const double seconds = row["stages_s"][stage].get<double>();
+    EXPECT_TRUE(std::isfinite(seconds) && seconds >= 0) << stage << ": " << seconds;
+    sum += seconds;
   }
-  // The stages account for the run; the rest is bookkeeping.
+  // The stages are parts of the run (no assertion on how large a share: that is the machine's
+  // load, not the program's).
   EXPECT_LE(sum, row["total_s"].get<double>() + 1e-6);
-  EXPECT_GT(sum, 0.8 * row["total_s"].get<double>());
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 
 #include "skelgrasp/common/json.h"
@@ -177,6 +178,32 @@ TEST_F(BatchTest, SameNamedMeshesInDifferentFoldersAreDistinctRunsWithDistinctSe
   EXPECT_EQ(result_ids, ids);  // both objects kept their grasps
   // The same list again: both are recognised as done.
   EXPECT_EQ(runBatch(p).objects_skipped, 2u);
+}
+
+// The surface planner's budget is the skeleton planner's pose count whichever planner is named
+// first, so both orders give the same runs and grasps per planner.
+TEST_F(BatchTest, ThePlannersOrderDoesNotChangeTheirResults) {
+  const auto byPlanner = [](const std::string& path) {
+    std::map<std::string, std::vector<nlohmann::json>> out;
+    for (const auto& r : lines(path))
+      out[r["planner"].get<std::string>()].push_back(withoutTimes(r));
+    return out;
+  };
+  const std::string forward = test::tempDir("batch_order_ab"),
+                    backward = test::tempDir("batch_order_ba");
+  auto p = params(forward);
+  p.objects = {objects_.front()};
+  p.planners = {"skeleton", "surface"};
+  runBatch(p);
+  p.out_dir = backward;
+  p.planners = {"surface", "skeleton"};
+  runBatch(p);
+  const auto runs = byPlanner(forward + "/runs.jsonl");
+  ASSERT_EQ(runs.size(), 2u);
+  EXPECT_GT(runs.at("surface").front()["hypotheses"].get<std::size_t>(), 0u);
+  EXPECT_EQ(runs.at("surface").front()["hypotheses"], runs.at("skeleton").front()["poses"]);
+  EXPECT_EQ(byPlanner(backward + "/runs.jsonl"), runs);
+  EXPECT_EQ(byPlanner(backward + "/results.jsonl"), byPlanner(forward + "/results.jsonl"));
 }
 
 TEST_F(BatchTest, AResumeWithOtherOptionsRefusesUnlessRestarted) {

@@ -144,6 +144,25 @@ TEST(SkeletonPlanner, ExplainsWhyNothingWasFound) {
   expectConsistent(p.result, hand, *p.object);
 }
 
+// The gripper's fingers are soft by default (torsional friction); a caller can still ask for point
+// contacts, and two point contacts never hold a torque about the line through them.
+TEST(SkeletonPlanner, PointContactsCanBeAskedForOnASoftFingeredHand) {
+  const HandModel hand = loadBuiltinHand("parallel_gripper");
+  ASSERT_GT(hand.closingDefaults().torsional_friction_m, 0);
+  const TriangleMesh rod = primitives::makeCylinder(0.012, 0.12, 32, 12);
+  const auto soft = planOn(rod, hand);  // nullopt: the hand's soft fingers
+  ASSERT_FALSE(soft.result.grasps.empty());
+  expectConsistent(soft.result, hand, *soft.object);
+
+  SkeletonPlannerParams point;
+  point.hypothesis.quality.torsional_friction_m = 0.0;
+  const auto rigid = planOn(rod, hand, point);
+  EXPECT_EQ(rigid.result.summary.hypotheses, soft.result.summary.hypotheses);
+  EXPECT_GT(rigid.result.summary.generated, 0u);
+  EXPECT_EQ(rigid.result.summary.force_closure, 0u);
+  EXPECT_TRUE(rigid.result.grasps.empty());
+}
+
 TEST(SurfacePlanner, SamplesTheRequestedHypothesesWithReasons) {
   const HandModel hand = loadBuiltinHand("armar3");
   const GraspObject object(primitives::makeCylinder(0.035, 0.2, 48, 10));

@@ -3,6 +3,8 @@
 // whatever address space the arena starts with (a small first reservation forces retries).
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/common/primitives.h"
 #include "skelgrasp/skeleton/extraction.h"
@@ -15,17 +17,41 @@ namespace {
 // vertex of the regularised mesh, thousands of vertices).
 constexpr std::size_t kTinyArenaBytes = 64 * 1024;
 
+// Equal, or both NaN (curvature is NaN where it is undefined).
+bool sameNumber(double a, double b) {
+  return a == b || (std::isnan(a) && std::isnan(b));
+}
+
+// The whole skeleton, bit for bit: every vertex field, the edges, every segment field, and the
+// regularised mesh it was contracted from.
 void expectIdentical(const SkeletonResult& a, const SkeletonResult& b, const std::string& what) {
   ASSERT_TRUE(a.status.ok()) << what << ": " << a.status.message;
   ASSERT_TRUE(b.status.ok()) << what << ": " << b.status.message;
-  ASSERT_EQ(a.skeleton.vertices.size(), b.skeleton.vertices.size()) << what;
-  for (std::size_t i = 0; i < a.skeleton.vertices.size(); ++i) {
-    ASSERT_EQ(a.skeleton.vertices[i].position, b.skeleton.vertices[i].position) << what << " " << i;
-    ASSERT_EQ(a.skeleton.vertices[i].surface_points, b.skeleton.vertices[i].surface_points)
-        << what << " " << i;
+  const Skeleton &sa = a.skeleton, &sb = b.skeleton;
+  ASSERT_EQ(sa.vertices.size(), sb.vertices.size()) << what;
+  for (std::size_t i = 0; i < sa.vertices.size(); ++i) {
+    const auto &va = sa.vertices[i], &vb = sb.vertices[i];
+    ASSERT_EQ(va.position, vb.position) << what << " vertex " << i;
+    ASSERT_EQ(va.type, vb.type) << what << " vertex " << i;
+    ASSERT_EQ(va.segment, vb.segment) << what << " vertex " << i;
+    ASSERT_EQ(va.neighbours, vb.neighbours) << what << " vertex " << i;
+    ASSERT_EQ(va.surface_points, vb.surface_points) << what << " vertex " << i;
+    ASSERT_TRUE(sameNumber(va.curvature, vb.curvature))
+        << what << " vertex " << i << ": " << va.curvature << " vs " << vb.curvature;
   }
-  EXPECT_EQ(a.skeleton.edges, b.skeleton.edges) << what;
-  EXPECT_EQ(a.skeleton.segments.size(), b.skeleton.segments.size()) << what;
+  EXPECT_EQ(sa.edges, sb.edges) << what;
+  EXPECT_EQ(sa.num_surface_points, sb.num_surface_points) << what;
+  ASSERT_EQ(sa.segments.size(), sb.segments.size()) << what;
+  for (std::size_t k = 0; k < sa.segments.size(); ++k) {
+    const auto &ga = sa.segments[k], &gb = sb.segments[k];
+    EXPECT_EQ(ga.id, gb.id) << what << " segment " << k;
+    EXPECT_EQ(ga.vertices, gb.vertices) << what << " segment " << k;
+    EXPECT_EQ(ga.ends, gb.ends) << what << " segment " << k;
+    EXPECT_EQ(ga.end_vertices, gb.end_vertices) << what << " segment " << k;
+    EXPECT_EQ(ga.length, gb.length) << what << " segment " << k;
+  }
+  EXPECT_EQ(a.regularised_mesh.vertices, b.regularised_mesh.vertices) << what;
+  EXPECT_EQ(a.regularised_mesh.faces, b.regularised_mesh.faces) << what;
 }
 
 void expectDeterministic(const TriangleMesh& mesh, const std::string& what) {

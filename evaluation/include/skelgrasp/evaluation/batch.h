@@ -7,6 +7,7 @@
 
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/evaluation/robustness.h"
+#include "skelgrasp/grasping/planners.h"
 #include "skelgrasp/skeleton/extraction.h"
 
 namespace skelgrasp::evaluation {
@@ -23,7 +24,8 @@ struct BatchParams {
   int shard_index = 0, shard_count = 1;  // this process runs objects k with k % count == index
   double timeout_s = 30;                 // per planner run
   double vertex_distance_m = 0;          // skeleton planner d
-  std::size_t surface_hypotheses = 500;  // used when no skeleton run gives the pose count
+  // Used when no skeleton run gives the pose count.
+  std::size_t surface_hypotheses = grasping::SurfacePlannerParams{}.max_hypotheses;
   // Robustness for up to this many grasps per run, drawn uniformly (seeded) from the kept grasps;
   // 0 = all of them.
   std::size_t robustness_grasps = 20;

@@ -14,6 +14,7 @@ struct HypothesisParams {
   double retreat_step_m = 0.001;  // back-off step along the approach direction
   double max_retreat_m = 0.150;   // give up beyond this
   double extra_retreat_m = 0;     // then this much further when still collision-free (power)
+  // Force-closure grasps with a lower epsilon are rejected (low_epsilon); 0 keeps all of them.
   double min_epsilon = 0;
   QualityParams quality;
   ClosingParams closing;

@@ -16,11 +16,30 @@
 
 namespace skelgrasp::grasping {
 
+// Where `run` departs from the stages' own defaults, visibly and in one place.
+// Planning limits of one run: the first grasps found are ranked, not all the object has.
+constexpr double kRunPlanningTimeoutS = 10;
+constexpr std::size_t kRunMaxGrasps = 20;
+// Reconstructions are closed single-part manifolds already: no second wrap (0.5 s saved). When one
+// is not, runPipeline retries with the regularisation's automatic mode (pinholes filled, else
+// wrapped).
+inline skeleton::SkeletonParams runSkeletonParams() {
+  skeleton::SkeletonParams params;
+  params.regularisation.method = reconstruction::RegularisationMethod::kNone;
+  return params;
+}
+inline SkeletonPlannerParams runPlannerParams() {
+  SkeletonPlannerParams params;
+  params.timeout_s = kRunPlanningTimeoutS;
+  params.max_grasps = kRunMaxGrasps;
+  return params;
+}
+
 struct RunParams {
   reconstruction::ReconstructionParams reconstruction;  // target: largest or nearest:x,y,z
-  skeleton::SkeletonParams skeleton;  // default: no regularisation (wrapped only if needed)
-  SkeletonPlannerParams planner;      // defaults: 10 s, 20 grasps
-  bool scene_check = true;            // occupancy octree and support plane
+  skeleton::SkeletonParams skeleton = runSkeletonParams();
+  SkeletonPlannerParams planner = runPlannerParams();
+  bool scene_check = true;  // occupancy octree and support plane
   SceneOccupancyParams occupancy;
   // The octree covers the target's box grown by this much (hand size plus pre-grasp distance).
   double workspace_margin_m = 0.4;
@@ -28,8 +47,6 @@ struct RunParams {
   // Ranking score = epsilon * (1 - w + w * observed contact ratio): a grasp whose contacts lie on
   // surface the sensor saw is trusted more than one on filled-in surface.
   double observed_weight = 0.5;
-
-  RunParams();
 };
 
 struct RankedGrasp {

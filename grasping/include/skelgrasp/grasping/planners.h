@@ -19,15 +19,17 @@ struct SkeletonPlannerParams {
   std::uint64_t seed = 1;        // order in which vertices are visited (so an early stop covers
                                  // the whole object); results are deterministic for a seed
   bool shuffle_vertices = true;  // false: segment by segment, as the reference
-  double min_epsilon = 0;
-  double vertex_distance_m = 0;      // d: visit vertices at least this far apart; 0 = every vertex
-  double round_ratio = 0;            // 0: the hand's (1.2 for the built-ins)
-  double curvature_limit_per_m = 0;  // intervals cut above this curvature; 0: none
-  bool precision = true;             // strategies 1a, 1b, 3
-  bool power = true;                 // strategies 2a, 2b, 4
+  double vertex_distance_m = 0;  // d: visit vertices at least this far apart; 0 = every vertex
+  // lambda1/lambda2 below this is a round section; nullopt: the hand's (1.2 for the built-ins).
+  std::optional<double> round_ratio;
+  double curvature_limit_per_m = 0;      // intervals cut above this curvature; 0: none
+  bool precision = true;                 // strategies 1a, 1b, 3
+  bool power = true;                     // strategies 2a, 2b, 4
   int round_connecting_directions = 16;  // approach directions around a round section
   int round_endpoint_rolls = 8;          // hand rolls about the axis at a round end
-  HypothesisParams hypothesis;  // retreat, closing, quality (mu), min epsilon is taken from above
+  // Retreat, closing, quality (mu, contact model), min epsilon. extra_retreat_m is the hand's
+  // power retreat for power grasps, 0 for precision grasps.
+  HypothesisParams hypothesis;
 };
 
 // `object.mesh()` must be the mesh whose vertices `skeleton.vertices[*].surface_points` index.
@@ -40,9 +42,8 @@ struct SurfacePlannerParams {
   std::size_t max_hypotheses = 500;  // the skeleton planner's count when compared with it
   std::size_t max_grasps = 0;
   std::uint64_t seed = 1;
-  double min_epsilon = 0;
   std::string preshape = "power";
-  HypothesisParams hypothesis;
+  HypothesisParams hypothesis;  // extra_retreat_m is not used (0)
 };
 
 // Random surface point (area-weighted), approach along the inverted surface normal, random roll,

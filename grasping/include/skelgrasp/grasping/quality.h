@@ -3,6 +3,7 @@
 // from point contacts with Coulomb friction. Force closure is decided by a linear program (GLPK)
 // or by the convex hull (Qhull); epsilon and the volume always come from the hull.
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,7 +30,10 @@ struct QualityParams {
   // Soft-finger contacts: torsion about the normal up to this length times the normal force
   // (2/3 mu a for a circular patch of radius a); 0 = point contacts. Two point contacts can never
   // hold a torque about the line through them, so a parallel gripper needs this to reach closure.
-  double torsional_friction_m = 0;
+  // nullopt: the hand's contact model (ClosingDefaults::torsional_friction_m) wherever a hand is
+  // known (planners, batch robustness); the hand-free functions below, which cannot know it, take
+  // nullopt as point contacts.
+  std::optional<double> torsional_friction_m;
   // false: skip the hull volume (force closure and epsilon only), e.g. for robustness samples.
   bool compute_volume = true;
   // kLp decides closure without a hull; reference_compat always uses the hull and its own rule.
