@@ -152,7 +152,7 @@ struct ReconstructOptions {
     m.trim.max_distance_fraction = trim_fraction;
     m.observed_distance_m = observed_m;
     m.completion.support_plane = !no_completion;
-    m.regularisation.method = reconstruction::parseRegularisationMethod(regularise);
+    m.regularisation.method = geometry::parseRegularisationMethod(regularise);
     m.regularisation.alpha_divisor = alpha_divisor;
     m.regularisation.offset_divisor = offset_divisor;
     return p;

@@ -1,14 +1,14 @@
 #include "skelgrasp/grasping/pipeline.h"
 
 #include "skelgrasp/common/logging.h"
+#include "skelgrasp/geometry/mesh_query.h"
 #include "skelgrasp/perception/cloud_ops.h"
-#include "skelgrasp/reconstruction/mesh_query.h"
 
 namespace skelgrasp::grasping {
 
 RunParams::RunParams() {
   // Reconstructions are closed single-part manifolds already: no second wrap (0.5 s saved).
-  skeleton.regularisation.method = reconstruction::RegularisationMethod::kNone;
+  skeleton.regularisation.method = geometry::RegularisationMethod::kNone;
   planner.timeout_s = 10;
   planner.max_grasps = 20;
 }
@@ -19,7 +19,7 @@ namespace {
 // the face it lies on were observed.
 double observedContactRatio(const Grasp& grasp, const TriangleMesh& mesh,
                             const std::vector<std::uint8_t>& observed,
-                            const reconstruction::MeshQuery& query) {
+                            const geometry::MeshQuery& query) {
   if (grasp.contacts.empty() || observed.size() != mesh.numVertices()) return 0;
   std::size_t on_observed = 0;
   for (const auto& c : grasp.contacts) {
@@ -70,10 +70,10 @@ RunResult runPipeline(const perception::Scan& scan, const HandModel& hand,
   Stopwatch watch;
   out.skeleton = skeleton::extractSkeleton(out.mesh, params.skeleton);
   if (out.skeleton->status.code == StatusCode::kInvalidInput &&
-      params.skeleton.regularisation.method == reconstruction::RegularisationMethod::kNone) {
+      params.skeleton.regularisation.method == geometry::RegularisationMethod::kNone) {
     // The reconstruction is normally a closed single-part manifold already; wrap it if not.
     skeleton::SkeletonParams wrapped = params.skeleton;
-    wrapped.regularisation.method = reconstruction::RegularisationMethod::kAlphaWrap;
+    wrapped.regularisation.method = geometry::RegularisationMethod::kAlphaWrap;
     out.skeleton = skeleton::extractSkeleton(out.mesh, wrapped);
   }
   stage("skeleton", watch.seconds());

@@ -1,25 +1,10 @@
 #include "skelgrasp/reconstruction/report_json.h"
 
 #include "skelgrasp/common/json.h"
-#include "skelgrasp/common/mesh_topology.h"
+#include "skelgrasp/geometry/mesh_topology.h"
+#include "skelgrasp/geometry/regularisation.h"
 
 namespace skelgrasp::reconstruction {
-
-nlohmann::json toJson(const RegularisationReport& reg) {
-  return {{"method", reg.method},
-          {"bbox_diagonal_m", reg.bbox_diagonal_m},
-          {"alpha_m", reg.alpha_m},
-          {"offset_m", reg.offset_m},
-          {"remeshed", reg.remeshed},
-          {"orientation_flipped", reg.orientation_flipped},
-          {"filled_holes", reg.filled_holes},
-          {"wrap_components", reg.wrap_components},
-          {"join_retries", reg.join_retries},
-          {"dropped_area_fraction", reg.dropped_area_fraction},
-          {"input", skelgrasp::toJson(reg.input)},
-          {"output", skelgrasp::toJson(reg.output)},
-          {"time_s", reg.time_s}};
-}
 
 namespace {
 
@@ -76,7 +61,7 @@ nlohmann::json objectJson(const ObjectReconstruction& o, const MeshingParams& p,
         {"time_s", r.observed_s}}},
       {"time_s", r.total_s}};
   if (o.meshing.status.ok()) {
-    const MeshTopology t = analyzeTopology(mesh);
+    const geometry::MeshTopology t = geometry::analyzeTopology(mesh);
     j["mesh"] = {{"vertices", mesh.numVertices()},
                  {"faces", mesh.numFaces()},
                  {"box_min", skelgrasp::toJson(mesh.bounds().min)},

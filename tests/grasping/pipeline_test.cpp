@@ -10,12 +10,12 @@
 
 #include "skelgrasp/common/primitives.h"
 #include "skelgrasp/datasets/input.h"
+#include "skelgrasp/geometry/mesh_query.h"
 #include "skelgrasp/grasping/grasp_simulator.h"
 #include "skelgrasp/grasping/hand_model.h"
 #include "skelgrasp/perception/demo_scene.h"
 #include "skelgrasp/perception/depth_camera.h"
 #include "skelgrasp/perception/image_io.h"
-#include "skelgrasp/reconstruction/mesh_query.h"
 #include "test_support.h"
 
 namespace skelgrasp::grasping {
@@ -69,9 +69,9 @@ TEST_F(DemoScenePipeline, EveryObjectGetsCollisionFreeForceClosureGraspsOnItself
     EXPECT_GT(run.plane->z(), 0.99);  // the table top, object side up
     EXPECT_LT(std::abs(run.plane->w()), 0.003);
 
-    std::vector<std::unique_ptr<reconstruction::MeshQuery>> truths;
+    std::vector<std::unique_ptr<geometry::MeshQuery>> truths;
     for (const auto& mesh : scene_->meshes)
-      truths.push_back(std::make_unique<reconstruction::MeshQuery>(mesh));
+      truths.push_back(std::make_unique<geometry::MeshQuery>(mesh));
     for (std::size_t r = 0; r < run.ranked.size(); ++r) {
       const auto& g = run.ranked[r].grasp;
       EXPECT_TRUE(g.force_closure);
@@ -231,7 +231,7 @@ void expectGraspsOnTheMug(const std::string& file) {
   EXPECT_GT(run.plan.summary.rejections.at("scene_collision"), 0u);
   const Eigen::Vector3d normal = run.plane->head<3>();
   const double d = run.plane->w();
-  const reconstruction::MeshQuery surface(run.mesh);
+  const geometry::MeshQuery surface(run.mesh);
   for (const auto& r : run.ranked) {
     const auto& g = r.grasp;
     EXPECT_TRUE(g.force_closure);

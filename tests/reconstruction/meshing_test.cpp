@@ -4,9 +4,9 @@
 
 #include "perception/synthetic_scenes.h"
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/mesh_topology.h"
+#include "skelgrasp/geometry/mesh_topology.h"
+#include "skelgrasp/geometry/surface_distance.h"
 #include "skelgrasp/reconstruction/pipeline.h"
-#include "skelgrasp/reconstruction/surface_distance.h"
 #include "test_support.h"
 
 namespace skelgrasp::reconstruction {
@@ -26,7 +26,7 @@ TEST(Meshing, SingleViewOfATableTopClosesOnTheTable) {
   for (const auto& object : r.objects) {
     const auto& m = object.meshing;
     ASSERT_TRUE(m.status.ok()) << m.status.message;
-    const MeshTopology t = analyzeTopology(m.mesh);
+    const geometry::MeshTopology t = geometry::analyzeTopology(m.mesh);
     EXPECT_TRUE(t.closed);
     EXPECT_EQ(t.components, 1u);
     EXPECT_GT(t.signed_volume, 0);
@@ -42,7 +42,7 @@ TEST(Meshing, SingleViewOfATableTopClosesOnTheTable) {
     EXPECT_NEAR(box.max.z(), cylinder ? 0.10 : 0.08, 0.006);
     // Against the true object the seen half is close; the filled-in half is a guess.
     const TriangleMesh& truth = scene.meshes[cylinder ? 1 : 2];
-    const ChamferDistance c = chamferDistance(m.mesh, truth, 5000);
+    const geometry::ChamferDistance c = geometry::chamferDistance(m.mesh, truth, 5000);
     std::cout << "[ single   ] " << (cylinder ? "cylinder" : "box") << ": chamfer "
               << 1000 * c.symmetric_m << " mm, " << 100 * m.report.observed_fraction
               << "% observed, top " << box.max.z() << " m" << std::endl;
@@ -88,13 +88,13 @@ TEST(SurfaceDistance, ChamferOfConcentricSpheresIsTheGap) {
   const TriangleMesh a = primitives::makeSphere(0.05, 96, 48);
   TriangleMesh b = a;
   b.scale(1.1);
-  const ChamferDistance same = chamferDistance(a, a, 2000);
+  const geometry::ChamferDistance same = geometry::chamferDistance(a, a, 2000);
   EXPECT_LT(same.symmetric_m, 1e-9);
-  const ChamferDistance gap = chamferDistance(a, b, 2000);
+  const geometry::ChamferDistance gap = geometry::chamferDistance(a, b, 2000);
   EXPECT_NEAR(gap.symmetric_m, 0.005, 2e-4);
   EXPECT_NEAR(gap.max_m, 0.005, 3e-4);
-  const auto samples = sampleSurface(a, 500, 9);
-  EXPECT_EQ(samples, sampleSurface(a, 500, 9));  // seeded
+  const auto samples = geometry::sampleSurface(a, 500, 9);
+  EXPECT_EQ(samples, geometry::sampleSurface(a, 500, 9));  // seeded
   for (const auto& p : samples) EXPECT_NEAR(p.norm(), 0.05, 2e-4);
 }
 

@@ -6,9 +6,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "skelgrasp/common/mesh_topology.h"
 #include "skelgrasp/common/pose.h"
 #include "skelgrasp/datasets/input.h"
+#include "skelgrasp/geometry/mesh_topology.h"
 #include "skelgrasp/reconstruction/pipeline.h"
 #include "test_support.h"
 
@@ -63,7 +63,7 @@ Eigen::Vector3d planeAlignedExtent(const TriangleMesh& mesh,
 
 void expectClosedSinglePart(const MeshingResult& m, const std::string& what) {
   ASSERT_TRUE(m.status.ok()) << what << ": " << m.status.message;
-  const MeshTopology t = analyzeTopology(m.mesh);
+  const geometry::MeshTopology t = geometry::analyzeTopology(m.mesh);
   EXPECT_TRUE(t.closed) << what;
   EXPECT_EQ(t.components, 1u) << what;
   EXPECT_EQ(t.inconsistently_oriented_edges, 0u) << what;

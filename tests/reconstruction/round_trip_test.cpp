@@ -5,11 +5,11 @@
 #include <filesystem>
 
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/mesh_topology.h"
 #include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/mesh_topology.h"
+#include "skelgrasp/geometry/surface_distance.h"
 #include "skelgrasp/perception/depth_camera.h"
 #include "skelgrasp/reconstruction/pipeline.h"
-#include "skelgrasp/reconstruction/surface_distance.h"
 #include "test_support.h"
 
 namespace skelgrasp::reconstruction {
@@ -36,25 +36,26 @@ perception::Scan virtualScan(const TriangleMesh& mesh, std::uint64_t seed) {
 
 struct RoundTrip {
   ReconstructionResult result;
-  ChamferDistance chamfer;
+  geometry::ChamferDistance chamfer;
 };
 
 RoundTrip roundTrip(const TriangleMesh& mesh, std::uint64_t seed) {
   RoundTrip out;
   out.result = reconstructScan(virtualScan(mesh, seed));
   if (out.result.status.ok()) {
-    out.chamfer = chamferDistance(out.result.objects.at(0).meshing.mesh, mesh, 20000, seed);
+    out.chamfer =
+        geometry::chamferDistance(out.result.objects.at(0).meshing.mesh, mesh, 20000, seed);
   }
   return out;
 }
 
 TEST(RoundTrip, GeneratedShapesComeBackWithinAFewMillimetres) {
   for (const std::string name : {"bottle", "hammer"}) {
-    const TriangleMesh shape = regularise(primitives::makeNamedShape(name)).mesh;
+    const TriangleMesh shape = geometry::regularise(primitives::makeNamedShape(name)).mesh;
     const RoundTrip r = roundTrip(shape, 100);
     ASSERT_TRUE(r.result.status.ok()) << name << ": " << r.result.status.message;
     const auto& m = r.result.objects[0].meshing;
-    EXPECT_TRUE(analyzeTopology(m.mesh).closed);
+    EXPECT_TRUE(geometry::analyzeTopology(m.mesh).closed);
     EXPECT_GT(m.report.observed_fraction, 0.9) << name;  // seen from all around
     std::cout << "[ chamfer  ] " << name << ": " << 1000 * r.chamfer.symmetric_m << " mm (p95 "
               << 1000 * std::max(r.chamfer.a_to_b_p95_m, r.chamfer.b_to_a_p95_m) << " mm)"
@@ -71,7 +72,7 @@ TEST(RoundTrip, YcbMeshesComeBackWithinAFewMillimetres) {
     const RoundTrip r = roundTrip(mesh, 200);
     ASSERT_TRUE(r.result.status.ok()) << id << ": " << r.result.status.message;
     const auto& m = r.result.objects[0].meshing;
-    EXPECT_TRUE(analyzeTopology(m.mesh).closed) << id;
+    EXPECT_TRUE(geometry::analyzeTopology(m.mesh).closed) << id;
     std::cout << "[ chamfer  ] " << id << ": " << 1000 * r.chamfer.symmetric_m << " mm (p95 "
               << 1000 * std::max(r.chamfer.a_to_b_p95_m, r.chamfer.b_to_a_p95_m) << " mm), "
               << m.report.vertices << " vertices, " << 100 * m.report.observed_fraction

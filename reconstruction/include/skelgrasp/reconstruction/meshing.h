@@ -9,8 +9,8 @@
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/mesh.h"
 #include "skelgrasp/common/point_cloud.h"
+#include "skelgrasp/geometry/regularisation.h"
 #include "skelgrasp/perception/scene.h"
-#include "skelgrasp/reconstruction/regularisation.h"
 
 namespace skelgrasp::reconstruction {
 
@@ -72,7 +72,7 @@ struct MeshingParams {
   PoissonParams poisson;
   TrimParams trim;
   // Poisson surfaces are usually closed manifolds already; auto wraps only when they are not.
-  RegularisationParams regularisation{RegularisationMethod::kAuto};
+  geometry::RegularisationParams regularisation{geometry::RegularisationMethod::kAuto};
   // A vertex is "observed" when an input (sensor) point lies within this distance, else it is
   // "filled-in" (Poisson extrapolation, completion, wrap closure).
   double observed_distance_m = 0.005;
@@ -86,7 +86,7 @@ struct MeshingReport {
   double trim_threshold_m = 0;
   std::size_t trimmed_faces = 0;
   std::size_t faces_after_trim = 0;
-  RegularisationReport regularisation;
+  geometry::RegularisationReport regularisation;
   std::size_t vertices = 0;
   std::size_t faces = 0;
   std::size_t observed_vertices = 0;

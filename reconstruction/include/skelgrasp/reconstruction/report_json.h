@@ -5,12 +5,10 @@
 #include <string>
 #include <vector>
 
+#include "skelgrasp/geometry/regularisation.h"
 #include "skelgrasp/reconstruction/pipeline.h"
-#include "skelgrasp/reconstruction/regularisation.h"
 
 namespace skelgrasp::reconstruction {
-
-nlohmann::json toJson(const RegularisationReport& report);
 
 // report.json (schema "skelgrasp.reconstruction/1", documented in docs/reconstruction.md).
 // `mesh_files` names the written mesh of each object (parallel to result.objects; may be empty).

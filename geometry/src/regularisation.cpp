@@ -1,5 +1,5 @@
 // CGAL translation unit: alpha wrapping, component selection and isotropic remeshing.
-#include "skelgrasp/reconstruction/regularisation.h"
+#include "skelgrasp/geometry/regularisation.h"
 
 #include <CGAL/Polygon_mesh_processing/border.h>
 #include <CGAL/Polygon_mesh_processing/connected_components.h>
@@ -15,7 +15,7 @@
 #include "skelgrasp/common/resources.h"
 #include "skelgrasp/internal/cgal_conversions.h"
 
-namespace skelgrasp::reconstruction {
+namespace skelgrasp::geometry {
 namespace PMP = CGAL::Polygon_mesh_processing;
 using internal::CgalMesh;
 
@@ -268,4 +268,4 @@ RegularisationResult regularise(const TriangleMesh& input, const RegularisationP
   return result;
 }
 
-}  // namespace skelgrasp::reconstruction
+}  // namespace skelgrasp::geometry

@@ -1,4 +1,4 @@
-#include "skelgrasp/reconstruction/regularisation.h"
+#include "skelgrasp/geometry/regularisation.h"
 
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include "skelgrasp/common/primitives.h"
 #include "test_support.h"
 
-namespace skelgrasp::reconstruction {
+namespace skelgrasp::geometry {
 namespace {
 
 void expectClosedSingleOutward(const RegularisationResult& r) {
@@ -192,4 +192,4 @@ TEST(Regularisation, HandlesKitMeshesWithInvertedWindingAndSeveralParts) {
 }
 
 }  // namespace
-}  // namespace skelgrasp::reconstruction
+}  // namespace skelgrasp::geometry

@@ -1,9 +1,9 @@
-#include "skelgrasp/common/mesh_topology.h"
+#include "skelgrasp/geometry/mesh_topology.h"
 
 #include <numeric>
 #include <unordered_map>
 
-namespace skelgrasp {
+namespace skelgrasp::geometry {
 namespace {
 
 struct DisjointSets {
@@ -73,4 +73,4 @@ MeshTopology analyzeTopology(const TriangleMesh& mesh) {
   return topo;
 }
 
-}  // namespace skelgrasp
+}  // namespace skelgrasp::geometry

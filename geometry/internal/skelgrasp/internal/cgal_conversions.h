@@ -1,6 +1,8 @@
 #pragma once
-// Internal (not installed): the one place where skelgrasp meshes meet CGAL types. Only .cpp files
-// of reconstruction/ and skeleton/ include this header.
+// Internal (not installed): the one place where skelgrasp meshes meet CGAL types. geometry/ uses
+// it, and exports it on purpose through the separate target skelgrasp::geometry_cgal to .cpp files
+// of other modules that run CGAL algorithms (skeleton/src/contraction.cpp). Never include it from a
+// public header: CGAL types stay out of module boundaries.
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Surface_mesh.h>
 

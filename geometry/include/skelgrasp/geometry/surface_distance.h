@@ -5,7 +5,7 @@
 
 #include "skelgrasp/common/mesh.h"
 
-namespace skelgrasp::reconstruction {
+namespace skelgrasp::geometry {
 
 // `count` points distributed uniformly by area over the faces (seeded, deterministic).
 std::vector<Eigen::Vector3d> sampleSurface(const TriangleMesh& mesh, std::size_t count,
@@ -24,4 +24,4 @@ struct ChamferDistance {
 ChamferDistance chamferDistance(const TriangleMesh& a, const TriangleMesh& b,
                                 std::size_t samples = 20000, std::uint64_t seed = 1);
 
-}  // namespace skelgrasp::reconstruction
+}  // namespace skelgrasp::geometry

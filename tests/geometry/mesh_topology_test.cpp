@@ -1,4 +1,4 @@
-#include "skelgrasp/common/mesh_topology.h"
+#include "skelgrasp/geometry/mesh_topology.h"
 
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include "skelgrasp/common/primitives.h"
 #include "test_support.h"
 
-namespace skelgrasp {
+namespace skelgrasp::geometry {
 namespace {
 
 TEST(MeshTopology, ClosedPrimitivesHaveTheirGenus) {
@@ -66,4 +66,4 @@ TEST(MeshTopology, MatchesDocumentedGenusOfRealMeshes) {
 }
 
 }  // namespace
-}  // namespace skelgrasp
+}  // namespace skelgrasp::geometry

@@ -1,10 +1,12 @@
 #pragma once
 // Combinatorial facts about an indexed triangle mesh, used to report what regularisation did.
+#include <nlohmann/json.hpp>
+
 #include <optional>
 
 #include "skelgrasp/common/mesh.h"
 
-namespace skelgrasp {
+namespace skelgrasp::geometry {
 
 struct MeshTopology {
   std::size_t vertices = 0;  // referenced by at least one face
@@ -24,4 +26,6 @@ struct MeshTopology {
 
 MeshTopology analyzeTopology(const TriangleMesh& mesh);
 
-}  // namespace skelgrasp
+nlohmann::json toJson(const MeshTopology& topology);
+
+}  // namespace skelgrasp::geometry

@@ -1,14 +1,16 @@
 #pragma once
 // Regularisation: any triangle input (soup, open, non-manifold, multi-part, inverted) becomes a
 // closed, single-part, outward-oriented 2-manifold, as mean-curvature-flow contraction requires.
+#include <nlohmann/json.hpp>
+
 #include <optional>
 #include <string>
 
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/mesh.h"
-#include "skelgrasp/common/mesh_topology.h"
+#include "skelgrasp/geometry/mesh_topology.h"
 
-namespace skelgrasp::reconstruction {
+namespace skelgrasp::geometry {
 
 enum class RegularisationMethod {
   kAlphaWrap,  // CGAL 3D alpha wrapping of the triangle soup (default)
@@ -64,6 +66,9 @@ struct RegularisationReport {
   double time_s = 0;
 };
 
+// The "regularisation" object of the skeleton and reconstruction reports.
+nlohmann::json toJson(const RegularisationReport& report);
+
 struct RegularisationResult {
   Status status;
   TriangleMesh mesh;  // closed, single-part, outward 2-manifold when status.ok()
@@ -88,4 +93,4 @@ double estimateRegularisedBytes(double triangles);
 // when the estimated memory exceeds the limit; input problems go to the status.
 RegularisationResult regularise(const TriangleMesh& input, const RegularisationParams& params = {});
 
-}  // namespace skelgrasp::reconstruction
+}  // namespace skelgrasp::geometry

@@ -5,7 +5,7 @@
 
 #include "skelgrasp/common/mesh.h"
 
-namespace skelgrasp::reconstruction {
+namespace skelgrasp::geometry {
 
 class MeshQuery {
  public:
@@ -31,4 +31,4 @@ class MeshQuery {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace skelgrasp::reconstruction
+}  // namespace skelgrasp::geometry

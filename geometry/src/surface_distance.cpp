@@ -1,12 +1,12 @@
-#include "skelgrasp/reconstruction/surface_distance.h"
+#include "skelgrasp/geometry/surface_distance.h"
 
 #include <algorithm>
 #include <random>
 
 #include "skelgrasp/common/error.h"
-#include "skelgrasp/reconstruction/mesh_query.h"
+#include "skelgrasp/geometry/mesh_query.h"
 
-namespace skelgrasp::reconstruction {
+namespace skelgrasp::geometry {
 namespace {
 
 struct OneWay {
@@ -74,4 +74,4 @@ ChamferDistance chamferDistance(const TriangleMesh& a, const TriangleMesh& b, st
   return c;
 }
 
-}  // namespace skelgrasp::reconstruction
+}  // namespace skelgrasp::geometry

@@ -1,10 +1,10 @@
-#include "skelgrasp/reconstruction/mesh_query.h"
+#include "skelgrasp/geometry/mesh_query.h"
 
 #include <gtest/gtest.h>
 
 #include "skelgrasp/common/primitives.h"
 
-namespace skelgrasp::reconstruction {
+namespace skelgrasp::geometry {
 namespace {
 
 TEST(MeshQuery, InsideOutsideAndDistanceOfABox) {
@@ -25,4 +25,4 @@ TEST(MeshQuery, InsideOutsideAndDistanceOfABox) {
 }
 
 }  // namespace
-}  // namespace skelgrasp::reconstruction
+}  // namespace skelgrasp::geometry

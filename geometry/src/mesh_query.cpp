@@ -1,5 +1,5 @@
 // CGAL translation unit: AABB-tree point queries.
-#include "skelgrasp/reconstruction/mesh_query.h"
+#include "skelgrasp/geometry/mesh_query.h"
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
@@ -9,7 +9,7 @@
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/internal/cgal_conversions.h"
 
-namespace skelgrasp::reconstruction {
+namespace skelgrasp::geometry {
 
 namespace {
 using internal::CgalKernel;
@@ -76,4 +76,4 @@ std::pair<Eigen::Vector3d, std::size_t> MeshQuery::closestPointAndFace(
   return {internal::toEigen(hit.first), static_cast<std::size_t>(hit.second.idx())};
 }
 
-}  // namespace skelgrasp::reconstruction
+}  // namespace skelgrasp::geometry
