@@ -6,17 +6,18 @@
 
 #include "cli.h"
 #include "hand_options.h"
-#include "output_paths.h"
 #include "option_checks.h"
+#include "output_paths.h"
 #include "planner_options.h"
 #include "reconstruct_options.h"
 #include "run_command.h"
 #include "skelgrasp/datasets/input.h"
+#include "skelgrasp/pipeline/run_output.h"
 
 namespace skelgrasp::cli {
 
-grasping::RunParams RunOptions::params() const {
-  grasping::RunParams p;
+pipeline::RunParams RunOptions::params() const {
+  pipeline::RunParams p;
   p.reconstruction = reconstruction.params();
   p.planner = planner.skeletonParams();
   p.planner.timeout_s = planner.timeout_s;
@@ -61,10 +62,10 @@ std::string nearestObjectOption(const Eigen::Vector3d& point) {
 int runOnScan(const perception::Scan& scan, const std::string& name, const std::string& out_dir,
               const RunOptions& options) {
   const auto hand = options.hand.load();
-  const auto result = grasping::runPipeline(scan, hand, options.params());
+  const auto result = pipeline::runPipeline(scan, hand, options.params());
   if (!result.reconstruction.status.ok())
     return fail(scan.source + ": " + result.reconstruction.status.message);
-  grasping::writeRunOutputs(out_dir, result, hand, scan, name);
+  pipeline::writeRunOutputs(out_dir, result, hand, scan, name);
   for (const auto& s : result.stages)
     std::cout << fmt::format("  {:<22} {:7.3f} s\n", s.stage, s.seconds);
   const auto& summary = result.plan.summary;

@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "skelgrasp/datasets/input.h"
-#include "skelgrasp/reconstruction/pipeline.h"
+#include "skelgrasp/pipeline/reconstruct_scan.h"
 
 namespace skelgrasp::cli {
 
@@ -130,8 +130,8 @@ struct ReconstructOptions {
     return o;
   }
 
-  reconstruction::ReconstructionParams params() const {
-    reconstruction::ReconstructionParams p;
+  pipeline::ReconstructionParams params() const {
+    pipeline::ReconstructionParams p;
     auto& f = p.ingest.filters;
     f.voxel_leaf_m = voxel_m;
     f.sor_mean_k = outlier_k;

@@ -5,7 +5,7 @@
 #include "hand_options.h"
 #include "planner_options.h"
 #include "reconstruct_options.h"
-#include "skelgrasp/grasping/pipeline.h"
+#include "skelgrasp/pipeline/run_pipeline.h"
 
 namespace skelgrasp::cli {
 
@@ -20,7 +20,7 @@ struct RunOptions {
   bool no_scene_check = false;
 
   void addTo(CLI::App& cmd);
-  grasping::RunParams params() const;
+  pipeline::RunParams params() const;
 };
 
 // The --object value that picks the cluster nearest to `point` ("nearest:x,y,z", 0.1 mm).

@@ -14,6 +14,10 @@ nlohmann::json toJson(const Eigen::Vector3d& v) {
   return {v.x(), v.y(), v.z()};
 }
 
+nlohmann::json toJson(const Status& s) {
+  return {{"code", toString(s.code)}, {"message", s.message}};
+}
+
 nlohmann::json numberOrNull(double value) {
   return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
 }

@@ -11,7 +11,7 @@
 #include "skelgrasp/geometry/mesh_query.h"
 #include "skelgrasp/geometry/mesh_topology.h"
 #include "skelgrasp/geometry/surface_distance.h"
-#include "skelgrasp/reconstruction/pipeline.h"
+#include "skelgrasp/pipeline/reconstruct_scan.h"
 #include "test_support.h"
 
 namespace skelgrasp::datasets {
@@ -98,7 +98,7 @@ TEST(YcbRaw, NoisyCaptureReconstructsTheCylinder) {
   InputKind kind;
   const perception::Scan scan = loadInput(noisy.dir, {}, &kind);
   EXPECT_EQ(kind, InputKind::kYcbRaw);
-  const auto r = reconstruction::reconstructScan(scan);
+  const auto r = pipeline::reconstructScan(scan);
   ASSERT_TRUE(r.status.ok()) << r.status.message;
   const auto& m = r.objects.at(0).meshing;
   EXPECT_TRUE(geometry::analyzeTopology(m.mesh).closed);

@@ -2,6 +2,8 @@
 // Oriented object points -> closed single-part mesh: optional completion down to the support
 // plane, PCL Poisson reconstruction, trimming of surface the data does not support, regularisation
 // (alpha wrap), and per-vertex observed / filled-in flags. Lengths in metres.
+#include <nlohmann/json.hpp>
+
 #include <optional>
 #include <string>
 #include <vector>
@@ -112,6 +114,11 @@ struct MeshingResult {
 MeshingResult meshObject(const PointCloud& object,
                          const std::optional<perception::SupportPlane>& plane,
                          const MeshingParams& params = {});
+
+// The meshing stage's entry in report.json ("objects", docs/reconstruction.md): parameters,
+// measurements and the mesh; `mesh_file` is the written mesh, empty for none (null).
+nlohmann::json toJson(const MeshingResult& meshing, const MeshingParams& params,
+                      std::size_t cluster, const std::string& mesh_file);
 
 // Observed flags of `mesh`'s vertices: 1 where an observed point lies within `distance`.
 std::vector<std::uint8_t> observedFlags(const TriangleMesh& mesh,

@@ -9,12 +9,14 @@
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/render.h"
 #include "skelgrasp/grasping/hand_render.h"
-#include "skelgrasp/grasping/pipeline.h"
 #include "skelgrasp/grasping/plan_output.h"
+#include "skelgrasp/pipeline/run_output.h"
 #include "skelgrasp/reconstruction/meshing.h"
 #include "skelgrasp/skeleton/output.h"
 
-namespace skelgrasp::grasping {
+namespace skelgrasp::pipeline {
+// The pipeline composes the grasping stage's types throughout.
+using namespace grasping;
 namespace {
 
 constexpr int kPanel = 480;
@@ -208,4 +210,4 @@ void writeRunOutputs(const std::string& dir, const RunResult& r, const HandModel
   outputs.commit();
 }
 
-}  // namespace skelgrasp::grasping
+}  // namespace skelgrasp::pipeline

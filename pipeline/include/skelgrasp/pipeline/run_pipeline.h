@@ -11,20 +11,20 @@
 #include "skelgrasp/grasping/planners.h"
 #include "skelgrasp/grasping/scene.h"
 #include "skelgrasp/perception/scan.h"
-#include "skelgrasp/reconstruction/pipeline.h"
+#include "skelgrasp/pipeline/reconstruct_scan.h"
 #include "skelgrasp/skeleton/extraction.h"
 
-namespace skelgrasp::grasping {
+namespace skelgrasp::pipeline {
 
 struct RunParams {
-  reconstruction::ReconstructionParams reconstruction;  // target: largest or nearest:x,y,z
-  skeleton::SkeletonParams skeleton;  // default: no regularisation (wrapped only if needed)
-  SkeletonPlannerParams planner;      // defaults: 10 s, 20 grasps
-  bool scene_check = true;            // occupancy octree and support plane
-  SceneOccupancyParams occupancy;
+  ReconstructionParams reconstruction;      // target: largest or nearest:x,y,z
+  skeleton::SkeletonParams skeleton;        // default: no regularisation (wrapped only if needed)
+  grasping::SkeletonPlannerParams planner;  // defaults: 10 s, 20 grasps
+  bool scene_check = true;                  // occupancy octree and support plane
+  grasping::SceneOccupancyParams occupancy;
   // The octree covers the target's box grown by this much (hand size plus pre-grasp distance).
   double workspace_margin_m = 0.4;
-  SceneCheckParams approach;
+  grasping::SceneCheckParams approach;
   // Ranking score = epsilon * (1 - w + w * observed contact ratio): a grasp whose contacts lie on
   // surface the sensor saw is trusted more than one on filled-in surface.
   double observed_weight = 0.5;
@@ -33,7 +33,7 @@ struct RunParams {
 };
 
 struct RankedGrasp {
-  Grasp grasp;
+  grasping::Grasp grasp;
   double observed_contact_ratio = 0;  // contacts on observed surface / contacts
   double score = 0;
 };
@@ -45,15 +45,15 @@ struct StageTime {
 
 struct RunResult {
   Status status;
-  reconstruction::ReconstructionResult reconstruction;
+  ReconstructionResult reconstruction;
   std::size_t cluster = 0;             // the target's index in reconstruction.ingest.scene.clusters
   TriangleMesh mesh;                   // the target's closed mesh
   std::vector<std::uint8_t> observed;  // per mesh vertex
   std::optional<Eigen::Vector4d> plane;  // a x + b y + c z + d = 0, the object on the positive side
   PointCloud obstacles;                  // scene points that are not the target (octree input)
-  std::shared_ptr<SceneOccupancy> occupancy;
+  std::shared_ptr<grasping::SceneOccupancy> occupancy;
   std::optional<skeleton::SkeletonResult> skeleton;
-  PlanResult plan;                  // summary; grasps moved into `ranked`
+  grasping::PlanResult plan;        // summary; grasps moved into `ranked`
   std::vector<RankedGrasp> ranked;  // best first
   std::vector<StageTime> stages;
   double total_s = 0;
@@ -62,14 +62,7 @@ struct RunResult {
 // Runs the pipeline on one target object. Data failures (no plane, no object, meshing or skeleton
 // failure) are in the status, with the stage named; no grasps is kNoResult with the rejections.
 // Throws InvalidArgument when the target mode asks for all objects.
-RunResult runPipeline(const perception::Scan& scan, const HandModel& hand,
+RunResult runPipeline(const perception::Scan& scan, const grasping::HandModel& hand,
                       const RunParams& params = {});
 
-// Writes DIR/grasps.json (the plan schema plus scene fields), object.ply (with observed flags),
-// skeleton.json, segmentation.ply, scene.bt and report.html with its PNG pictures. All of them
-// appear together at the end (atomic_file.h, OutputTransaction), grasps.json last; on an error
-// none is written and DIR is not created.
-void writeRunOutputs(const std::string& dir, const RunResult& result, const HandModel& hand,
-                     const perception::Scan& scan, const std::string& input_name);
-
-}  // namespace skelgrasp::grasping
+}  // namespace skelgrasp::pipeline

@@ -9,10 +9,10 @@
 #include "skelgrasp/common/pose.h"
 #include "skelgrasp/datasets/input.h"
 #include "skelgrasp/geometry/mesh_topology.h"
-#include "skelgrasp/reconstruction/pipeline.h"
+#include "skelgrasp/pipeline/reconstruct_scan.h"
 #include "test_support.h"
 
-namespace skelgrasp::reconstruction {
+namespace skelgrasp::pipeline {
 namespace {
 
 // Edge lengths of the mesh's PCA-aligned bounding box, longest first.
@@ -61,7 +61,7 @@ Eigen::Vector3d planeAlignedExtent(const TriangleMesh& mesh,
   return {std::max(e.x(), e.y()), std::min(e.x(), e.y()), top - bottom};
 }
 
-void expectClosedSinglePart(const MeshingResult& m, const std::string& what) {
+void expectClosedSinglePart(const reconstruction::MeshingResult& m, const std::string& what) {
   ASSERT_TRUE(m.status.ok()) << what << ": " << m.status.message;
   const geometry::MeshTopology t = geometry::analyzeTopology(m.mesh);
   EXPECT_TRUE(t.closed) << what;
@@ -148,4 +148,4 @@ TEST(RealCaptures, MugSceneGivesAMugSizedClosedMesh) {
 }
 
 }  // namespace
-}  // namespace skelgrasp::reconstruction
+}  // namespace skelgrasp::pipeline

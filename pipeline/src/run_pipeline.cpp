@@ -1,10 +1,12 @@
-#include "skelgrasp/grasping/pipeline.h"
+#include "skelgrasp/pipeline/run_pipeline.h"
 
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/geometry/mesh_query.h"
 #include "skelgrasp/perception/cloud_ops.h"
 
-namespace skelgrasp::grasping {
+namespace skelgrasp::pipeline {
+// The pipeline composes the grasping stage's types throughout.
+using namespace grasping;
 
 RunParams::RunParams() {
   // Reconstructions are closed single-part manifolds already: no second wrap (0.5 s saved).
@@ -45,7 +47,7 @@ RunResult runPipeline(const perception::Scan& scan, const HandModel& hand,
   RunResult out;
   auto stage = [&](const char* name, double seconds) { out.stages.push_back({name, seconds}); };
 
-  out.reconstruction = reconstruction::reconstructScan(scan, params.reconstruction);
+  out.reconstruction = pipeline::reconstructScan(scan, params.reconstruction);
   const auto& ingest = out.reconstruction.ingest;
   stage("filter", ingest.filter_time_s);
   stage("segment", ingest.scene_time_s);
@@ -133,4 +135,4 @@ RunResult runPipeline(const perception::Scan& scan, const HandModel& hand,
   return out;
 }
 
-}  // namespace skelgrasp::grasping
+}  // namespace skelgrasp::pipeline

@@ -1,8 +1,8 @@
-#include "skelgrasp/reconstruction/pipeline.h"
+#include "skelgrasp/pipeline/reconstruct_scan.h"
 
 #include "skelgrasp/common/logging.h"
 
-namespace skelgrasp::reconstruction {
+namespace skelgrasp::pipeline {
 
 ReconstructionResult reconstructScan(const perception::Scan& scan,
                                      const ReconstructionParams& params) {
@@ -33,4 +33,4 @@ ReconstructionResult reconstructScan(const perception::Scan& scan,
   return result;
 }
 
-}  // namespace skelgrasp::reconstruction
+}  // namespace skelgrasp::pipeline

@@ -9,10 +9,10 @@
 #include "skelgrasp/geometry/mesh_topology.h"
 #include "skelgrasp/geometry/surface_distance.h"
 #include "skelgrasp/perception/depth_camera.h"
-#include "skelgrasp/reconstruction/pipeline.h"
+#include "skelgrasp/pipeline/reconstruct_scan.h"
 #include "test_support.h"
 
-namespace skelgrasp::reconstruction {
+namespace skelgrasp::pipeline {
 namespace {
 
 // Eight views around the object's centre, 0.6 m away: six 30 degrees above it, two 30 below.
@@ -85,4 +85,4 @@ TEST(RoundTrip, YcbMeshesComeBackWithinAFewMillimetres) {
 }
 
 }  // namespace
-}  // namespace skelgrasp::reconstruction
+}  // namespace skelgrasp::pipeline

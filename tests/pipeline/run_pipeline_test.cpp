@@ -1,5 +1,6 @@
 // The scene-aware pipeline end to end: the demo scene (ground truth known) and real table scans.
-#include "skelgrasp/grasping/pipeline.h"
+#include "skelgrasp/pipeline/run_pipeline.h"
+#include "skelgrasp/pipeline/run_output.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -18,7 +19,8 @@
 #include "skelgrasp/perception/image_io.h"
 #include "test_support.h"
 
-namespace skelgrasp::grasping {
+namespace skelgrasp::pipeline {
+using namespace grasping;  // the stages under test are grasping's
 namespace {
 
 RunParams targetNear(const Eigen::Vector3d& point) {
@@ -272,4 +274,4 @@ TEST(RunPipeline, AnEmptySceneIsADataFailureNotACrash) {
 }
 
 }  // namespace
-}  // namespace skelgrasp::grasping
+}  // namespace skelgrasp::pipeline

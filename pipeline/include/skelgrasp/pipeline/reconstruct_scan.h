@@ -6,16 +6,16 @@
 #include "skelgrasp/perception/ingest.h"
 #include "skelgrasp/reconstruction/meshing.h"
 
-namespace skelgrasp::reconstruction {
+namespace skelgrasp::pipeline {
 
 struct ReconstructionParams {
   perception::IngestParams ingest;
-  MeshingParams meshing;
+  reconstruction::MeshingParams meshing;
 };
 
 struct ObjectReconstruction {
   std::size_t cluster = 0;  // index into ingest.scene.clusters
-  MeshingResult meshing;
+  reconstruction::MeshingResult meshing;
 };
 
 struct ReconstructionResult {
@@ -29,4 +29,4 @@ struct ReconstructionResult {
 ReconstructionResult reconstructScan(const perception::Scan& scan,
                                      const ReconstructionParams& params = {});
 
-}  // namespace skelgrasp::reconstruction
+}  // namespace skelgrasp::pipeline
