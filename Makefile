@@ -62,7 +62,7 @@ bench: build
 	@$(SKELGRASP) bench skeleton --help > /dev/null && echo "see README: Benchmarks"
 
 format:
-	@find common perception reconstruction skeleton grasping evaluation datasets apps tests bench fuzz \
+	@find common geometry perception reconstruction skeleton grasping evaluation pipeline datasets apps tests bench fuzz \
 	  \( -name '*.h' -o -name '*.cpp' \) 2>/dev/null | xargs -r clang-format -i
 
 clean:

@@ -6,12 +6,12 @@
 
 #include "cli.h"
 #include "mesh_list.h"
-#include "output_paths.h"
 #include "option_checks.h"
+#include "output_paths.h"
 #include "skeleton_options.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/logging.h"
-#include "skelgrasp/reconstruction/mesh_query.h"
+#include "skelgrasp/geometry/mesh_query.h"
 
 namespace skelgrasp::cli {
 namespace {
@@ -52,7 +52,7 @@ int runBenchSkeleton(const BenchSkeletonArgs& args) {
       skel_times.push_back(r.timing.skeleton_s);
       totals.push_back(total);
       // Skeleton quality: vertices outside the regularised mesh and how far.
-      const reconstruction::MeshQuery query(r.regularised_mesh);
+      const geometry::MeshQuery query(r.regularised_mesh);
       std::size_t outside = 0;
       double max_outside = 0;
       for (const auto& v : s.vertices) {

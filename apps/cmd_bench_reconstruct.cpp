@@ -5,8 +5,8 @@
 #include <iostream>
 
 #include "cli.h"
-#include "output_paths.h"
 #include "option_checks.h"
+#include "output_paths.h"
 #include "reconstruct_options.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/logging.h"
@@ -46,7 +46,7 @@ int runBenchReconstruct(const BenchReconstructArgs& args) {
       const auto scan = datasets::loadInput(input, args.options.inputOptions());
       StageTimes t;
       t.load = watch.seconds();
-      const auto result = reconstruction::reconstructScan(scan, params);
+      const auto result = pipeline::reconstructScan(scan, params);
       if (!result.status.ok()) {
         failure = result.status.message;
         break;

@@ -8,8 +8,8 @@
 #include <limits>
 
 #include "cli.h"
-#include "output_paths.h"
 #include "option_checks.h"
+#include "output_paths.h"
 #include "run_command.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/logging.h"
@@ -70,10 +70,10 @@ int runBenchRun(const BenchRunArgs& args) {
     RunOptions options = args.run;
     options.reconstruction.object = c.object;
     const auto params = options.params();
-    grasping::RunResult best;
+    pipeline::RunResult best;
     best.total_s = std::numeric_limits<double>::infinity();
     for (int r = 0; r < args.repeat; ++r) {
-      auto result = grasping::runPipeline(c.scan, hand, params);
+      auto result = pipeline::runPipeline(c.scan, hand, params);
       if (result.total_s < best.total_s) best = std::move(result);
     }
     if (stage_names.empty()) {

@@ -10,7 +10,7 @@
 #include "reconstruct_options.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/perception/cloud_io.h"
-#include "skelgrasp/reconstruction/report_json.h"
+#include "skelgrasp/pipeline/reconstruction_report.h"
 
 namespace skelgrasp::cli {
 namespace {
@@ -43,7 +43,7 @@ int runReconstruct(const ReconstructArgs& args) {
   const auto params = args.options.params();
   datasets::InputKind kind;
   const perception::Scan scan = datasets::loadInput(args.input, args.options.inputOptions(), &kind);
-  const auto result = reconstruction::reconstructScan(scan, params);
+  const auto result = pipeline::reconstructScan(scan, params);
   std::vector<std::string> files;
   OutputTransaction outputs;  // meshes and report appear together, the report last
   for (std::size_t k = 0; k < result.objects.size(); ++k) {
@@ -58,7 +58,7 @@ int runReconstruct(const ReconstructArgs& args) {
   }
   if (!args.report.empty()) {
     writeJsonFile(outputs.stage(args.report),
-                  reconstruction::reconstructionReport(scan, params, result, files));
+                  pipeline::reconstructionReport(scan, params, result, files));
   }
   outputs.commit();
   if (!result.status.ok()) return fail(args.input + ": " + result.status.message);
@@ -79,7 +79,7 @@ int runIngest(const ReconstructArgs& args) {
   checkOutputFileOption(args.report);
   const auto params = args.options.params();
   const perception::Scan scan = datasets::loadInput(args.input, args.options.inputOptions());
-  reconstruction::ReconstructionResult result;
+  pipeline::ReconstructionResult result;
   result.ingest = perception::ingestScan(scan, params.ingest);
   result.status = result.ingest.status;
   result.total_s = result.ingest.total_time_s;
@@ -90,8 +90,7 @@ int runIngest(const ReconstructArgs& args) {
     perception::savePointCloud(outputs.stage(files.back()), result.ingest.objects[k]);
   }
   if (!args.report.empty()) {
-    writeJsonFile(outputs.stage(args.report),
-                  reconstruction::reconstructionReport(scan, params, result));
+    writeJsonFile(outputs.stage(args.report), pipeline::reconstructionReport(scan, params, result));
   }
   outputs.commit();
   if (!result.status.ok()) return fail(args.input + ": " + result.status.message);

@@ -12,11 +12,12 @@
 #include "reconstruct_options.h"
 #include "run_command.h"
 #include "skelgrasp/datasets/input.h"
+#include "skelgrasp/pipeline/run_output.h"
 
 namespace skelgrasp::cli {
 
-grasping::RunParams RunOptions::params() const {
-  grasping::RunParams p;
+pipeline::RunParams RunOptions::params() const {
+  pipeline::RunParams p;
   p.reconstruction = reconstruction.params();
   p.planner = planner.skeletonParams();
   p.scene_check = !no_scene_check;
@@ -31,8 +32,8 @@ grasping::RunParams RunOptions::params() const {
 void RunOptions::addTo(CLI::App& cmd) {
   hand.addTo(cmd);
   // run's own planning limits (RunParams), not plan's.
-  planner.timeout_s = grasping::RunParams{}.planner.timeout_s;
-  planner.max_grasps = grasping::RunParams{}.planner.max_grasps;
+  planner.timeout_s = pipeline::RunParams{}.planner.timeout_s;
+  planner.max_grasps = pipeline::RunParams{}.planner.max_grasps;
   planner.addTo(cmd, false);
   reconstruction.addInputOptions(cmd);
   reconstruction.addIngestOptions(cmd);
@@ -61,10 +62,10 @@ std::string nearestObjectOption(const Eigen::Vector3d& point) {
 int runOnScan(const perception::Scan& scan, const std::string& name, const std::string& out_dir,
               const RunOptions& options) {
   const auto hand = options.hand.load();
-  const auto result = grasping::runPipeline(scan, hand, options.params());
+  const auto result = pipeline::runPipeline(scan, hand, options.params());
   if (!result.reconstruction.status.ok())
     return fail(scan.source + ": " + result.reconstruction.status.message);
-  grasping::writeRunOutputs(out_dir, result, hand, scan, name);
+  pipeline::writeRunOutputs(out_dir, result, hand, scan, name);
   options.exports.write(out_dir + "/grasps.json", hand);
   for (const auto& s : result.stages)
     std::cout << fmt::format("  {:<22} {:7.3f} s\n", s.stage, s.seconds);

@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "skelgrasp/datasets/input.h"
-#include "skelgrasp/reconstruction/pipeline.h"
+#include "skelgrasp/pipeline/reconstruct_scan.h"
 
 namespace skelgrasp::cli {
 
@@ -130,8 +130,8 @@ struct ReconstructOptions {
     return o;
   }
 
-  reconstruction::ReconstructionParams params() const {
-    reconstruction::ReconstructionParams p;
+  pipeline::ReconstructionParams params() const {
+    pipeline::ReconstructionParams p;
     auto& f = p.ingest.filters;
     f.voxel_leaf_m = voxel_m;
     f.sor_mean_k = outlier_k;
@@ -152,7 +152,7 @@ struct ReconstructOptions {
     m.trim.max_distance_fraction = trim_fraction;
     m.observed_distance_m = observed_m;
     m.completion.support_plane = !no_completion;
-    m.regularisation.method = reconstruction::parseRegularisationMethod(regularise);
+    m.regularisation.method = geometry::parseRegularisationMethod(regularise);
     m.regularisation.alpha_divisor = alpha_divisor;
     m.regularisation.offset_divisor = offset_divisor;
     return p;

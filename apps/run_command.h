@@ -6,7 +6,7 @@
 #include "hand_options.h"
 #include "planner_options.h"
 #include "reconstruct_options.h"
-#include "skelgrasp/grasping/pipeline.h"
+#include "skelgrasp/pipeline/run_pipeline.h"
 
 namespace skelgrasp::cli {
 
@@ -17,12 +17,12 @@ struct RunOptions {
   double octree_resolution_m = grasping::SceneOccupancyParams{}.resolution_m;
   std::string unknown = "free";
   double pregrasp_m = grasping::SceneCheckParams{}.pregrasp_distance_m;
-  double observed_weight = grasping::RunParams{}.observed_weight;
+  double observed_weight = pipeline::RunParams{}.observed_weight;
   bool no_scene_check = false;
   ExportOptions exports;
 
   void addTo(CLI::App& cmd);
-  grasping::RunParams params() const;
+  pipeline::RunParams params() const;
 };
 
 // The --object value that picks the cluster nearest to `point` ("nearest:x,y,z", 0.1 mm).

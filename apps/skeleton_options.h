@@ -12,8 +12,8 @@ namespace skelgrasp::cli {
 struct SkeletonOptions {
   std::string units = "auto";
   std::string regularise = "alpha_wrap";
-  double alpha_divisor = reconstruction::RegularisationParams{}.alpha_divisor;
-  double offset_divisor = reconstruction::RegularisationParams{}.offset_divisor;
+  double alpha_divisor = geometry::RegularisationParams{}.alpha_divisor;
+  double offset_divisor = geometry::RegularisationParams{}.offset_divisor;
   double remesh_edge_m = 0;
   double stencil_m = skeleton::GraphAnalysisParams{}.curvature_stencil_m;
   double spur_factor = skeleton::SkeletonParams{}.spur_radius_factor;
@@ -60,7 +60,7 @@ struct SkeletonOptions {
 
   skeleton::SkeletonParams params() const {
     skeleton::SkeletonParams p;
-    p.regularisation.method = reconstruction::parseRegularisationMethod(regularise);
+    p.regularisation.method = geometry::parseRegularisationMethod(regularise);
     p.regularisation.alpha_divisor = alpha_divisor;
     p.regularisation.offset_divisor = offset_divisor;
     p.regularisation.remesh_target_edge_m = remesh_edge_m;

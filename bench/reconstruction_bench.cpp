@@ -10,7 +10,7 @@
 #include "skelgrasp/common/primitives.h"
 #include "skelgrasp/perception/cloud_io.h"
 #include "skelgrasp/perception/depth_camera.h"
-#include "skelgrasp/reconstruction/pipeline.h"
+#include "skelgrasp/pipeline/reconstruct_scan.h"
 
 namespace {
 
@@ -34,8 +34,8 @@ perception::Scan scanOf(const std::string& input) {
   return scan;
 }
 
-reconstruction::ReconstructionParams oneThread() {
-  reconstruction::ReconstructionParams p;
+pipeline::ReconstructionParams oneThread() {
+  pipeline::ReconstructionParams p;
   p.ingest.normals.threads = 1;
   p.meshing.poisson.threads = 1;
   return p;
@@ -60,8 +60,8 @@ void BM_Reconstruct(benchmark::State& state, const std::string& input) {
   const perception::Scan scan = scanOf(input == "mug_scene" ? kMugScene : input);
   if (scan.cloud.empty()) return state.SkipWithError("../shared/data not found");
   const auto params = oneThread();
-  reconstruction::ReconstructionResult last;
-  for (auto _ : state) last = reconstruction::reconstructScan(scan, params);
+  pipeline::ReconstructionResult last;
+  for (auto _ : state) last = pipeline::reconstructScan(scan, params);
   if (!last.status.ok()) return state.SkipWithError(last.status.message.c_str());
   const auto& m = last.objects.at(0).meshing.report;
   state.counters["filters_s"] = last.ingest.filter_time_s;

@@ -25,7 +25,7 @@ void BM_Regularise(benchmark::State& state, const std::string& shape) {
     state.SkipWithError("../shared/data not found");
     return;
   }
-  for (auto _ : state) benchmark::DoNotOptimize(reconstruction::regularise(mesh));
+  for (auto _ : state) benchmark::DoNotOptimize(geometry::regularise(mesh));
 }
 
 void BM_Contract(benchmark::State& state, const std::string& shape) {
@@ -35,7 +35,7 @@ void BM_Contract(benchmark::State& state, const std::string& shape) {
     state.SkipWithError("../shared/data not found");
     return;
   }
-  const TriangleMesh closed = reconstruction::regularise(mesh).mesh;
+  const TriangleMesh closed = geometry::regularise(mesh).mesh;
   for (auto _ : state) benchmark::DoNotOptimize(skeleton::contractMesh(closed));
   state.counters["mesh_vertices"] = static_cast<double>(closed.numVertices());
 }

@@ -14,22 +14,12 @@ nlohmann::json toJson(const Eigen::Vector3d& v) {
   return {v.x(), v.y(), v.z()};
 }
 
-nlohmann::json numberOrNull(double value) {
-  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
+nlohmann::json toJson(const Status& s) {
+  return {{"code", toString(s.code)}, {"message", s.message}};
 }
 
-nlohmann::json toJson(const MeshTopology& t) {
-  return {{"vertices", t.vertices},
-          {"faces", t.faces},
-          {"edges", t.edges},
-          {"boundary_edges", t.boundary_edges},
-          {"non_manifold_edges", t.non_manifold_edges},
-          {"inconsistently_oriented_edges", t.inconsistently_oriented_edges},
-          {"components", t.components},
-          {"closed", t.closed},
-          {"euler_characteristic", t.euler_characteristic},
-          {"genus", t.genus ? nlohmann::json(*t.genus) : nlohmann::json(nullptr)},
-          {"signed_volume_m3", t.signed_volume}};
+nlohmann::json numberOrNull(double value) {
+  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
 }
 
 nlohmann::json poseToJson(const Pose& pose) {

@@ -33,7 +33,7 @@ nlohmann::json skeletonOptions(const skeleton::SkeletonParams& s) {
   const auto& r = s.regularisation;
   const auto& c = s.contraction;
   return {{"regularisation",
-           {{"method", reconstruction::toString(r.method)},
+           {{"method", geometry::toString(r.method)},
             {"alpha_divisor", r.alpha_divisor},
             {"offset_divisor", r.offset_divisor},
             {"remesh_target_edge_m", r.remesh_target_edge_m},

@@ -2,14 +2,14 @@
 
 #include "fcl_conversions.h"
 #include "skelgrasp/common/error.h"
-#include "skelgrasp/common/mesh_topology.h"
+#include "skelgrasp/geometry/mesh_topology.h"
 
 namespace skelgrasp::grasping {
 
 GraspObject::GraspObject(TriangleMesh mesh) : mesh_(std::move(mesh)) {
   if (mesh_.empty()) throw InvalidArgument("GraspObject: empty mesh");
   bounds_ = mesh_.bounds();
-  closed_ = analyzeTopology(mesh_).closed;
+  closed_ = geometry::analyzeTopology(mesh_).closed;
   for (const auto& v : mesh_.vertices) vertex_mean_ += v;
   vertex_mean_ /= static_cast<double>(mesh_.vertices.size());
   // Centroid of the enclosed volume (signed tetrahedra from the origin); falls back to the area
@@ -53,9 +53,8 @@ GraspObject::GraspObject(TriangleMesh mesh) : mesh_(std::move(mesh)) {
 
 GraspObject::~GraspObject() = default;
 
-const reconstruction::MeshQuery& GraspObject::surfaceQuery() const {
-  std::call_once(query_once_,
-                 [this] { query_ = std::make_unique<reconstruction::MeshQuery>(mesh_); });
+const geometry::MeshQuery& GraspObject::surfaceQuery() const {
+  std::call_once(query_once_, [this] { query_ = std::make_unique<geometry::MeshQuery>(mesh_); });
   return *query_;
 }
 

@@ -4,8 +4,8 @@
 
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/render.h"
+#include "skelgrasp/geometry/mesh_query.h"
 #include "skelgrasp/grasping/hand_render.h"
-#include "skelgrasp/reconstruction/mesh_query.h"
 
 namespace skelgrasp::grasping {
 
@@ -93,7 +93,7 @@ void renderPlanPng(const std::string& path, const TriangleMesh& object,
   grey.vertex_colors.clear();
   const AxisAlignedBox box = object.bounds();
   const double line_length = 0.25 * box.diagonal();
-  const reconstruction::MeshQuery surface(object);
+  const geometry::MeshQuery surface(object);
   std::vector<render::Canvas> panels;
   for (const Eigen::Vector3d& view :
        {Eigen::Vector3d(1.0, -1.2, 0.8), Eigen::Vector3d(-1.0, 1.2, -0.4)}) {

@@ -170,7 +170,7 @@ MeshingResult meshObject(const PointCloud& object,
   }
 
   watch.restart();
-  RegularisationResult regular = regularise(trimmed, params.regularisation);
+  geometry::RegularisationResult regular = geometry::regularise(trimmed, params.regularisation);
   report.regularisation = regular.report;
   report.regularise_s = watch.seconds();
   if (!regular.status.ok()) {

@@ -2,14 +2,14 @@
 
 #include <algorithm>
 
-#include "skelgrasp/reconstruction/mesh_query.h"
+#include "skelgrasp/geometry/mesh_query.h"
 
 namespace skelgrasp::skeleton {
 
 SpurPruningStats pruneSpurs(Contraction& c, const TriangleMesh& closed_mesh, double radius_factor) {
   SpurPruningStats stats;
   if (radius_factor <= 0 || c.positions.size() < 4) return stats;
-  const reconstruction::MeshQuery surface(closed_mesh);
+  const geometry::MeshQuery surface(closed_mesh);
   const int n = static_cast<int>(c.positions.size());
   std::vector<std::vector<int>> adjacency(n);
   for (const auto& e : c.edges) {

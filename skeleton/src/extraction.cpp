@@ -13,7 +13,7 @@ SkeletonResult extractSkeleton(const TriangleMesh& input, const SkeletonParams& 
     return result;
   }
 
-  auto regularised = reconstruction::regularise(input, params.regularisation);
+  auto regularised = geometry::regularise(input, params.regularisation);
   result.regularisation = regularised.report;
   result.timing.regularise_s = regularised.report.time_s;
   if (!regularised.status.ok()) {
@@ -39,9 +39,8 @@ SkeletonResult extractSkeleton(const TriangleMesh& input, const SkeletonParams& 
   Stopwatch mapping;
   std::vector<int> point_to_vertex(input.numVertices());
   std::vector<double> distances;
-  const bool identity =
-      params.regularisation.method == reconstruction::RegularisationMethod::kNone &&
-      result.regularised_mesh.numVertices() == input.numVertices();
+  const bool identity = params.regularisation.method == geometry::RegularisationMethod::kNone &&
+                        result.regularised_mesh.numVertices() == input.numVertices();
   if (identity) {
     point_to_vertex = contraction.mesh_vertex_to_skeleton;
     distances.assign(input.numVertices(), 0.0);

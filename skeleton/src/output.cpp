@@ -4,7 +4,7 @@
 
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/render.h"
-#include "skelgrasp/reconstruction/report_json.h"
+#include "skelgrasp/geometry/regularisation.h"
 
 namespace skelgrasp::skeleton {
 
@@ -22,7 +22,7 @@ nlohmann::json skeletonToJson(const SkeletonResult& result, const TriangleMesh& 
                 {"units", "m"},
                 {"scale_to_meters", load_info.scale_to_meters},
                 {"units_guessed", load_info.units_guessed}};
-  j["regularisation"] = reconstruction::toJson(reg);
+  j["regularisation"] = geometry::toJson(reg);
   j["status"] = {{"code", toString(result.status.code)}, {"message", result.status.message}};
   j["summary"] = {{"vertices", skel.vertices.size()},
                   {"edges", skel.edges.size()},

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "skelgrasp/common/error.h"
-#include "skelgrasp/common/mesh_topology.h"
+#include "skelgrasp/geometry/mesh_topology.h"
 
 namespace skelgrasp {
 namespace {
@@ -28,7 +28,7 @@ TEST(Primitives, SingleShapesAreClosedOutwardAndHaveTheRightVolume) {
       {"torus", primitives::makeTorus(0.06, 0.01, 96, 32), 2 * kPi * kPi * 0.06 * 0.0001, 0.01},
   };
   for (const auto& c : cases) {
-    const auto t = analyzeTopology(c.mesh);
+    const auto t = geometry::analyzeTopology(c.mesh);
     EXPECT_TRUE(t.closed) << c.name;
     EXPECT_EQ(t.inconsistently_oriented_edges, 0u) << c.name;
     EXPECT_EQ(t.components, 1u) << c.name;
@@ -39,7 +39,7 @@ TEST(Primitives, SingleShapesAreClosedOutwardAndHaveTheRightVolume) {
 TEST(Primitives, NamedShapesAreClosedPartsOfPlausibleSize) {
   for (const auto& name : primitives::namedShapes()) {
     const TriangleMesh mesh = primitives::makeNamedShape(name);
-    const auto t = analyzeTopology(mesh);
+    const auto t = geometry::analyzeTopology(mesh);
     EXPECT_TRUE(t.closed) << name;  // each part closed; parts may overlap
     EXPECT_GT(t.signed_volume, 0) << name;
     const double size = mesh.bounds().extent().maxCoeff();

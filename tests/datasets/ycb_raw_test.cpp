@@ -6,12 +6,12 @@
 #include <fstream>
 
 #include "skelgrasp/common/error.h"
-#include "skelgrasp/common/mesh_topology.h"
 #include "skelgrasp/datasets/input.h"
 #include "skelgrasp/datasets/ycb_raw_fixture.h"
-#include "skelgrasp/reconstruction/mesh_query.h"
-#include "skelgrasp/reconstruction/pipeline.h"
-#include "skelgrasp/reconstruction/surface_distance.h"
+#include "skelgrasp/geometry/mesh_query.h"
+#include "skelgrasp/geometry/mesh_topology.h"
+#include "skelgrasp/geometry/surface_distance.h"
+#include "skelgrasp/pipeline/reconstruct_scan.h"
 #include "test_support.h"
 
 namespace skelgrasp::datasets {
@@ -60,7 +60,7 @@ TEST(YcbRaw, FusedPointsLieOnTheKnownShapeFromAllSides) {
   ASSERT_GT(cloud.size(), 20000u);
   ASSERT_TRUE(cloud.hasNormals());
   EXPECT_TRUE(capture.scan.per_view_normals);
-  const reconstruction::MeshQuery truth(fixture.object);
+  const geometry::MeshQuery truth(fixture.object);
   double worst = 0;
   int sectors[8] = {0};
   std::size_t side = 0, outward = 0, close = 0;
@@ -98,11 +98,11 @@ TEST(YcbRaw, NoisyCaptureReconstructsTheCylinder) {
   InputKind kind;
   const perception::Scan scan = loadInput(noisy.dir, {}, &kind);
   EXPECT_EQ(kind, InputKind::kYcbRaw);
-  const auto r = reconstruction::reconstructScan(scan);
+  const auto r = pipeline::reconstructScan(scan);
   ASSERT_TRUE(r.status.ok()) << r.status.message;
   const auto& m = r.objects.at(0).meshing;
-  EXPECT_TRUE(analyzeTopology(m.mesh).closed);
-  const auto chamfer = reconstruction::chamferDistance(m.mesh, noisy.object, 10000);
+  EXPECT_TRUE(geometry::analyzeTopology(m.mesh).closed);
+  const auto chamfer = geometry::chamferDistance(m.mesh, noisy.object, 10000);
   std::cout << "[ ycb raw  ] fixture cylinder: chamfer " << 1000 * chamfer.symmetric_m << " mm, "
             << 100 * m.report.observed_fraction << "% observed" << std::endl;
   // Measured 1.0 mm: the turntable hides the bottom, which the surface closes flat.

@@ -338,7 +338,7 @@ TEST_F(BatchTest, AnObjectThatThrowsAnywhereIsRecordedAndTheRestFinish) {
                          "0 0 0\n0.05 0 0\n0 0.05 0\n3 0 1 2\n";
   auto p = params(out);
   p.objects = {objects_[0], flat, objects_[1]};
-  p.skeleton.regularisation.method = reconstruction::RegularisationMethod::kNone;
+  p.skeleton.regularisation.method = geometry::RegularisationMethod::kNone;
   p.surface_hypotheses = 0;
   p.jobs = 2;
   const auto stats = runBatch(p);

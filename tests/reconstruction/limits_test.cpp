@@ -3,8 +3,8 @@
 
 #include "skelgrasp/common/primitives.h"
 #include "skelgrasp/common/resources.h"
+#include "skelgrasp/geometry/regularisation.h"
 #include "skelgrasp/reconstruction/meshing.h"
-#include "skelgrasp/reconstruction/regularisation.h"
 
 namespace skelgrasp::reconstruction {
 namespace {
@@ -36,19 +36,20 @@ TEST(PoissonEstimate, DefaultsAreFarBelowTheLimitAndDepth14IsNot) {
 
 TEST(RegularisationEstimate, WrapGrowsWithAlphaDivisorAndRemeshWithShorterEdges) {
   const TriangleMesh mug = primitives::makeNamedShape("mug");
-  RegularisationParams params;
+  geometry::RegularisationParams params;
   double previous = 0;
   for (double divisor : {10.0, 50.0, 200.0, 1000.0, 1e6}) {
     params.alpha_divisor = divisor;
-    const double triangles = estimateAlphaWrapTriangles(mug, params);
+    const double triangles = geometry::estimateAlphaWrapTriangles(mug, params);
     EXPECT_GT(triangles, previous) << divisor;
     previous = triangles;
   }
-  EXPECT_EQ(estimateRemeshTriangles(mug, RegularisationParams{}), 0.0);  // remeshing off
+  EXPECT_EQ(geometry::estimateRemeshTriangles(mug, geometry::RegularisationParams{}),
+            0.0);  // remeshing off
   previous = 0;
   for (double edge : {0.01, 0.003, 0.001, 1e-6}) {
     params.remesh_target_edge_m = edge;
-    const double triangles = estimateRemeshTriangles(mug, params);
+    const double triangles = geometry::estimateRemeshTriangles(mug, params);
     EXPECT_GT(triangles, previous) << edge;
     previous = triangles;
   }
@@ -58,25 +59,26 @@ TEST(RegularisationEstimate, RemeshCountsTrianglesOfTheArea) {
   // A 1 m cube (area 6 m^2) at 0.1 m edges: 6 / (sqrt(3)/4 x 0.01) = 1386 equilateral triangles,
   // 1680 with the measured 2.8 A / e^2.
   const TriangleMesh cube = primitives::makeBox({1, 1, 1});
-  RegularisationParams params;
+  geometry::RegularisationParams params;
   params.remesh_target_edge_m = 0.1;
-  EXPECT_NEAR(estimateRemeshTriangles(cube, params), 1680, 30);
+  EXPECT_NEAR(geometry::estimateRemeshTriangles(cube, params), 1680, 30);
 }
 
 TEST(RegularisationEstimate, DefaultsAreFarBelowTheLimit) {
   const TriangleMesh mug = primitives::makeNamedShape("mug");
-  EXPECT_LT(estimateRegularisedBytes(estimateAlphaWrapTriangles(mug, RegularisationParams{})),
+  EXPECT_LT(geometry::estimateRegularisedBytes(
+                geometry::estimateAlphaWrapTriangles(mug, geometry::RegularisationParams{})),
             0.5 * kGiB);
 }
 
 TEST(RegularisationEstimate, RegulariseRefusesBeforeWrapping) {
   const TriangleMesh mug = primitives::makeNamedShape("mug");
-  RegularisationParams fine;
+  geometry::RegularisationParams fine;
   fine.alpha_divisor = 1e6;
-  EXPECT_THROW(regularise(mug, fine), ResourceLimitExceeded);
-  RegularisationParams remesh;
+  EXPECT_THROW(geometry::regularise(mug, fine), ResourceLimitExceeded);
+  geometry::RegularisationParams remesh;
   remesh.remesh_target_edge_m = 1e-6;
-  EXPECT_THROW(regularise(mug, remesh), ResourceLimitExceeded);
+  EXPECT_THROW(geometry::regularise(mug, remesh), ResourceLimitExceeded);
 }
 
 }  // namespace

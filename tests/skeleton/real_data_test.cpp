@@ -6,7 +6,7 @@
 #include <regex>
 
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/reconstruction/mesh_query.h"
+#include "skelgrasp/geometry/mesh_query.h"
 #include "skelgrasp/skeleton/extraction.h"
 #include "test_support.h"
 
@@ -69,7 +69,7 @@ TEST_P(RealMeshSkeleton, SatisfiesTheStageInvariants) {
   const bool hollow_or_bent = std::regex_search(
       path, std::regex("cup|bowl|mug|duplo|airplane|clamp|spatula|wrench|chain|hammer"));
   const bool rim_only = path.find("skillet_lid") != std::string::npos;
-  const reconstruction::MeshQuery query(r.regularised_mesh);
+  const geometry::MeshQuery query(r.regularised_mesh);
   const AxisAlignedBox box = r.regularised_mesh.bounds();
   const double thinnest = box.extent().minCoeff();
   const double tolerance = rim_only ? box.diagonal() : hollow_or_bent ? 0.5 * thinnest : 0.002;

@@ -6,13 +6,14 @@
 #include <string>
 
 #include "skelgrasp/common/atomic_file.h"  // writeFileAtomically, for existing callers
-#include "skelgrasp/common/mesh_topology.h"
+#include "skelgrasp/common/error.h"
 #include "skelgrasp/common/pose.h"
 
 namespace skelgrasp {
 
 nlohmann::json toJson(const Eigen::Vector3d& v);
-nlohmann::json toJson(const MeshTopology& topology);
+// {"code": "ok" | ..., "message": ...}
+nlohmann::json toJson(const Status& status);
 // {"position": [x, y, z], "quaternion_wxyz": [w, x, y, z]}
 nlohmann::json poseToJson(const Pose& pose);
 Pose poseFromJson(const nlohmann::json& j);

@@ -6,7 +6,7 @@
 #include <mutex>
 
 #include "skelgrasp/common/mesh.h"
-#include "skelgrasp/reconstruction/mesh_query.h"
+#include "skelgrasp/geometry/mesh_query.h"
 
 namespace skelgrasp::grasping {
 
@@ -36,7 +36,7 @@ class GraspObject {
   // True when the mesh is closed (every edge shared by two faces): then inside/outside is defined.
   bool closed() const { return closed_; }
   // Closest-point queries on the surface (AABB tree, built on first use, thread-safe).
-  const reconstruction::MeshQuery& surfaceQuery() const;
+  const geometry::MeshQuery& surfaceQuery() const;
 
   struct CollisionData;  // FCL geometry, defined in the FCL translation units
   const CollisionData& collisionData() const { return *collision_; }
@@ -52,7 +52,7 @@ class GraspObject {
   std::vector<std::vector<int>> vertex_faces_;
   std::unique_ptr<CollisionData> collision_;
   mutable std::once_flag query_once_;
-  mutable std::unique_ptr<reconstruction::MeshQuery> query_;
+  mutable std::unique_ptr<geometry::MeshQuery> query_;
 };
 
 }  // namespace skelgrasp::grasping

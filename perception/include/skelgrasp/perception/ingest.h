@@ -1,6 +1,8 @@
 #pragma once
 // From a scan to object clouds: filters, scene parsing, normals. This is `skelgrasp ingest`; the
 // reconstruction pipeline continues from its result.
+#include <nlohmann/json.hpp>
+
 #include <vector>
 
 #include "skelgrasp/perception/filters.h"
@@ -31,5 +33,9 @@ struct IngestResult {
 };
 
 IngestResult ingestScan(const Scan& scan, const IngestParams& params = {});
+
+// The ingest stage's members of report.json ("input", "filters", "plane", "scene", "clusters";
+// docs/reconstruction.md).
+nlohmann::json toJson(const Scan& scan, const IngestParams& params, const IngestResult& ingest);
 
 }  // namespace skelgrasp::perception

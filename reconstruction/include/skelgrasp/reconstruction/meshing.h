@@ -2,6 +2,8 @@
 // Oriented object points -> closed single-part mesh: optional completion down to the support
 // plane, PCL Poisson reconstruction, trimming of surface the data does not support, regularisation
 // (alpha wrap), and per-vertex observed / filled-in flags. Lengths in metres.
+#include <nlohmann/json.hpp>
+
 #include <optional>
 #include <string>
 #include <vector>
@@ -9,8 +11,8 @@
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/mesh.h"
 #include "skelgrasp/common/point_cloud.h"
+#include "skelgrasp/geometry/regularisation.h"
 #include "skelgrasp/perception/scene.h"
-#include "skelgrasp/reconstruction/regularisation.h"
 
 namespace skelgrasp::reconstruction {
 
@@ -72,7 +74,7 @@ struct MeshingParams {
   PoissonParams poisson;
   TrimParams trim;
   // Poisson surfaces are usually closed manifolds already; auto wraps only when they are not.
-  RegularisationParams regularisation{RegularisationMethod::kAuto};
+  geometry::RegularisationParams regularisation{geometry::RegularisationMethod::kAuto};
   // A vertex is "observed" when an input (sensor) point lies within this distance, else it is
   // "filled-in" (Poisson extrapolation, completion, wrap closure).
   double observed_distance_m = 0.005;
@@ -86,7 +88,7 @@ struct MeshingReport {
   double trim_threshold_m = 0;
   std::size_t trimmed_faces = 0;
   std::size_t faces_after_trim = 0;
-  RegularisationReport regularisation;
+  geometry::RegularisationReport regularisation;
   std::size_t vertices = 0;
   std::size_t faces = 0;
   std::size_t observed_vertices = 0;
@@ -112,6 +114,11 @@ struct MeshingResult {
 MeshingResult meshObject(const PointCloud& object,
                          const std::optional<perception::SupportPlane>& plane,
                          const MeshingParams& params = {});
+
+// The meshing stage's entry in report.json ("objects", docs/reconstruction.md): parameters,
+// measurements and the mesh; `mesh_file` is the written mesh, empty for none (null).
+nlohmann::json toJson(const MeshingResult& meshing, const MeshingParams& params,
+                      std::size_t cluster, const std::string& mesh_file);
 
 // Observed flags of `mesh`'s vertices: 1 where an observed point lies within `distance`.
 std::vector<std::uint8_t> observedFlags(const TriangleMesh& mesh,

@@ -5,7 +5,7 @@
 
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/mesh.h"
-#include "skelgrasp/reconstruction/regularisation.h"
+#include "skelgrasp/geometry/regularisation.h"
 #include "skelgrasp/skeleton/skeleton.h"
 
 namespace skelgrasp::skeleton {
@@ -28,7 +28,7 @@ struct ContractionParams {
 };
 
 struct SkeletonParams {
-  reconstruction::RegularisationParams regularisation;
+  geometry::RegularisationParams regularisation;
   ContractionParams contraction;
   // Terminal branches shorter than this factor times the inscribed radius where they attach are
   // removed as contraction artefacts (see cleanup.h); 0 keeps the raw CGAL skeleton.
@@ -71,7 +71,7 @@ struct SkeletonResult {
   Status status;
   Skeleton skeleton;              // surface_points index the *input* mesh's vertices
   TriangleMesh regularised_mesh;  // the closed mesh that was contracted
-  reconstruction::RegularisationReport regularisation;
+  geometry::RegularisationReport regularisation;
   SkeletonTimings timing;
   SkeletonDiagnostics diagnostics;
 };

@@ -1,0 +1,32 @@
+#pragma once
+// The whole perception-to-mesh job behind `skelgrasp reconstruct`: ingest (filters, scene
+// parsing, normals) and then meshing of every selected object.
+#include <vector>
+
+#include "skelgrasp/perception/ingest.h"
+#include "skelgrasp/reconstruction/meshing.h"
+
+namespace skelgrasp::pipeline {
+
+struct ReconstructionParams {
+  perception::IngestParams ingest;
+  reconstruction::MeshingParams meshing;
+};
+
+struct ObjectReconstruction {
+  std::size_t cluster = 0;  // index into ingest.scene.clusters
+  reconstruction::MeshingResult meshing;
+};
+
+struct ReconstructionResult {
+  // ok when every selected object was meshed; otherwise the first failure (ingest or meshing).
+  Status status;
+  perception::IngestResult ingest;
+  std::vector<ObjectReconstruction> objects;
+  double total_s = 0;
+};
+
+ReconstructionResult reconstructScan(const perception::Scan& scan,
+                                     const ReconstructionParams& params = {});
+
+}  // namespace skelgrasp::pipeline

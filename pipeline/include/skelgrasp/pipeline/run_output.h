@@ -1,0 +1,19 @@
+#pragma once
+// The files of `skelgrasp run`.
+#include <string>
+
+#include "skelgrasp/grasping/hand_model.h"
+#include "skelgrasp/perception/scan.h"
+#include "skelgrasp/pipeline/run_pipeline.h"
+
+namespace skelgrasp::pipeline {
+
+// Writes DIR/grasps.json (the plan schema plus scene fields), object.ply (with observed flags),
+// skeleton.json, segmentation.ply, scene.bt and report.html with its PNG pictures. All of them
+// appear together at the end (atomic_file.h, OutputTransaction), grasps.json last; on an error
+// none is written and DIR is not created.
+void writeRunOutputs(const std::string& dir, const RunResult& result,
+                     const grasping::HandModel& hand, const perception::Scan& scan,
+                     const std::string& input_name);
+
+}  // namespace skelgrasp::pipeline

@@ -1,0 +1,85 @@
+#pragma once
+// The product's main job (`skelgrasp run`): a scan of a table scene in, ranked collision-free
+// grasps on one target object out. Stages: filters -> support plane and objects -> reconstruction
+// (closed mesh, observed flags) -> skeleton -> skeleton planner with the scene's occupancy ->
+// ranking. Everything is in the scan's frame, metres.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "skelgrasp/grasping/planners.h"
+#include "skelgrasp/grasping/scene.h"
+#include "skelgrasp/perception/scan.h"
+#include "skelgrasp/pipeline/reconstruct_scan.h"
+#include "skelgrasp/skeleton/extraction.h"
+
+namespace skelgrasp::pipeline {
+
+// Where `run` departs from the stages' own defaults, visibly and in one place.
+// Planning limits of one run: the first grasps found are ranked, not all the object has.
+constexpr double kRunPlanningTimeoutS = 10;
+constexpr std::size_t kRunMaxGrasps = 20;
+// Reconstructions are closed single-part manifolds already: no second wrap (0.5 s saved). When one
+// is not, runPipeline retries with the regularisation's automatic mode (pinholes filled, else
+// wrapped).
+inline skeleton::SkeletonParams runSkeletonParams() {
+  skeleton::SkeletonParams params;
+  params.regularisation.method = geometry::RegularisationMethod::kNone;
+  return params;
+}
+inline grasping::SkeletonPlannerParams runPlannerParams() {
+  grasping::SkeletonPlannerParams params;
+  params.timeout_s = kRunPlanningTimeoutS;
+  params.max_grasps = kRunMaxGrasps;
+  return params;
+}
+
+struct RunParams {
+  ReconstructionParams reconstruction;  // target: largest or nearest:x,y,z
+  skeleton::SkeletonParams skeleton = runSkeletonParams();
+  grasping::SkeletonPlannerParams planner = runPlannerParams();
+  bool scene_check = true;  // occupancy octree and support plane
+  grasping::SceneOccupancyParams occupancy;
+  // The octree covers the target's box grown by this much (hand size plus pre-grasp distance).
+  double workspace_margin_m = 0.4;
+  grasping::SceneCheckParams approach;
+  // Ranking score = epsilon * (1 - w + w * observed contact ratio): a grasp whose contacts lie on
+  // surface the sensor saw is trusted more than one on filled-in surface.
+  double observed_weight = 0.5;
+};
+
+struct RankedGrasp {
+  grasping::Grasp grasp;
+  double observed_contact_ratio = 0;  // contacts on observed surface / contacts
+  double score = 0;
+};
+
+struct StageTime {
+  std::string stage;
+  double seconds = 0;
+};
+
+struct RunResult {
+  Status status;
+  ReconstructionResult reconstruction;
+  std::size_t cluster = 0;             // the target's index in reconstruction.ingest.scene.clusters
+  TriangleMesh mesh;                   // the target's closed mesh
+  std::vector<std::uint8_t> observed;  // per mesh vertex
+  std::optional<Eigen::Vector4d> plane;  // a x + b y + c z + d = 0, the object on the positive side
+  PointCloud obstacles;                  // scene points that are not the target (octree input)
+  std::shared_ptr<grasping::SceneOccupancy> occupancy;
+  std::optional<skeleton::SkeletonResult> skeleton;
+  grasping::PlanResult plan;        // summary; grasps moved into `ranked`
+  std::vector<RankedGrasp> ranked;  // best first
+  std::vector<StageTime> stages;
+  double total_s = 0;
+};
+
+// Runs the pipeline on one target object. Data failures (no plane, no object, meshing or skeleton
+// failure) are in the status, with the stage named; no grasps is kNoResult with the rejections.
+// Throws InvalidArgument when the target mode asks for all objects.
+RunResult runPipeline(const perception::Scan& scan, const grasping::HandModel& hand,
+                      const RunParams& params = {});
+
+}  // namespace skelgrasp::pipeline

@@ -1,0 +1,77 @@
+#include "run_scene_view.h"
+
+#include <fmt/format.h>
+
+#include "skelgrasp/grasping/hand_render.h"
+#include "skelgrasp/skeleton/output.h"
+
+namespace skelgrasp::pipeline {
+namespace {
+
+using namespace grasping;
+
+const Rgb kScanGrey{120, 130, 150};
+const Rgb kObjectBeige{215, 200, 170};
+const Rgb kSkeletonBlack{20, 20, 20};
+
+void addScan(SceneView3d& view, const perception::Scan& scan, const RunSceneViewParams& params) {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<Rgb> colours;
+  const bool coloured = scan.cloud.hasColors();
+  for (std::size_t i = 0; i < scan.cloud.size(); ++i) {
+    if (!scan.cloud.points[i].allFinite()) continue;
+    points.push_back(scan.cloud.points[i]);
+    if (coloured) colours.push_back(scan.cloud.colors[i]);
+  }
+  view.addPoints("scan", points, colours, params.scan_point_size_m, params.max_scan_points);
+}
+
+void addSkeleton(SceneView3d& view, const skeleton::Skeleton& skel) {
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> segments;
+  for (const auto& e : skel.edges) {
+    segments.emplace_back(skel.vertices[e[0]].position, skel.vertices[e[1]].position);
+  }
+  view.addLines("skeleton", segments, kSkeletonBlack);
+}
+
+void addGrasps(SceneView3d& view, const RunResult& r, const grasping::HandModel& hand) {
+  // Each link's geometry is embedded once; a grasp is only its link poses.
+  std::vector<int> part_of_link(hand.links().size(), -1);
+  for (std::size_t l = 0; l < hand.links().size(); ++l) {
+    const TriangleMesh mesh = linkMesh(hand, static_cast<int>(l));
+    if (!mesh.empty()) part_of_link[l] = view.addPart(mesh, linkColour(hand, static_cast<int>(l)));
+  }
+  for (std::size_t k = 0; k < r.ranked.size(); ++k) {
+    const Grasp& g = r.ranked[k].grasp;
+    const auto link_poses = hand.linkPoses(g.joints);
+    std::vector<std::pair<int, Pose>> parts;
+    for (std::size_t l = 0; l < link_poses.size(); ++l) {
+      if (part_of_link[l] >= 0) parts.emplace_back(part_of_link[l], g.hand_pose * link_poses[l]);
+    }
+    std::vector<SceneViewContact> contacts;
+    for (const auto& c : g.contacts) contacts.push_back({c.point, c.normal});
+    view.addGrasp(
+        fmt::format("#{} {} {} — ε {:.3f}, score {:.3f}, {} contacts", k, toString(g.type),
+                    g.strategy, g.epsilon, r.ranked[k].score, g.contacts.size()),
+        parts, contacts);
+  }
+}
+
+}  // namespace
+
+SceneView3d runSceneView(const RunResult& r, const grasping::HandModel& hand,
+                         const perception::Scan& scan, const RunSceneViewParams& params) {
+  SceneView3d view;
+  addScan(view, scan, params);
+  if (!r.mesh.empty()) {
+    const bool segmented = r.skeleton && r.skeleton->status.ok();
+    view.addMesh("object",
+                 segmented ? skeleton::colourBySegment(r.mesh, r.skeleton->skeleton) : r.mesh,
+                 kObjectBeige);
+    if (segmented) addSkeleton(view, r.skeleton->skeleton);
+  }
+  addGrasps(view, r, hand);
+  return view;
+}
+
+}  // namespace skelgrasp::pipeline
