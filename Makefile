@@ -38,7 +38,8 @@ demo: build
 	@$(SKELGRASP) demo --out $(DEMO_OUT)
 
 # AddressSanitizer + UndefinedBehaviorSanitizer build of everything, then the test suite under it
-# (SANITIZE_TESTS=regex over test names, SANITIZE_LABELS=regex over suites run a subset;
+# (SANITIZE_TESTS=regex over test names, SANITIZE_LABELS=regex over suites run a subset,
+# SANITIZE_EXCLUDE=regex over test names leaves tests out;
 # SANITIZE_TARGETS="skelgrasp common_tests ..." builds only those).
 # docs/reliability.md.
 sanitize: deps
@@ -47,7 +48,8 @@ sanitize: deps
 	@$(SANITIZER_ENV) cmake --build $(SANITIZE_DIR) -j $(JOBS) \
 	  $(if $(SANITIZE_TARGETS),--target $(SANITIZE_TARGETS),)
 	@cd $(SANITIZE_DIR) && $(SANITIZER_ENV) ctest --output-on-failure -j $(JOBS) \
-	  $(if $(SANITIZE_TESTS),-R '$(SANITIZE_TESTS)',) $(if $(SANITIZE_LABELS),-L '$(SANITIZE_LABELS)',)
+	  $(if $(SANITIZE_TESTS),-R '$(SANITIZE_TESTS)',) $(if $(SANITIZE_LABELS),-L '$(SANITIZE_LABELS)',) \
+	  $(if $(SANITIZE_EXCLUDE),-E '$(SANITIZE_EXCLUDE)',)
 
 # libFuzzer targets of the readers (clang), each run for SECONDS; findings land in $(FUZZ_DIR)/findings.
 fuzz:
