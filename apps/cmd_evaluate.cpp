@@ -26,11 +26,17 @@ std::string join(const std::vector<std::string>& items, char sep) {
   return text;
 }
 
+std::string plannerNames(const std::vector<evaluation::Planner>& planners) {
+  std::vector<std::string> names;
+  for (const auto planner : planners) names.push_back(evaluation::toString(planner));
+  return join(names, ',');
+}
+
 // Defaults are BatchParams' (never a typed copy of a number).
 struct EvaluateArgs {
   std::vector<std::string> objects;
   std::string hands = join(evaluation::BatchParams{}.hands, ',');
-  std::string planners = join(evaluation::BatchParams{}.planners, ',');
+  std::string planners = plannerNames(evaluation::BatchParams{}.planners);
   std::string out = evaluation::BatchParams{}.out_dir;
   std::string shard = "0/1";
   std::string variant = evaluation::toString(evaluation::RobustnessParams{}.variant);
@@ -87,7 +93,9 @@ int runEvaluate(const EvaluateArgs& a) {
   p.objects = expandObjects(a.objects);
   p.object_limit = a.limit;
   p.hands = split(a.hands, ',');
-  p.planners = split(a.planners, ',');
+  p.planners.clear();
+  for (const auto& name : split(a.planners, ','))
+    p.planners.push_back(evaluation::parsePlanner(name));
   p.out_dir = a.out;
   p.jobs = a.jobs;
   // Whole numbers only: std::stoi alone would take "1x/4" or "-1/4".

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <numeric>
+#include <optional>
 #include <random>
 #include <set>
 
@@ -20,16 +21,25 @@
 namespace skelgrasp::evaluation {
 namespace {
 
+using internal::GraspRecord;
 using internal::ObjectIdentity;
+using internal::RunRecord;
+using internal::RunStatus;
 
 struct ObjectOutcome {
-  std::vector<nlohmann::json> runs, results;
+  std::vector<RunRecord> runs;
+  std::vector<GraspRecord> results;
   std::size_t failed = 0;
 };
 
-nlohmann::json runRecord(const ObjectIdentity& object, const std::string& hand,
-                         const std::string& planner) {
-  return {{"object", object.id}, {"hand", hand}, {"planner", planner}};
+// A run record of `object` with its key and content hash filled in.
+RunRecord runRecord(const ObjectIdentity& object, const std::string& hand, Planner planner) {
+  RunRecord run;
+  run.object = object.id;
+  run.hand = hand;
+  run.planner = planner;
+  run.object_hash = object.hash;
+  return run;
 }
 
 // The message of an object's error, naming its file once.
@@ -52,19 +62,19 @@ class ObjectEvaluator {
   // Never throws: whatever goes wrong for this object is recorded as failed runs.
   ObjectOutcome evaluate(const ObjectIdentity& id) const {
     ObjectOutcome out;
-    auto fail = [&](const std::string& hand, const std::string& planner, const std::string& error) {
-      auto r = runRecord(id, hand, planner);
-      r["object_hash"] = id.hash;
-      r["status"] = "error";
-      r["error"] = error;
-      out.runs.push_back(r);
+    auto fail = [&](const std::string& hand, Planner planner, const std::string& error) {
+      RunRecord r = runRecord(id, hand, planner);
+      r.status = RunStatus::kError;
+      r.error = error;
+      out.runs.push_back(std::move(r));
       ++out.failed;
     };
-    auto failAll = [&](const std::string& error, const std::string& only_planner) {
+    // Fails the runs of every planner, or of `only_planner` when given.
+    auto failAll = [&](const std::string& error, std::optional<Planner> only_planner) {
       log().warn("evaluate: {}", error);
       for (const auto& hand : hands_) {
-        for (const auto& planner : p_.planners) {
-          if (only_planner.empty() || planner == only_planner) fail(hand.name(), planner, error);
+        for (const Planner planner : p_.planners) {
+          if (!only_planner || planner == *only_planner) fail(hand.name(), planner, error);
         }
       }
     };
@@ -74,41 +84,43 @@ class ObjectEvaluator {
       mesh = loadMesh(id.path, p_.load);
       object = std::make_unique<grasping::GraspObject>(mesh);
     } catch (...) {
-      failAll(objectError(id, std::current_exception()), "");
+      failAll(objectError(id, std::current_exception()), std::nullopt);
       return out;
     }
-    const bool want_skeleton = std::count(p_.planners.begin(), p_.planners.end(), "skeleton") > 0;
+    const bool want_skeleton =
+        std::count(p_.planners.begin(), p_.planners.end(), Planner::kSkeleton) > 0;
     std::optional<skeleton::SkeletonResult> skel;
     if (want_skeleton) {
       try {
         skel = skeleton::extractSkeleton(mesh, p_.skeleton);
         if (!skel->status.ok()) {
-          failAll(id.path + ": " + skel->status.message, "skeleton");
+          failAll(id.path + ": " + skel->status.message, Planner::kSkeleton);
           skel.reset();
         }
       } catch (...) {
-        failAll(objectError(id, std::current_exception()), "skeleton");
+        failAll(objectError(id, std::current_exception()), Planner::kSkeleton);
         skel.reset();
       }
     }
     // The skeleton planner runs first whatever the order of `planners`: its pose count is the
     // surface planner's budget, which must not depend on that order.
-    std::vector<std::string> planners = p_.planners;
+    std::vector<Planner> planners = p_.planners;
     std::stable_partition(planners.begin(), planners.end(),
-                          [](const std::string& planner) { return planner == "skeleton"; });
+                          [](Planner planner) { return planner == Planner::kSkeleton; });
     for (const auto& hand : hands_) {
       // As many surface hypotheses as the skeleton planner's poses on this object and hand (the
       // paper's comparison), else surface_hypotheses.
       std::size_t surface_budget = p_.surface_hypotheses;
-      for (const auto& planner : planners) {
-        if (planner == "skeleton" && !skel) continue;  // recorded as failed above
+      for (const Planner planner : planners) {
+        const bool skeleton_planner = planner == Planner::kSkeleton;
+        if (skeleton_planner && !skel) continue;  // recorded as failed above
         try {
           const std::size_t poses = plan(id, hand, planner, surface_budget, *object,
-                                         planner == "skeleton" ? &*skel : nullptr, out);
-          if (planner == "skeleton" && poses > 0) surface_budget = poses;
+                                         skeleton_planner ? &*skel : nullptr, out);
+          if (skeleton_planner && poses > 0) surface_budget = poses;
         } catch (...) {
           const std::string error = objectError(id, std::current_exception());
-          log().warn("evaluate: {} ({}, {})", error, hand.name(), planner);
+          log().warn("evaluate: {} ({}, {})", error, hand.name(), toString(planner));
           fail(hand.name(), planner, error);
         }
       }
@@ -119,16 +131,16 @@ class ObjectEvaluator {
  private:
   // One planner run and its records; returns the run's pose count. `surface_budget`: the surface
   // planner's number of hypotheses.
-  std::size_t plan(const ObjectIdentity& id, const grasping::HandModel& hand,
-                   const std::string& planner, std::size_t surface_budget,
-                   const grasping::GraspObject& object, const skeleton::SkeletonResult* skel,
-                   ObjectOutcome& out) const {
-    const std::uint64_t seed = internal::fnv1a(id.id + "|" + hand.name() + "|" + planner, p_.seed);
+  std::size_t plan(const ObjectIdentity& id, const grasping::HandModel& hand, Planner planner,
+                   std::size_t surface_budget, const grasping::GraspObject& object,
+                   const skeleton::SkeletonResult* skel, ObjectOutcome& out) const {
+    const std::uint64_t seed =
+        internal::fnv1a(internal::runKey(id.id, hand.name(), planner), p_.seed);
     grasping::PlanResult result;
     grasping::HypothesisParams hypothesis;
     hypothesis.quality = p_.quality;
     hypothesis.closing.method = p_.robustness.closing.method;  // --closing judges both
-    if (planner == "skeleton") {
+    if (planner == Planner::kSkeleton) {
       grasping::SkeletonPlannerParams sp;
       sp.timeout_s = p_.timeout_s;
       sp.seed = seed;
@@ -147,7 +159,7 @@ class ObjectEvaluator {
     return result.summary.poses;
   }
 
-  void record(const ObjectIdentity& id, const grasping::HandModel& hand, const std::string& planner,
+  void record(const ObjectIdentity& id, const grasping::HandModel& hand, Planner planner,
               std::uint64_t seed, const grasping::GraspObject& object,
               const grasping::PlanResult& plan, const skeleton::SkeletonResult* skel,
               ObjectOutcome& out) const {
@@ -172,51 +184,46 @@ class ObjectEvaluator {
       robustness_sum += robustness[index].score;
     }
     const auto& s = plan.summary;
-    auto run = runRecord(id, hand.name(), planner);
-    run["object_hash"] = id.hash;
-    run["status"] = plan.grasps.empty() ? "no_grasp" : "ok";
-    run["error"] = "";
-    run["seed"] = seed;
-    run["hypotheses"] = s.hypotheses;
-    run["poses"] = s.poses;
-    run["generated"] = s.generated;
-    run["force_closure"] = s.force_closure;
-    run["force_closure_rate"] = s.forceClosureRate();
-    run["kept"] = plan.grasps.size();
-    run["power"] = s.power;
-    run["precision"] = s.precision;
-    run["rejections"] = s.rejections;
-    run["timed_out"] = s.timed_out;
-    run["planning_s"] = s.planning_s;
-    run["ms_per_valid_grasp"] =
-        s.force_closure ? nlohmann::json(s.msPerValidGrasp()) : nlohmann::json(nullptr);
-    run["regularise_s"] = skel ? skel->timing.regularise_s : 0.0;
-    run["skeleton_s"] = skel ? skel->timing.skeleton_s : 0.0;
-    run["robustness_grasps"] = chosen.size();
-    run["robustness_samples"] = rp.samples;
-    run["robustness_s"] = robustness_s;
-    run["robustness_mean"] =
-        chosen.empty() ? nlohmann::json(nullptr) : nlohmann::json(robustness_sum / chosen.size());
-    out.runs.push_back(run);
+    RunRecord run = runRecord(id, hand.name(), planner);
+    run.status = plan.grasps.empty() ? RunStatus::kNoGrasp : RunStatus::kOk;
+    internal::RunMeasures& m = run.measures.emplace();
+    m.seed = seed;
+    m.hypotheses = s.hypotheses;
+    m.poses = s.poses;
+    m.generated = s.generated;
+    m.force_closure = s.force_closure;
+    m.force_closure_rate = s.forceClosureRate();
+    m.kept = plan.grasps.size();
+    m.power = s.power;
+    m.precision = s.precision;
+    m.rejections = s.rejections;
+    m.timed_out = s.timed_out;
+    m.planning_s = s.planning_s;
+    if (s.force_closure) m.ms_per_valid_grasp = s.msPerValidGrasp();
+    m.regularise_s = skel ? skel->timing.regularise_s : 0.0;
+    m.skeleton_s = skel ? skel->timing.skeleton_s : 0.0;
+    m.robustness_grasps = chosen.size();
+    m.robustness_samples = rp.samples;
+    m.robustness_s = robustness_s;
+    if (!chosen.empty()) m.robustness_mean = robustness_sum / chosen.size();
+    out.runs.push_back(std::move(run));
     for (std::size_t i = 0; i < plan.grasps.size(); ++i) {
       const auto& g = plan.grasps[i];
-      auto r = runRecord(id, hand.name(), planner);
-      r["grasp"] = g.id;
-      r["type"] = grasping::toString(g.type);
-      r["strategy"] = g.strategy;
-      r["epsilon"] = g.epsilon;
-      r["volume"] = g.volume;
-      r["time_ms"] = s.msPerValidGrasp();
-      const auto it = robustness.find(i);
-      r["robustness"] =
-          it != robustness.end() ? nlohmann::json(it->second.score) : nlohmann::json(nullptr);
-      r["robustness_low"] =
-          it != robustness.end() ? nlohmann::json(it->second.wilson_low) : nlohmann::json(nullptr);
-      r["robustness_high"] =
-          it != robustness.end() ? nlohmann::json(it->second.wilson_high) : nlohmann::json(nullptr);
-      r["robustness_collisions"] =
-          it != robustness.end() ? nlohmann::json(it->second.collisions) : nlohmann::json(nullptr);
-      out.results.push_back(r);
+      GraspRecord r;
+      r.object = id.id;
+      r.hand = hand.name();
+      r.planner = planner;
+      r.grasp = g.id;
+      r.type = grasping::toString(g.type);
+      r.strategy = g.strategy;
+      r.epsilon = g.epsilon;
+      r.volume = g.volume;
+      r.time_ms = s.msPerValidGrasp();
+      if (const auto it = robustness.find(i); it != robustness.end()) {
+        r.robustness = internal::GraspRobustness{it->second.score, it->second.wilson_low,
+                                                 it->second.wilson_high, it->second.collisions};
+      }
+      out.results.push_back(std::move(r));
     }
   }
 
@@ -235,11 +242,6 @@ void checkBatchParams(const BatchParams& p) {
   if (p.objects.empty()) throw InvalidArgument("no objects to evaluate");
   if (p.hands.empty()) throw InvalidArgument("no hands to evaluate");
   if (p.planners.empty()) throw InvalidArgument("no planners to evaluate");
-  for (const auto& planner : p.planners) {
-    if (planner != "skeleton" && planner != "surface") {
-      throw InvalidArgument("unknown planner '" + planner + "' (use skeleton, surface)");
-    }
-  }
   auto nonNegative = [](double value, const char* what) {
     if (!(value >= 0) || !std::isfinite(value))
       throw InvalidArgument(std::string(what) + " must be a finite number >= 0");
@@ -273,6 +275,23 @@ void prepareOutDir(const std::string& dir) {
 }
 
 }  // namespace
+
+Planner parsePlanner(const std::string& name) {
+  for (const Planner planner : {Planner::kSkeleton, Planner::kSurface}) {
+    if (name == toString(planner)) return planner;
+  }
+  throw InvalidArgument("unknown planner '" + name + "' (use skeleton, surface)");
+}
+
+const char* toString(Planner planner) {
+  switch (planner) {
+    case Planner::kSkeleton:
+      return "skeleton";
+    case Planner::kSurface:
+      break;
+  }
+  return "surface";
+}
 
 BatchStats runBatch(const BatchParams& p) {
   checkBatchParams(p);
@@ -313,15 +332,16 @@ BatchStats runBatch(const BatchParams& p) {
     object.hash = internal::contentHash(object.path);
     bool done = true, failed = false, stale = false;
     for (const auto& hand : hands) {
-      for (const auto& planner : p.planners) {
-        const auto run = store.records().runs.find(object.id + "|" + hand.name() + "|" + planner);
+      for (const Planner planner : p.planners) {
+        const auto run =
+            store.records().runs.find(internal::runKey(object.id, hand.name(), planner));
         if (run == store.records().runs.end()) {
           done = false;
           continue;
         }
-        failed = failed || run->second.value("status", "") == "error";
+        failed = failed || run->second.status == RunStatus::kError;
         // Records of an older skelgrasp have no hash; an unreadable file keeps its old results.
-        const std::string recorded = run->second.value("object_hash", object.hash);
+        const std::string recorded = run->second.object_hash.value_or(object.hash);
         stale = stale || (!object.hash.empty() && recorded != object.hash);
       }
     }
@@ -336,8 +356,7 @@ BatchStats runBatch(const BatchParams& p) {
     changed.push_back(stale);
   }
   std::size_t foreign = 0;
-  for (const auto& [key, run] : store.records().runs)
-    foreign += !listed.count(run.at("object").get<std::string>());
+  for (const auto& [key, run] : store.records().runs) foreign += !listed.count(run.object);
   if (foreign > 0) {
     log().warn("{}: holds {} run(s) of objects not in this list; they stay in the summary",
                p.out_dir, foreign);

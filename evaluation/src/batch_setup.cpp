@@ -79,12 +79,14 @@ std::string shown(const nlohmann::json& value) {
 }  // namespace
 
 nlohmann::json resultOptions(const BatchParams& p) {
+  std::vector<std::string> planners;
+  for (const Planner planner : p.planners) planners.push_back(toString(planner));
   const auto& q = p.quality;
   const auto& r = p.robustness;
   const auto& c = r.closing;
   return {
       {"hands", p.hands},
-      {"planners", p.planners},
+      {"planners", planners},
       {"seed", p.seed},
       {"timeout_s", p.timeout_s},
       {"vertex_distance_m", p.vertex_distance_m},

@@ -41,24 +41,20 @@ void appendLines(const std::string& path, const std::string& text) {
   if (::close(fd) != 0) throw IoError(path, std::string("close failed: ") + std::strerror(errno));
 }
 
-std::string linesOf(const std::vector<nlohmann::json>& records) {
+template <typename Record>
+std::string linesOf(const std::vector<Record>& records) {
   std::string text;
-  for (const auto& r : records) text += r.dump() + "\n";
+  for (const auto& r : records) text += nlohmann::json(r).dump() + "\n";
   return text;
 }
 
-}  // namespace
-
-std::string runKey(const nlohmann::json& r) {
-  return r.at("object").get<std::string>() + "|" + r.at("hand").get<std::string>() + "|" +
-         r.at("planner").get<std::string>();
-}
-
-std::vector<nlohmann::json> readJsonLines(const std::string& path, bool* torn_tail) {
+// The JSON lines of `path` converted to Records; see readRunRecords.
+template <typename Record>
+std::vector<Record> readRecords(const std::string& path, bool* torn_tail) {
   if (torn_tail) *torn_tail = false;
-  std::vector<nlohmann::json> lines;
+  std::vector<Record> records;
   std::ifstream in(path, std::ios::binary);
-  if (!in) return lines;
+  if (!in) return records;
   const std::string text((std::istreambuf_iterator<char>(in)), {});
   std::size_t number = 0;
   for (std::size_t start = 0; start < text.size();) {
@@ -68,8 +64,9 @@ std::vector<nlohmann::json> readJsonLines(const std::string& path, bool* torn_ta
     ++number;
     start = end + 1;
     if (line.empty()) continue;
+    nlohmann::json j;
     try {
-      lines.push_back(nlohmann::json::parse(line));
+      j = nlohmann::json::parse(line);
     } catch (const nlohmann::json::parse_error& e) {
       // Only the last line can be cut short by a crash; anything else is real damage.
       if (!last)
@@ -77,39 +74,57 @@ std::vector<nlohmann::json> readJsonLines(const std::string& path, bool* torn_ta
       log().warn("{}: line {} is incomplete (the batch was interrupted while writing it); ignored",
                  path, number);
       if (torn_tail) *torn_tail = true;
+      continue;
+    }
+    try {
+      records.push_back(j.get<Record>());
+    } catch (const RecordError& e) {
+      throw IoError(path, "line " + std::to_string(number) + ": " + e.what());
     }
   }
   // A complete last record without its newline would have the next append glued onto it.
   if (torn_tail && !text.empty() && text.back() != '\n') *torn_tail = true;
-  return lines;
+  return records;
+}
+
+}  // namespace
+
+std::vector<RunRecord> readRunRecords(const std::string& path, bool* torn_tail) {
+  return readRecords<RunRecord>(path, torn_tail);
+}
+
+std::vector<GraspRecord> readGraspRecords(const std::string& path, bool* torn_tail) {
+  return readRecords<GraspRecord>(path, torn_tail);
 }
 
 BatchRecords loadBatchRecords(const std::string& dir) {
   BatchRecords records;
   bool torn_runs = false, torn_results = false;
-  const auto runs = readJsonLines(dir + kRunsFile, &torn_runs);
-  const auto results = readJsonLines(dir + kResultsFile, &torn_results);
-  for (const auto& run : runs) records.runs[runKey(run)] = run;  // the last record wins
-  std::map<std::string, std::vector<nlohmann::json>> all_results;
-  for (const auto& result : results) all_results[runKey(result)].push_back(result);
+  auto runs = readRunRecords(dir + kRunsFile, &torn_runs);
+  auto results = readGraspRecords(dir + kResultsFile, &torn_results);
+  const std::size_t run_lines = runs.size(), result_lines = results.size();
+  for (auto& run : runs) records.runs[runKey(run)] = std::move(run);  // the last record wins
+  std::map<std::string, std::vector<GraspRecord>> all_results;
+  for (auto& result : results) all_results[runKey(result)].push_back(std::move(result));
   std::size_t kept_lines = 0;
   for (auto& [key, list] : all_results) {
     const auto run = records.runs.find(key);
-    if (run == records.runs.end()) continue;  // results of an unfinished run: dropped
-    const auto kept = static_cast<std::size_t>(run->second.value("kept", 0));
-    if (kept == 0 || run->second.value("status", "") == "error") continue;
+    if (run == records.runs.end()) continue;      // results of an unfinished run: dropped
+    const auto& measures = run->second.measures;  // none for a failed run: no results
+    const std::size_t kept = measures ? measures->kept : 0;
+    if (kept == 0) continue;
     if (list.size() > kept) list.erase(list.begin(), list.end() - kept);
     kept_lines += list.size();
     records.results[key] = std::move(list);
   }
-  records.needs_compaction = torn_runs || torn_results || runs.size() != records.runs.size() ||
-                             results.size() != kept_lines;
+  records.needs_compaction =
+      torn_runs || torn_results || run_lines != records.runs.size() || result_lines != kept_lines;
   return records;
 }
 
 void writeBatchRecords(const std::string& dir, const BatchRecords& records) {
   std::string runs_text, results_text;
-  for (const auto& [key, run] : records.runs) runs_text += run.dump() + "\n";
+  for (const auto& [key, run] : records.runs) runs_text += nlohmann::json(run).dump() + "\n";
   for (const auto& [key, list] : records.results) results_text += linesOf(list);
   writeFileAtomically(dir + kResultsFile, results_text);
   writeFileAtomically(dir + kRunsFile, runs_text);
@@ -123,8 +138,7 @@ BatchStore::BatchStore(std::string dir) : dir_(std::move(dir)), records_(loadBat
   }
 }
 
-void BatchStore::add(const std::vector<nlohmann::json>& runs,
-                     const std::vector<nlohmann::json>& results) {
+void BatchStore::add(const std::vector<RunRecord>& runs, const std::vector<GraspRecord>& results) {
   std::lock_guard<std::mutex> lock(mutex_);
   // Results first: a run line promises that its results are on disk.
   appendLines(dir_ + kResultsFile, linesOf(results));

@@ -147,9 +147,71 @@ TEST_F(BatchTest, RejectsBadParameters) {
   p.shard_index = 2;
   p.shard_count = 2;
   EXPECT_THROW(runBatch(p), InvalidArgument);
-  p = params(test::tempDir("batch_bad"));
-  p.planners = {"random"};
-  EXPECT_THROW(runBatch(p), InvalidArgument);
+}
+
+TEST(PlannerTest, NamesRoundTripAndUnknownNamesAreRefused) {
+  for (const Planner planner : {Planner::kSkeleton, Planner::kSurface})
+    EXPECT_EQ(parsePlanner(toString(planner)), planner);
+  EXPECT_STREQ(toString(Planner::kSkeleton), "skeleton");
+  EXPECT_STREQ(toString(Planner::kSurface), "surface");
+  try {
+    parsePlanner("random");
+    FAIL() << "an unknown planner was accepted";
+  } catch (const InvalidArgument& e) {
+    EXPECT_STREQ(e.what(), "unknown planner 'random' (use skeleton, surface)");
+  }
+}
+
+// Replaces the text `from` by `to` in line `line` (1-based) of `path`.
+void editLine(const std::string& path, std::size_t line, const std::string& from,
+              const std::string& to) {
+  std::vector<std::string> text;
+  {
+    std::ifstream in(path);
+    for (std::string l; std::getline(in, l);) text.push_back(l);
+  }
+  ASSERT_GE(text.size(), line) << path;
+  const auto at = text[line - 1].find(from);
+  ASSERT_NE(at, std::string::npos) << from << " not in line " << line << " of " << path;
+  text[line - 1].replace(at, from.size(), to);
+  std::ofstream out(path, std::ios::trunc);
+  for (const auto& l : text) out << l << "\n";
+}
+
+// The IoError message of `action`, or a failure when it does not throw one.
+template <typename Action>
+std::string ioErrorOf(Action action) {
+  try {
+    action();
+  } catch (const IoError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no IoError";
+  return "";
+}
+
+TEST_F(BatchTest, ARecordWithAMissingOrMistypedKeyIsAnErrorNamingFileLineAndKey) {
+  const std::string out = test::tempDir("batch_damaged"), merged = test::tempDir("batch_dmerged");
+  auto p = params(out);
+  p.planners = {Planner::kSkeleton};
+  p.max_objects = 1;
+  runBatch(p);
+  ASSERT_EQ(lines(out + "/runs.jsonl").size(), 1u);
+  const auto kept = lines(out + "/runs.jsonl")[0]["kept"];
+  ASSERT_GT(kept.get<int>(), 0);
+  // A run line without "kept": before, it read as 0 and its grasps were silently dropped.
+  editLine(out + "/runs.jsonl", 1, "\"kept\":" + kept.dump() + ",", "");
+  p.max_objects = 0;
+  const std::string expected = out + "/runs.jsonl: line 1: key 'kept' is missing";
+  EXPECT_EQ(ioErrorOf([&] { runBatch(p); }), expected);  // resume
+  EXPECT_EQ(ioErrorOf([&] { mergeBatches({out}, merged); }), expected);
+  EXPECT_FALSE(std::filesystem::exists(merged + "/runs.jsonl")) << "nothing written";
+  EXPECT_EQ(lines(out + "/runs.jsonl").size(), 1u) << "the damaged file is left as it was";
+  // A key of the wrong type in results.jsonl.
+  editLine(out + "/runs.jsonl", 1, "\"hand\"", "\"kept\":" + kept.dump() + ",\"hand\"");
+  editLine(out + "/results.jsonl", 2, "\"epsilon\":", "\"epsilon\":\"high\",\"was\":");
+  EXPECT_EQ(ioErrorOf([&] { mergeBatches({out}, merged); }),
+            out + "/results.jsonl: line 2: key 'epsilon' must be a number, not \"high\"");
 }
 
 TEST_F(BatchTest, SameNamedMeshesInDifferentFoldersAreDistinctRunsWithDistinctSeeds) {
@@ -193,10 +255,10 @@ TEST_F(BatchTest, ThePlannersOrderDoesNotChangeTheirResults) {
                     backward = test::tempDir("batch_order_ba");
   auto p = params(forward);
   p.objects = {objects_.front()};
-  p.planners = {"skeleton", "surface"};
+  p.planners = {Planner::kSkeleton, Planner::kSurface};
   runBatch(p);
   p.out_dir = backward;
-  p.planners = {"surface", "skeleton"};
+  p.planners = {Planner::kSurface, Planner::kSkeleton};
   runBatch(p);
   const auto runs = byPlanner(forward + "/runs.jsonl");
   ASSERT_EQ(runs.size(), 2u);

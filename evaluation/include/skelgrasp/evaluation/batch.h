@@ -12,13 +12,22 @@
 
 namespace skelgrasp::evaluation {
 
+// The planners a batch compares. Declared in the order of their names: summaries sort by it.
+enum class Planner {
+  kSkeleton,  // "skeleton": the paper's skeleton-based planner
+  kSurface,   // "surface": the baseline sampling the object's surface
+};
+// Throws InvalidArgument "unknown planner 'NAME' (use skeleton, surface)".
+Planner parsePlanner(const std::string& name);
+const char* toString(Planner planner);
+
 struct BatchParams {
   std::vector<std::string> objects;  // mesh files
   // Only the first this many objects (0: all). Their ids stay those of the whole list, so a later
   // batch over all of it resumes them.
   std::size_t object_limit = 0;
   std::vector<std::string> hands = {"armar3", "sdh", "shadow"};  // built-in hand names
-  std::vector<std::string> planners = {"skeleton", "surface"};
+  std::vector<Planner> planners = {Planner::kSkeleton, Planner::kSurface};
   std::string out_dir = "evaluation";
   int jobs = 1;                          // objects evaluated in parallel
   int shard_index = 0, shard_count = 1;  // this process runs objects k with k % count == index
@@ -58,7 +67,7 @@ struct BatchStats {
 // share one folder), and each run records a hash of the file's bytes. A run is done when out_dir
 // holds it with the same content hash; seeds derive from (seed, id, hand, planner).
 //
-// Before any work, throws InvalidArgument for bad batch options (unknown hand or planner, shard out
+// Before any work, throws InvalidArgument for bad batch options (unknown hand, shard out
 // of range, non-finite or negative numbers) or for a resume whose result-shaping options differ
 // from out_dir/batch.json (naming them), and IoError when out_dir cannot be written or another
 // process holds its lock. After that, every error of an object (unloadable file, a stage throwing

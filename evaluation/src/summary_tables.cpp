@@ -1,0 +1,76 @@
+// summary.csv and summary.md of a batch (docs/evaluation.md).
+#include <fmt/format.h>
+
+#include "summary.h"
+
+namespace skelgrasp::evaluation::internal {
+namespace {
+
+// Grasps scored for robustness per second of robustness time (0 without any time).
+double robustnessThroughput(std::size_t grasps, double seconds) {
+  return seconds > 0 ? grasps / seconds : 0.0;
+}
+
+}  // namespace
+
+std::string summaryCsv(const BatchSummary& summary) {
+  std::string csv =
+      "hand,planner,objects,grasps,ms_per_valid_grasp,ms_per_valid_grasp_std,force_closure_rate,"
+      "force_closure_rate_std,robustness,robustness_std,precision,power\n";
+  for (const auto& [key, g] : summary.groups) {
+    csv += fmt::format("{},{},{},{},{:.3f},{:.3f},{:.4f},{:.4f},{:.4f},{:.4f},{},{}\n", key.first,
+                       toString(key.second), g.objects, g.grasps, g.ms.mean(), g.ms.std(),
+                       g.fc_rate.mean(), g.fc_rate.std(), g.robustness.mean(), g.robustness.std(),
+                       g.precision, g.power);
+  }
+  return csv;
+}
+
+std::string summaryMarkdown(const BatchSummary& summary,
+                            const std::vector<RobustnessChart>& charts) {
+  std::string md =
+      "# Evaluation summary\n\n"
+      "Per hand and planner (the paper's Table I layout): average time per valid grasp and "
+      "force-closure "
+      "rate (mean ± std over objects), robustness r (mean ± std over the grasps evaluated), grasp "
+      "counts. Files: runs.jsonl, results.jsonl (docs/evaluation.md).\n\n"
+      "| hand | planner | objects | grasps | time per valid grasp | force-closure rate | "
+      "robustness r | "
+      "precision / power |\n|---|---|---|---|---|---|---|---|\n";
+  std::string timings =
+      "\n## Time spent\n\n| hand | planner | regularise s | skeleton s | planning s | robustness s "
+      "| "
+      "robustness grasps per second |\n|---|---|---|---|---|---|---|\n";
+  double all_robustness_s = 0;
+  std::size_t all_robustness_grasps = 0;
+  for (const auto& [key, g] : summary.groups) {
+    const char* planner = toString(key.second);
+    md += fmt::format(
+        "| {} | {} | {} | {} | {:.2f} ms ± {:.2f} | {:.2f}% ± {:.2f} | {} | {} / {} |\n", key.first,
+        planner, g.objects, g.grasps, g.ms.mean(), g.ms.std(), 100 * g.fc_rate.mean(),
+        100 * g.fc_rate.std(),
+        g.robustness.values.empty()
+            ? std::string("n/a")
+            : fmt::format("{:.2f}% ± {:.2f} ({} grasps)", 100 * g.robustness.mean(),
+                          100 * g.robustness.std(), g.robustness.values.size()),
+        g.precision, g.power);
+    timings += fmt::format("| {} | {} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.2f} |\n", key.first,
+                           planner, g.regularise_s, g.skeleton_s, g.planning_s, g.robustness_s,
+                           robustnessThroughput(g.robustness_grasps, g.robustness_s));
+    all_robustness_s += g.robustness_s;
+    all_robustness_grasps += g.robustness_grasps;
+  }
+  md += timings;
+  md += fmt::format(
+      "\nBatch throughput: {:.2f} grasps evaluated for robustness per second per core.\n",
+      robustnessThroughput(all_robustness_grasps, all_robustness_s));
+  if (!summary.failures.empty()) {
+    md += "\n## Failed runs\n\n";
+    for (const auto& f : summary.failures) md += "- " + f + "\n";
+  }
+  md += "\n## Robustness histograms\n\n";
+  for (const auto& chart : charts) md += fmt::format("![{}]({})\n", chart.hand, chart.file);
+  return md;
+}
+
+}  // namespace skelgrasp::evaluation::internal
