@@ -1,7 +1,13 @@
-// skelgrasp: skeleton-based grasp planning from raw 3D scans.
+// skelgrasp's command programs: skeleton-based grasp planning from raw 3D scans. Built twice:
+// skelgrasp-full with every command, and with SKELGRASP_MESH_COMMANDS_ONLY skelgrasp-mesh with the
+// commands of command_programs.h, which link no perception stack. The `skelgrasp` launcher
+// (launcher.cpp) starts the right one.
+#include <algorithm>
+#include <cstdlib>
 #include <iostream>
 
 #include "cli.h"
+#include "command_programs.h"
 #include "option_checks.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/logging.h"
@@ -14,11 +20,34 @@ int fail(const std::string& message) {
   return kExitBadInput;
 }
 
+// The launcher routes kMeshCommands to skelgrasp-mesh: every one of them must exist in both
+// programs, and skelgrasp-mesh must have no other (it would be unreachable). A bug otherwise.
+void checkMeshCommandList(CLI::App& app) {
+  std::vector<std::string> registered;
+  for (const auto* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+    registered.push_back(sub->get_name());
+  }
+  for (const auto& command : kMeshCommands) {
+    if (std::find(registered.begin(), registered.end(), command) == registered.end()) {
+      throw std::logic_error("command '" + std::string(command) + "' of kMeshCommands is missing");
+    }
+  }
+#ifdef SKELGRASP_MESH_COMMANDS_ONLY
+  for (const auto& name : registered) {
+    if (!isMeshCommand(name)) {
+      throw std::logic_error("command '" + name + "' is not in kMeshCommands");
+    }
+  }
+#endif
+}
+
 }  // namespace skelgrasp::cli
 
 int main(int argc, char** argv) {
   using namespace skelgrasp;
   CLI::App app{"skelgrasp: skeleton-based grasp planning for multi-fingered hands"};
+  // The build renders the top-level help with placeholders for the launcher to fill in.
+  const bool help_template = std::getenv(cli::kHelpTemplateVariable) != nullptr;
   app.require_subcommand(1);
   app.fallthrough();  // global flags (-q, -v) may follow the subcommand
   bool quiet = false, verbose = false;
@@ -28,10 +57,20 @@ int main(int argc, char** argv) {
   app.add_option("--memory-limit", memory_limit,
                  "Refuse work estimated to need more memory: 4G, 512M or a fraction of RAM "
                  "(default " +
-                     formatBytes(static_cast<double>(defaultMemoryLimitBytes())) +
+                     (help_template
+                          ? std::string(cli::kMemoryDefaultPlaceholder)
+                          : formatBytes(static_cast<double>(defaultMemoryLimitBytes()))) +
                      ", half of this machine's; docs/limits.md)");
 
   cli::Action action;
+#ifdef SKELGRASP_MESH_COMMANDS_ONLY
+  cli::registerSkeletonCommand(app, action);
+  cli::registerShapeCommand(app, action);
+  cli::registerHandCommands(app, action);
+  cli::registerPlanCommand(app, action);
+  cli::registerEvaluateCommands(app, action);
+  cli::registerExportCommand(app, action);
+#else
   cli::registerSkeletonCommand(app, action);
   cli::registerShapeCommand(app, action);
   cli::registerBenchCommand(app, action);
@@ -47,9 +86,11 @@ int main(int argc, char** argv) {
   cli::registerBenchReconstructCommand(app, action);
   cli::registerBenchRunCommand(app, action);
   cli::registerBenchJudgeCommand(app, action);
+#endif
 
   try {
     cli::checkDefaults(app);
+    cli::checkMeshCommandList(app);
   } catch (const std::logic_error& e) {
     return cli::fail(std::string("internal error: ") + e.what());  // a bug, seen by every run
   }

@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build ccache pkg-config
   libeigen3-dev libpcl-dev libcgal-dev libgmp-dev libmpfr-dev libfcl-dev liboctomap-dev
-  libopencv-dev libqhull-dev libtbb-dev libhdf5-dev liburdfdom-dev libassimp-dev
+  libopencv-dev libpng-dev libqhull-dev libtbb-dev libhdf5-dev liburdfdom-dev libassimp-dev
   nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev libgtest-dev libbenchmark-dev
   libcurl4-openssl-dev libglpk-dev libyaml-cpp-dev libjs-three
 )

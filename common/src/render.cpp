@@ -1,8 +1,7 @@
-// OpenCV is used only for the image buffer, 2D drawing and PNG encoding.
+// OpenCV is used only for the image buffer and 2D drawing; libpng encodes (png_file.h).
 #include "skelgrasp/common/render.h"
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <filesystem>
@@ -10,6 +9,7 @@
 
 #include "skelgrasp/common/atomic_file.h"
 #include "skelgrasp/common/error.h"
+#include "png_file.h"
 
 namespace skelgrasp::render {
 
@@ -179,17 +179,8 @@ void Canvas::drawText(int x, int y, const std::string& text, Rgb color, double s
 }
 
 namespace {
-// Through a temporary with the .png extension: imwrite picks the encoder from the name.
 void writePng(const std::string& path, const cv::Mat& image) {
-  writeFileViaTemporary(path, [&image](const std::string& temporary) {
-    bool ok = false;
-    try {
-      ok = cv::imwrite(temporary, image);
-    } catch (const cv::Exception& e) {
-      throw IoError(temporary, std::string("cannot write PNG: ") + e.what());
-    }
-    if (!ok) throw IoError(temporary, "cannot write PNG");
-  });
+  internal::writeBgrPng(path, image.cols, image.rows, image.ptr<std::uint8_t>(0), image.step[0]);
 }
 }  // namespace
 

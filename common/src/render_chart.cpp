@@ -2,7 +2,6 @@
 #include <fmt/format.h>
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -11,6 +10,7 @@
 #include "skelgrasp/common/atomic_file.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/render.h"
+#include "png_file.h"
 
 namespace skelgrasp::render {
 
@@ -63,9 +63,7 @@ void saveBarChartPng(const std::string& path, const std::string& title,
     cv::putText(image, series[k].label, {x + 20, y}, cv::FONT_HERSHEY_SIMPLEX, 0.45, ink, 1,
                 cv::LINE_AA);
   }
-  writeFileViaTemporary(path, [&image](const std::string& temporary) {
-    if (!cv::imwrite(temporary, image)) throw IoError(temporary, "cannot write PNG");
-  });
+  internal::writeBgrPng(path, image.cols, image.rows, image.ptr<std::uint8_t>(0), image.step[0]);
 }
 
 }  // namespace skelgrasp::render
