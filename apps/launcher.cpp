@@ -43,7 +43,9 @@ std::string executableDirectory() {
   return slash == std::string::npos ? "." : path.substr(0, slash);
 }
 
-bool isHelpFlag(std::string_view word) { return word == "-h" || word == "--help"; }
+bool isHelpFlag(std::string_view word) {
+  return word == "-h" || word == "--help";
+}
 
 // The first argument that is neither an option nor the value of the one global option that takes
 // a value: the command. Empty when there is none.
@@ -72,9 +74,9 @@ int main(int argc, char** argv) {
   const std::string_view command = commandWord(argc, argv);
   if (command.empty() && asksTopLevelHelp(argc, argv)) {
     std::string help = replaceAll(kTopLevelHelpTemplate, kProgramPlaceholder, argv[0]);
-    help = replaceAll(help, kMemoryDefaultPlaceholder,
-                      skelgrasp::formatBytes(
-                          static_cast<double>(skelgrasp::defaultMemoryLimitBytes())));
+    help = replaceAll(
+        help, kMemoryDefaultPlaceholder,
+        skelgrasp::formatBytes(static_cast<double>(skelgrasp::defaultMemoryLimitBytes())));
     std::cout << help << std::flush;
     return std::cout ? 0 : kExitBadInput;
   }

@@ -57,9 +57,8 @@ int main(int argc, char** argv) {
   app.add_option("--memory-limit", memory_limit,
                  "Refuse work estimated to need more memory: 4G, 512M or a fraction of RAM "
                  "(default " +
-                     (help_template
-                          ? std::string(cli::kMemoryDefaultPlaceholder)
-                          : formatBytes(static_cast<double>(defaultMemoryLimitBytes()))) +
+                     (help_template ? std::string(cli::kMemoryDefaultPlaceholder)
+                                    : formatBytes(static_cast<double>(defaultMemoryLimitBytes()))) +
                      ", half of this machine's; docs/limits.md)");
 
   cli::Action action;

@@ -7,9 +7,9 @@
 #include <filesystem>
 #include <limits>
 
+#include "png_file.h"
 #include "skelgrasp/common/atomic_file.h"
 #include "skelgrasp/common/error.h"
-#include "png_file.h"
 
 namespace skelgrasp::render {
 

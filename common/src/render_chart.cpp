@@ -7,10 +7,10 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "png_file.h"
 #include "skelgrasp/common/atomic_file.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/render.h"
-#include "png_file.h"
 
 namespace skelgrasp::render {
 

@@ -28,8 +28,8 @@ std::string readFile(const std::string& path) {
 std::string helpOf(const fs::path& program, const std::string& name, const std::string& flag,
                    const std::string& dir) {
   const std::string out = dir + "/help.txt";
-  const std::string command = "bash -c 'exec -a \"" + name + "\" \"" + program.string() + "\" " +
-                              flag + "' > " + out;
+  const std::string command =
+      "bash -c 'exec -a \"" + name + "\" \"" + program.string() + "\" " + flag + "' > " + out;
   EXPECT_EQ(std::system(command.c_str()), 0) << command;
   return readFile(out);
 }
@@ -59,8 +59,8 @@ TEST(Launcher, MeshCommandsRunWithoutTheFullProgram) {
     const int status = std::system(command.c_str());
     return std::make_pair(WEXITSTATUS(status), readFile(dir + "/err.txt"));
   };
-  for (const char* command : {"plan", "skeleton", "shape", "hands", "close", "quality", "evaluate",
-                              "merge", "export"}) {
+  for (const char* command :
+       {"plan", "skeleton", "shape", "hands", "close", "quality", "evaluate", "merge", "export"}) {
     EXPECT_EQ(run(std::string(command) + " --help").first, 0) << command;
   }
   EXPECT_EQ(run("-q --memory-limit 4G plan --help").first, 0);
