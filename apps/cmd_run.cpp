@@ -13,6 +13,7 @@
 #include "run_command.h"
 #include "skelgrasp/datasets/input.h"
 #include "skelgrasp/pipeline/run_output.h"
+#include "skelgrasp/pipeline/run_scene.h"
 
 namespace skelgrasp::cli {
 
@@ -59,9 +60,45 @@ std::string nearestObjectOption(const Eigen::Vector3d& point) {
   return fmt::format("nearest:{:.4f},{:.4f},{:.4f}", point.x(), point.y(), point.z());
 }
 
+namespace {
+
+// `run --object all`: every object in one process. Exit 0 when at least one object got grasps;
+// when none did, the outputs (each object with its reason) are still written and one error line
+// sums the reasons up.
+int runOnEveryObject(const perception::Scan& scan, const std::string& name,
+                     const std::string& out_dir, const RunOptions& options,
+                     const grasping::HandModel& hand) {
+  const auto result = pipeline::runScene(scan, hand, options.params());
+  const auto& ingest = result.reconstruction.ingest;
+  if (!ingest.status.ok()) return fail(scan.source + ": " + ingest.status.message);
+  pipeline::writeSceneRunOutputs(out_dir, result, hand, scan, name);
+  options.exports.write(out_dir + "/grasps.json", hand);
+  for (const auto& s : result.stages)
+    std::cout << fmt::format("  {:<22} {:7.3f} s\n", s.stage, s.seconds);
+  std::string reasons;
+  for (const auto& o : result.objects) {
+    std::cout << fmt::format("  object {:<15} {:7.3f} s  {} points, {} grasps{}\n", o.id, o.total_s,
+                             o.info.points, o.ranked.size(),
+                             o.reason.empty() ? "" : " (" + o.reason + ")");
+    if (!o.reason.empty())
+      reasons += fmt::format("{}{}: {}", reasons.empty() ? "" : "; ", o.id, o.reason);
+  }
+  std::cout << fmt::format("{} {}: {} of {} objects got grasps in {:.2f} s -> {}/report.html", name,
+                           hand.name(), result.objectsWithGrasps(), result.objects.size(),
+                           result.total_s, out_dir)
+            << std::endl;
+  if (result.objectsWithGrasps() == 0)
+    return fail(scan.source + ": no object got a grasp (" + reasons + ")");
+  return kExitOk;
+}
+
+}  // namespace
+
 int runOnScan(const perception::Scan& scan, const std::string& name, const std::string& out_dir,
               const RunOptions& options) {
   const auto hand = options.hand.load();
+  if (options.params().reconstruction.ingest.scene.target.mode == perception::TargetMode::kAll)
+    return runOnEveryObject(scan, name, out_dir, options, hand);
   const auto result = pipeline::runPipeline(scan, hand, options.params());
   if (!result.reconstruction.status.ok())
     return fail(scan.source + ": " + result.reconstruction.status.message);
@@ -87,7 +124,7 @@ int runOnScan(const perception::Scan& scan, const std::string& name, const std::
 
 void registerRunCommand(CLI::App& app, Action& action) {
   auto* cmd = app.add_subcommand(
-      "run", "Scan of a table scene -> ranked collision-free grasps on one object");
+      "run", "Scan of a table scene -> ranked collision-free grasps on one or every object");
   auto input = std::make_shared<std::string>();
   auto out = std::make_shared<std::string>("run_output");
   auto options = std::make_shared<RunOptions>();

@@ -195,6 +195,40 @@ SceneOccupancy::SceneOccupancy(const PointCloud& obstacles, const Eigen::Vector3
 
 SceneOccupancy::~SceneOccupancy() = default;
 
+std::unique_ptr<SceneOccupancy> SceneOccupancy::withPointsCleared(const PointCloud& points,
+                                                                  int dilation_cells) const {
+  if (dilation_cells < 0) throw InvalidArgument("scene occupancy: negative dilation");
+  std::unique_ptr<SceneOccupancy> copy(new SceneOccupancy());
+  copy->impl_ = std::make_unique<Impl>();
+  copy->impl_->tree = std::make_shared<octomap::OcTree>(*impl_->tree);
+  auto& tree = *copy->impl_->tree;
+  const float free_log_odds = tree.getClampingThresMinLog();
+  octomap::KeySet cleared;
+  for (const auto& p : points.points) {
+    octomap::OcTreeKey key;
+    if (!p.allFinite() ||
+        !tree.coordToKeyChecked(static_cast<double>(p.x()), static_cast<double>(p.y()),
+                                static_cast<double>(p.z()), key))
+      continue;
+    for (int dx = -dilation_cells; dx <= dilation_cells; ++dx) {
+      for (int dy = -dilation_cells; dy <= dilation_cells; ++dy) {
+        for (int dz = -dilation_cells; dz <= dilation_cells; ++dz) {
+          const octomap::OcTreeKey cell(static_cast<octomap::key_type>(key[0] + dx),
+                                        static_cast<octomap::key_type>(key[1] + dy),
+                                        static_cast<octomap::key_type>(key[2] + dz));
+          if (!cleared.insert(cell).second) continue;
+          const auto* node = tree.search(cell);
+          if (node != nullptr && tree.isNodeOccupied(node))
+            tree.setNodeValue(cell, free_log_odds, /*lazy_eval=*/true);
+        }
+      }
+    }
+  }
+  tree.updateInnerOccupancy();
+  tree.prune();
+  return copy;
+}
+
 std::size_t SceneOccupancy::occupiedLeaves() const {
   std::size_t n = 0;
   for (auto it = impl_->tree->begin_leafs(); it != impl_->tree->end_leafs(); ++it)

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "run_json.h"
 #include "run_scene_view.h"
 #include "skelgrasp/common/atomic_file.h"
 #include "skelgrasp/common/html_report.h"
@@ -29,19 +30,19 @@ nlohmann::json runJson(const RunResult& r, const HandModel& hand, const percepti
   header.planner = "skeleton";
   header.summary = r.plan.summary;
   nlohmann::json j = planToJson(header, hand, name);
-  j["schema"] = "skelgrasp.run/1";
+  j["schema"] = internal::kRunSchema;
   j["summary"]["kept"] = r.ranked.size();
   nlohmann::json grasps = nlohmann::json::array();
-  for (const auto& ranked : r.ranked) {
-    auto g = graspToJson(ranked.grasp, hand);
-    g["observed_contact_ratio"] = ranked.observed_contact_ratio;
-    g["rank_score"] = ranked.score;
-    grasps.push_back(g);
-  }
+  internal::appendGraspsJson(grasps, r.ranked, hand, 0, 0);
   j["grasps"] = grasps;
   const auto& scene = r.reconstruction.ingest.scene;
+  const bool known = r.cluster < scene.cluster_info.size();
+  const double observed_fraction =
+      r.reconstruction.objects.empty()
+          ? 0.0
+          : r.reconstruction.objects.front().meshing.report.observed_fraction;
   nlohmann::json object = nullptr;
-  if (r.cluster < scene.cluster_info.size()) {
+  if (known) {
     const auto& info = scene.cluster_info[r.cluster];
     object = {{"cluster", r.cluster},
               {"points", info.points},
@@ -50,12 +51,31 @@ nlohmann::json runJson(const RunResult& r, const HandModel& hand, const percepti
               {"box_max", toJson(info.box.max)},
               {"mesh", "object.ply"},
               {"mesh_vertices", r.mesh.numVertices()},
-              {"observed_fraction",
-               r.reconstruction.objects.empty()
-                   ? 0.0
-                   : r.reconstruction.objects.front().meshing.report.observed_fraction}};
+              {"observed_fraction", observed_fraction}};
   }
   j["target"] = object;
+  // The one target as the only entry of the scene runs' object list (schema run/2).
+  nlohmann::json objects = nlohmann::json::array();
+  if (known) {
+    internal::ObjectEntry e;
+    e.cluster = r.cluster;
+    e.info = &scene.cluster_info[r.cluster];
+    if (!r.mesh.empty()) e.mesh_file = "object.ply";
+    e.mesh_vertices = r.mesh.numVertices();
+    e.observed_fraction = observed_fraction;
+    e.status = &r.status;
+    if (r.mesh.empty()) {
+      e.reason = object_reason::kMeshingFailed;
+    } else if (!r.skeleton || !r.skeleton->status.ok()) {
+      e.reason = object_reason::kSkeletonFailed;
+    } else if (r.ranked.empty()) {
+      e.reason = object_reason::kNoGrasp;
+    }
+    e.ranked = &r.ranked;
+    e.time_s = r.total_s;
+    objects.push_back(internal::objectJson(e));
+  }
+  j["objects"] = objects;
   j["scene"] = {
       {"frame", "scan"},
       {"plane", r.plane

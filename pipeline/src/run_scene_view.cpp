@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "skelgrasp/grasping/hand_render.h"
 #include "skelgrasp/skeleton/output.h"
 
@@ -34,15 +36,21 @@ void addSkeleton(SceneView3d& view, const skeleton::Skeleton& skel) {
   view.addLines("skeleton", segments, kSkeletonBlack);
 }
 
-void addGrasps(SceneView3d& view, const RunResult& r, const grasping::HandModel& hand) {
-  // Each link's geometry is embedded once; a grasp is only its link poses.
+// Each link's geometry is embedded once; a grasp is only its link poses.
+std::vector<int> addHandParts(SceneView3d& view, const grasping::HandModel& hand) {
   std::vector<int> part_of_link(hand.links().size(), -1);
   for (std::size_t l = 0; l < hand.links().size(); ++l) {
     const TriangleMesh mesh = linkMesh(hand, static_cast<int>(l));
     if (!mesh.empty()) part_of_link[l] = view.addPart(mesh, linkColour(hand, static_cast<int>(l)));
   }
-  for (std::size_t k = 0; k < r.ranked.size(); ++k) {
-    const Grasp& g = r.ranked[k].grasp;
+  return part_of_link;
+}
+
+void addGrasps(SceneView3d& view, const std::vector<RankedGrasp>& ranked, std::size_t shown,
+               const grasping::HandModel& hand, const std::vector<int>& part_of_link,
+               const std::string& label_prefix) {
+  for (std::size_t k = 0; k < std::min(shown, ranked.size()); ++k) {
+    const Grasp& g = ranked[k].grasp;
     const auto link_poses = hand.linkPoses(g.joints);
     std::vector<std::pair<int, Pose>> parts;
     for (std::size_t l = 0; l < link_poses.size(); ++l) {
@@ -51,10 +59,19 @@ void addGrasps(SceneView3d& view, const RunResult& r, const grasping::HandModel&
     std::vector<SceneViewContact> contacts;
     for (const auto& c : g.contacts) contacts.push_back({c.point, c.normal});
     view.addGrasp(
-        fmt::format("#{} {} {} — ε {:.3f}, score {:.3f}, {} contacts", k, toString(g.type),
-                    g.strategy, g.epsilon, r.ranked[k].score, g.contacts.size()),
+        fmt::format("{}#{} {} {} — ε {:.3f}, score {:.3f}, {} contacts", label_prefix, k,
+                    toString(g.type), g.strategy, g.epsilon, ranked[k].score, g.contacts.size()),
         parts, contacts);
   }
+}
+
+void addObject(SceneView3d& view, const std::string& layer, const TriangleMesh& mesh,
+               const std::optional<skeleton::SkeletonResult>& skeleton) {
+  if (mesh.empty()) return;
+  const bool segmented = skeleton && skeleton->status.ok();
+  view.addMesh(layer, segmented ? skeleton::colourBySegment(mesh, skeleton->skeleton) : mesh,
+               kObjectBeige);
+  if (segmented) addSkeleton(view, skeleton->skeleton);
 }
 
 }  // namespace
@@ -63,14 +80,22 @@ SceneView3d runSceneView(const RunResult& r, const grasping::HandModel& hand,
                          const perception::Scan& scan, const RunSceneViewParams& params) {
   SceneView3d view;
   addScan(view, scan, params);
-  if (!r.mesh.empty()) {
-    const bool segmented = r.skeleton && r.skeleton->status.ok();
-    view.addMesh("object",
-                 segmented ? skeleton::colourBySegment(r.mesh, r.skeleton->skeleton) : r.mesh,
-                 kObjectBeige);
-    if (segmented) addSkeleton(view, r.skeleton->skeleton);
+  addObject(view, "object", r.mesh, r.skeleton);
+  const auto parts = addHandParts(view, hand);
+  addGrasps(view, r.ranked, r.ranked.size(), hand, parts, "");
+  return view;
+}
+
+SceneView3d sceneRunView(const SceneRunResult& r, const grasping::HandModel& hand,
+                         const perception::Scan& scan, const RunSceneViewParams& params) {
+  SceneView3d view;
+  addScan(view, scan, params);
+  const auto parts = addHandParts(view, hand);
+  for (const auto& object : r.objects) {
+    addObject(view, fmt::format("object {}", object.id), object.mesh, object.skeleton);
+    addGrasps(view, object.ranked, params.grasps_per_object, hand, parts,
+              fmt::format("object {} ", object.id));
   }
-  addGrasps(view, r, hand);
   return view;
 }
 

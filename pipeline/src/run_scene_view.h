@@ -1,8 +1,9 @@
 #pragma once
-// The 3D view of a run's report (docs/report.md): the scan, the object coloured by skeleton
-// segment, the skeleton and every ranked grasp with the hand closed and its contacts.
+// The 3D view of a run's report (docs/report.md): the scan, the object(s) coloured by skeleton
+// segment, the skeleton and the ranked grasps with the hand closed and their contacts.
 #include "skelgrasp/common/scene_view.h"
 #include "skelgrasp/pipeline/run_pipeline.h"
+#include "skelgrasp/pipeline/run_scene.h"
 
 namespace skelgrasp::pipeline {
 
@@ -11,9 +12,16 @@ struct RunSceneViewParams {
   // ~0.9 MB of three.js keeps a report near 2 MB (budget: docs/report.md).
   std::size_t max_scan_points = 60000;
   double scan_point_size_m = 0.002;
+  // A scene run shows each object's best grasps only: every grasp of every object would crowd
+  // the view and the page.
+  std::size_t grasps_per_object = 3;
 };
 
 SceneView3d runSceneView(const RunResult& r, const grasping::HandModel& hand,
+                         const perception::Scan& scan, const RunSceneViewParams& params = {});
+
+// Every object of a scene run: its mesh by segment, its skeleton and its best grasps.
+SceneView3d sceneRunView(const SceneRunResult& r, const grasping::HandModel& hand,
                          const perception::Scan& scan, const RunSceneViewParams& params = {});
 
 }  // namespace skelgrasp::pipeline

@@ -39,7 +39,7 @@ TEST(RunCli, ScanToRankedGraspsWithReport) {
   EXPECT_NE(r.err.find("skeleton planner"), std::string::npos);  // progress on stderr
 
   const auto j = readJsonFile(dir + "/out/grasps.json");
-  EXPECT_EQ(j["schema"], "skelgrasp.run/1");
+  EXPECT_EQ(j["schema"], "skelgrasp.run/2");
   EXPECT_EQ(j["hand"], "sdh");
   ASSERT_EQ(j["scene"]["plane"].size(), 4u);
   EXPECT_GT(j["scene"]["plane"][2].get<double>(), 0.99);  // z up, the objects above
@@ -81,10 +81,55 @@ INSTANTIATE_TEST_SUITE_P(
         BadCliInput{"missing", "run {dir}/none.pcd --out {dir}/out", "none.pcd"},
         BadCliInput{"garbage", "run {dir}/garbage.pcd --out {dir}/out", "garbage.pcd"},
         BadCliInput{"no_object", "run {dir}/table.pcd --out {dir}/out", "table.pcd"},
-        BadCliInput{"all_objects", "run {dir}/table.pcd --object all --out {dir}/out",
-                    "one object"},
+        BadCliInput{"all_objects_of_none", "run {dir}/table.pcd --object all --out {dir}/out",
+                    "table.pcd"},
         BadCliInput{"bad_hand", "run {dir}/table.pcd --hand nohand --out {dir}/out", "nohand"}),
     [](const auto& info) { return info.param.name; });
+
+// `run --object all`: every object of the synthetic scene (a cylinder and a box) in one process,
+// one object list in grasps.json, a mesh per object, a report section per object.
+TEST(RunCli, EveryObjectInOneRun) {
+  const std::string dir = test::tempDir("cli_run_all");
+  perception::savePointCloud(dir + "/scene.pcd", test::renderTableScene(41).cloud);
+  const CliRun r =
+      runCli("run " + dir + "/scene.pcd --hand sdh --object all --out " + dir + "/out", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(lastLine(r.out).find("objects got grasps"), std::string::npos) << r.out;
+  const auto j = readJsonFile(dir + "/out/grasps.json");
+  EXPECT_EQ(j["schema"], "skelgrasp.run/2");
+  const auto& objects = j["objects"];
+  ASSERT_EQ(objects.size(), 2u) << objects.dump();
+  std::size_t listed = 0;
+  for (std::size_t k = 0; k < objects.size(); ++k) {
+    const auto& o = objects[k];
+    EXPECT_EQ(o["id"], k);
+    EXPECT_GT(o["points"].get<std::size_t>(), 100u);
+    ASSERT_TRUE(o["mesh"].is_string());
+    EXPECT_GT(loadMesh(dir + "/out/" + o["mesh"].get<std::string>()).numVertices(), 100u);
+    EXPECT_GT(o["grasps"].get<std::size_t>(), 0u) << o.dump();
+    listed += o["grasps"].get<std::size_t>();
+  }
+  // The two objects: the cylinder at (0.05, -0.09) and the box at (-0.06, 0.10), in either order.
+  const double x0 = objects[0]["centroid"][0].get<double>();
+  const double x1 = objects[1]["centroid"][0].get<double>();
+  EXPECT_NEAR(std::min(x0, x1), -0.06, 0.02);
+  EXPECT_NEAR(std::max(x0, x1), 0.05, 0.02);
+  ASSERT_EQ(j["grasps"].size(), listed);
+  for (std::size_t i = 0; i < j["grasps"].size(); ++i) {
+    const auto& g = j["grasps"][i];
+    EXPECT_EQ(g["id"], i);  // ids are unique over the scene
+    EXPECT_LT(g["object"].get<std::size_t>(), objects.size());
+    EXPECT_TRUE(g["force_closure"].get<bool>());
+  }
+  std::ifstream html_file(dir + "/out/report.html");
+  const std::string html((std::istreambuf_iterator<char>(html_file)), {});
+  for (const char* text : {"Object 0", "Object 1", "scan.png", "grasps_0.png", "data-status"}) {
+    EXPECT_NE(html.find(text), std::string::npos) << text;
+  }
+  for (const char* file : {"scene.bt", "scan.png", "skeleton_0.json", "skeleton_1.json"}) {
+    EXPECT_TRUE(std::filesystem::exists(dir + "/out/" + file)) << file;
+  }
+}
 
 TEST(DemoCli, EveryObjectOfTheGeneratedSceneGetsGraspsAndAReport) {
   const std::string dir = test::tempDir("cli_demo");

@@ -145,7 +145,10 @@ TEST_F(DemoScenePipeline, WritesTheReportWithItsPictures) {
 
   std::ifstream json_file(dir + "/grasps.json");
   const auto doc = nlohmann::json::parse(json_file);
-  EXPECT_EQ(doc.at("schema"), "skelgrasp.run/1");
+  EXPECT_EQ(doc.at("schema"), "skelgrasp.run/2");
+  ASSERT_EQ(doc.at("objects").size(), 1u);
+  EXPECT_EQ(doc.at("objects")[0].at("grasps"), run.ranked.size());
+  EXPECT_EQ(doc.at("objects")[0].at("mesh"), "object.ply");
   ASSERT_EQ(doc.at("scene").at("plane").size(), 4u);
   EXPECT_EQ(doc.at("grasps").size(), run.ranked.size());
   for (const auto& g : doc.at("grasps")) {

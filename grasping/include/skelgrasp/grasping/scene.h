@@ -63,6 +63,13 @@ class SceneOccupancy {
   SceneOccupancy(const SceneOccupancy&) = delete;
   SceneOccupancy& operator=(const SceneOccupancy&) = delete;
 
+  // A copy in which the cells holding `points`, and their neighbours up to `dilation_cells` away,
+  // are free. One map of a whole scene serves each of its objects: the object's own points are
+  // cleared from its copy, so its grasps meet the table and the other objects but not itself
+  // (copying costs a fraction of the ray insertion). Throws InvalidArgument for negative dilation.
+  std::unique_ptr<SceneOccupancy> withPointsCleared(const PointCloud& points,
+                                                    int dilation_cells = 1) const;
+
   std::size_t occupiedLeaves() const;
   std::size_t freeLeaves() const;
   double resolution() const;
@@ -74,6 +81,7 @@ class SceneOccupancy {
   const Impl& impl() const { return *impl_; }
 
  private:
+  SceneOccupancy() = default;  // for withPointsCleared
   std::unique_ptr<Impl> impl_;
 };
 

@@ -5,6 +5,7 @@
 #include "skelgrasp/grasping/hand_model.h"
 #include "skelgrasp/perception/scan.h"
 #include "skelgrasp/pipeline/run_pipeline.h"
+#include "skelgrasp/pipeline/run_scene.h"
 
 namespace skelgrasp::pipeline {
 
@@ -15,5 +16,13 @@ namespace skelgrasp::pipeline {
 void writeRunOutputs(const std::string& dir, const RunResult& result,
                      const grasping::HandModel& hand, const perception::Scan& scan,
                      const std::string& input_name);
+
+// The files of a scene run (`run --object all`, docs/pipeline.md): DIR/grasps.json with every
+// object, object_<id>.ply and skeleton_<id>.json per meshed object, scene.bt, report.html with
+// the scene overview and a section per object, with its PNG pictures. Same all-or-nothing
+// guarantee as writeRunOutputs.
+void writeSceneRunOutputs(const std::string& dir, const SceneRunResult& result,
+                          const grasping::HandModel& hand, const perception::Scan& scan,
+                          const std::string& input_name);
 
 }  // namespace skelgrasp::pipeline

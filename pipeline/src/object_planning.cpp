@@ -1,0 +1,77 @@
+#include "object_planning.h"
+
+#include "skelgrasp/common/logging.h"
+#include "skelgrasp/geometry/mesh_query.h"
+
+namespace skelgrasp::pipeline::internal {
+// The pipeline composes the grasping stage's types throughout.
+using namespace grasping;
+
+namespace {
+
+// Share of the contacts lying on observed surface: a contact counts when at least two vertices of
+// the face it lies on were observed.
+double observedContactRatio(const Grasp& grasp, const TriangleMesh& mesh,
+                            const std::vector<std::uint8_t>& observed,
+                            const geometry::MeshQuery& query) {
+  if (grasp.contacts.empty() || observed.size() != mesh.numVertices()) return 0;
+  std::size_t on_observed = 0;
+  for (const auto& c : grasp.contacts) {
+    const auto face = mesh.faces[query.closestPointAndFace(c.point).second];
+    on_observed += observed[face[0]] + observed[face[1]] + observed[face[2]] >= 2;
+  }
+  return static_cast<double>(on_observed) / grasp.contacts.size();
+}
+
+}  // namespace
+
+skeleton::SkeletonResult runSkeleton(const TriangleMesh& mesh, const RunParams& params) {
+  skeleton::SkeletonResult result = skeleton::extractSkeleton(mesh, params.skeleton);
+  if (result.status.code == StatusCode::kInvalidInput &&
+      params.skeleton.regularisation.method == geometry::RegularisationMethod::kNone) {
+    skeleton::SkeletonParams regularised = params.skeleton;
+    regularised.regularisation.method = geometry::RegularisationMethod::kAuto;
+    result = skeleton::extractSkeleton(mesh, regularised);
+  }
+  return result;
+}
+
+AxisAlignedBox workspaceAround(const AxisAlignedBox& mesh_box, const RunParams& params) {
+  AxisAlignedBox region;
+  region.extend(mesh_box.min.array() - params.workspace_margin_m);
+  region.extend(mesh_box.max.array() + params.workspace_margin_m);
+  return region;
+}
+
+RankedPlan planAndRank(const HandModel& hand, const TriangleMesh& mesh,
+                       const std::vector<std::uint8_t>& observed,
+                       const skeleton::Skeleton& skeleton, const SceneChecker* checker,
+                       const RunParams& params) {
+  RankedPlan out;
+  Stopwatch watch;
+  const GraspObject target(mesh);
+  SkeletonPlannerParams planner = params.planner;
+  planner.hypothesis.scene = checker;
+  out.plan = planSkeletonGrasps(hand, target, skeleton, planner);
+  out.plan_s = watch.seconds();
+
+  watch.restart();
+  // The planner's object already holds a query tree over this mesh (same faces).
+  const auto& query = target.surfaceQuery();
+  for (auto& g : out.plan.grasps) {
+    RankedGrasp r;
+    r.observed_contact_ratio = observedContactRatio(g, mesh, observed, query);
+    r.score = g.epsilon *
+              (1 - params.observed_weight + params.observed_weight * r.observed_contact_ratio);
+    r.grasp = std::move(g);
+    out.ranked.push_back(std::move(r));
+  }
+  out.plan.grasps.clear();
+  std::stable_sort(out.ranked.begin(), out.ranked.end(),
+                   [](const auto& a, const auto& b) { return a.score > b.score; });
+  for (std::size_t i = 0; i < out.ranked.size(); ++i) out.ranked[i].grasp.id = static_cast<int>(i);
+  out.rank_s = watch.seconds();
+  return out;
+}
+
+}  // namespace skelgrasp::pipeline::internal

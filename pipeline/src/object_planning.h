@@ -1,0 +1,33 @@
+#pragma once
+// The per-object part of `run`, shared by runPipeline (one target) and runScene (every object):
+// skeleton with the regularisation retry, skeleton planner with the scene check, ranking.
+#include <optional>
+#include <vector>
+
+#include "skelgrasp/pipeline/run_pipeline.h"
+
+namespace skelgrasp::pipeline::internal {
+
+// The skeleton of a reconstruction. Reconstructions are normally closed single-part manifolds
+// already (params.skeleton skips the regularisation); when one is not, the regularisation's
+// automatic mode fills its pinholes or wraps it.
+skeleton::SkeletonResult runSkeleton(const TriangleMesh& mesh, const RunParams& params);
+
+// The octree region around one object's mesh: its box grown by the hand's reach.
+AxisAlignedBox workspaceAround(const AxisAlignedBox& mesh_box, const RunParams& params);
+
+struct RankedPlan {
+  grasping::PlanResult plan;        // summary; grasps moved into `ranked`
+  std::vector<RankedGrasp> ranked;  // best first, ids 0..n-1
+  double plan_s = 0;
+  double rank_s = 0;
+};
+
+// Plans on `mesh` (scene check by `checker` when not null) and ranks the grasps by
+// epsilon x (1 - w + w x observed contact ratio).
+RankedPlan planAndRank(const grasping::HandModel& hand, const TriangleMesh& mesh,
+                       const std::vector<std::uint8_t>& observed,
+                       const skeleton::Skeleton& skeleton, const grasping::SceneChecker* checker,
+                       const RunParams& params);
+
+}  // namespace skelgrasp::pipeline::internal
