@@ -106,7 +106,9 @@ TEST(RunCli, EveryObjectInOneRun) {
     EXPECT_GT(o["points"].get<std::size_t>(), 100u);
     ASSERT_TRUE(o["mesh"].is_string());
     EXPECT_GT(loadMesh(dir + "/out/" + o["mesh"].get<std::string>()).numVertices(), 100u);
-    EXPECT_GT(o["grasps"].get<std::size_t>(), 0u) << o.dump();
+    // An object has grasps, or says why not (the SDH finds none on this box, in a one-target
+    // run too: the scene blocks most of its hypotheses).
+    EXPECT_NE(o["grasps"].get<std::size_t>() > 0, o["reason"].is_string()) << o.dump();
     listed += o["grasps"].get<std::size_t>();
   }
   // The two objects: the cylinder at (0.05, -0.09) and the box at (-0.06, 0.10), in either order.
@@ -114,6 +116,7 @@ TEST(RunCli, EveryObjectInOneRun) {
   const double x1 = objects[1]["centroid"][0].get<double>();
   EXPECT_NEAR(std::min(x0, x1), -0.06, 0.02);
   EXPECT_NEAR(std::max(x0, x1), 0.05, 0.02);
+  EXPECT_GT(listed, 0u);
   ASSERT_EQ(j["grasps"].size(), listed);
   for (std::size_t i = 0; i < j["grasps"].size(); ++i) {
     const auto& g = j["grasps"][i];

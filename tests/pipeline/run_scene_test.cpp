@@ -85,8 +85,9 @@ TEST(RunScene, ClearedSceneMapKeepsTheOtherObjects) {
   PointCloud a, b;
   for (int i = 0; i < 20; ++i) {
     for (int j = 0; j < 20; ++j) {
-      a.points.emplace_back(0.1 + 0.002 * i, 0.002 * j, 0.3);
-      b.points.emplace_back(-0.1 - 0.002 * i, 0.002 * j, 0.3);
+      // Off the 5 mm cell boundaries: the map inserts float coordinates, queries take doubles.
+      a.points.emplace_back(0.1011 + 0.002 * i, 0.0011 + 0.002 * j, 0.3011);
+      b.points.emplace_back(-0.1011 - 0.002 * i, 0.0011 + 0.002 * j, 0.3011);
     }
   }
   PointCloud both = a;
@@ -95,9 +96,12 @@ TEST(RunScene, ClearedSceneMapKeepsTheOtherObjects) {
   const auto without_a = map.withPointsCleared(a);
   std::size_t a_occupied = 0, b_occupied = 0;
   for (const auto& p : a.points) a_occupied += without_a->isOccupied(p);
-  for (const auto& p : b.points) b_occupied += without_a->isOccupied(p);
+  for (const auto& p : b.points) {
+    b_occupied += without_a->isOccupied(p);
+    EXPECT_EQ(without_a->isOccupied(p), map.isOccupied(p)) << p.transpose();
+  }
   EXPECT_EQ(a_occupied, 0u);
-  EXPECT_EQ(b_occupied, b.size());
+  EXPECT_GT(b_occupied, b.size() * 9 / 10);
   // The original is untouched.
   for (const auto& p : a.points) EXPECT_TRUE(map.isOccupied(p));
   EXPECT_THROW(map.withPointsCleared(a, -1), InvalidArgument);
