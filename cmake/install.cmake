@@ -38,7 +38,8 @@ install(EXPORT skelgrasp-targets NAMESPACE skelgrasp:: DESTINATION ${SKELGRASP_I
 
 configure_package_config_file(${CMAKE_SOURCE_DIR}/cmake/skelgrasp-config.cmake.in
                               ${CMAKE_BINARY_DIR}/skelgrasp-config.cmake
-                              INSTALL_DESTINATION ${SKELGRASP_INSTALL_CMAKEDIR})
+                              INSTALL_DESTINATION ${SKELGRASP_INSTALL_CMAKEDIR}
+                              PATH_VARS CMAKE_INSTALL_DATADIR)
 write_basic_package_version_file(${CMAKE_BINARY_DIR}/skelgrasp-config-version.cmake
                                  COMPATIBILITY SameMinorVersion)
 install(FILES ${CMAKE_BINARY_DIR}/skelgrasp-config.cmake

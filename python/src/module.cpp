@@ -19,7 +19,7 @@ PYBIND11_MODULE(_skelgrasp, m) {
       if (p) std::rethrow_exception(p);
     } catch (const skelgrasp::IoError& e) {
       // A missing file is FileNotFoundError (a subclass of OSError), anything else OSError.
-      if (e.problem() == "no such file")
+      if (e.problem().rfind("no such file", 0) == 0)  // "no such file" or "... or directory"
         PyErr_SetString(PyExc_FileNotFoundError, e.what());
       else
         PyErr_SetString(PyExc_OSError, e.what());
