@@ -135,7 +135,8 @@ Matrix fromPose(const Pose& pose) {
 py::object fromJson(const nlohmann::json& j) {
   // The writers' documents are small (a plan's grasps.json is tens of kilobytes): going through
   // Python's json module keeps every number and null exactly as the files have them.
-  static const py::object loads = py::module_::import("json").attr("loads");
+  // A handle, never released: a static py::object would be decref'd after the interpreter ended.
+  static const py::handle loads = py::module_::import("json").attr("loads").release();
   return loads(j.dump());
 }
 
