@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <filesystem>
 
 #include "bindings.h"
@@ -32,11 +33,15 @@ struct Run {
 perception::TargetSpec targetOf(const py::object& objects) {
   if (py::isinstance<py::str>(objects))
     return perception::TargetSpec::parse(objects.cast<std::string>());
-  const auto point = toPoints(Matrix::ensure(objects).attr("reshape")(1, -1), "objects");
-  if (point.size() != 1) throw InvalidArgument("objects: expected a string or one point x, y, z");
+  const Matrix point = Matrix::ensure(objects);  // null when not numeric
+  if (!point || point.size() != 3)
+    throw InvalidArgument("objects: expected 'largest', 'all', 'nearest:x,y,z' or a point x, y, z");
+  const double* xyz = point.data();
+  if (!std::isfinite(xyz[0]) || !std::isfinite(xyz[1]) || !std::isfinite(xyz[2]))
+    throw InvalidArgument("objects: the point is not finite");
   perception::TargetSpec spec;
   spec.mode = perception::TargetMode::kNearest;
-  spec.point = point.front();
+  spec.point = Eigen::Vector3d(xyz[0], xyz[1], xyz[2]);
   return spec;
 }
 
