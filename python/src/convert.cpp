@@ -136,7 +136,7 @@ py::object fromJson(const nlohmann::json& j) {
   // The writers' documents are small (a plan's grasps.json is tens of kilobytes): going through
   // Python's json module keeps every number and null exactly as the files have them.
   // A handle, never released: a static py::object would be decref'd after the interpreter ended.
-  static const py::handle loads = py::module_::import("json").attr("loads").release();
+  static const py::handle loads = py::object(py::module_::import("json").attr("loads")).release();
   return loads(j.dump());
 }
 

@@ -92,11 +92,14 @@ def test_close_at_a_planned_grasp_reproduces_its_contacts(capsule, sdh, capsule_
     assert document["status"] == "closed" and document["hand"] == "sdh"
 
 
-def test_close_in_collision_reports_the_link(capsule, sdh):
-    # The grasp centre point at the capsule's centre: the palm starts inside the object.
-    closed = skelgrasp.close(capsule, sdh, "power", np.eye(4))
-    assert not closed.closed and closed.status == "start_collision"
-    assert closed.to_dict()["colliding_link"] != ""
+def test_close_away_from_the_object_finds_too_few_contacts(capsule, sdh):
+    # The grasp centre point half a metre beside the capsule: the fingers close on nothing.
+    gcp = np.eye(4)
+    gcp[:3, 3] = [0.5, 0.0, 0.0]
+    closed = skelgrasp.close(capsule, sdh, "power", gcp)
+    assert not closed.closed and closed.status == "too_few_contacts"
+    assert closed.contacts == [] and not closed.force_closure and closed.epsilon == 0
+    assert closed.to_dict()["status"] == "too_few_contacts"
 
 
 def test_score_recomputes_quality_and_robustness(capsule, sdh, capsule_plan):
