@@ -9,12 +9,14 @@ packages=(
   libopencv-dev libpng-dev libqhull-dev libtbb-dev libhdf5-dev liburdfdom-dev libassimp-dev
   nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev libgtest-dev libbenchmark-dev
   libcurl4-openssl-dev libglpk-dev libyaml-cpp-dev libjs-three
+  # The Python module (python/, built by default) against Debian's interpreter.
+  pybind11-dev python3-dev python3-numpy
 )
 for option in "$@"; do
   case "$option" in
-    # `make test` also runs GNU parallel (sharded evaluation) and a headless browser (the
-    # report's 3D view).
-    --test) packages+=(parallel chromium) ;;
+    # `make test` also runs GNU parallel (sharded evaluation), a headless browser (the
+    # report's 3D view) and pytest (the Python module's tests, tests/python/).
+    --test) packages+=(parallel chromium python3-pytest) ;;
     # `make fuzz` also needs clang with its libFuzzer runtime.
     --fuzz) packages+=(clang libclang-rt-14-dev llvm) ;;
     *) echo "install-deps: error: unknown option $option (known: --test, --fuzz)" >&2; exit 2 ;;
@@ -44,4 +46,10 @@ if [[ $(id -u) -ne 0 ]]; then
 fi
 export DEBIAN_FRONTEND=noninteractive
 "${sudo_cmd[@]}" apt-get update -q
-"${sudo_cmd[@]}" apt-get install -y -q "${missing[@]}"
+# Without recommends: with them a fresh machine pulled in ~500 packages (a modem manager, mDNS
+# daemons, ...). What the build and tests use of the recommends is covered by the list itself:
+# cmake's gcc and make come with build-essential (which also brings gcc's libc6-dev); chromium's
+# libgl1-mesa-dri is not used (the browser test renders WebGL with chromium's own SwiftShader),
+# its fonts-liberation is replaced by the font fontconfig depends on; libcurl's ca-certificates
+# only matter for https downloads, which the tests do not make (they serve files locally).
+"${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"

@@ -165,6 +165,11 @@ void renderBestGrasp(const std::string& path, const RunResult& r, const HandMode
 
 }  // namespace
 
+nlohmann::json runToJson(const RunResult& result, const HandModel& hand,
+                         const perception::Scan& scan, const std::string& input_name) {
+  return runJson(result, hand, scan, input_name);
+}
+
 void writeRunOutputs(const std::string& dir, const RunResult& r, const HandModel& hand,
                      const perception::Scan& scan, const std::string& input_name) {
   // All files go to temporary names and are renamed into place together at the end, grasps.json

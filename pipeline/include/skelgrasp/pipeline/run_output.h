@@ -1,5 +1,7 @@
 #pragma once
 // The files of `skelgrasp run`.
+#include <nlohmann/json.hpp>
+
 #include <string>
 
 #include "skelgrasp/grasping/hand_model.h"
@@ -8,6 +10,11 @@
 #include "skelgrasp/pipeline/run_scene.h"
 
 namespace skelgrasp::pipeline {
+
+// The grasps.json document of a run (schema skelgrasp.run/1, docs/pipeline.md), as
+// writeRunOutputs writes it (the Python module's to_dict()).
+nlohmann::json runToJson(const RunResult& result, const grasping::HandModel& hand,
+                         const perception::Scan& scan, const std::string& input_name);
 
 // Writes DIR/grasps.json (the plan schema plus scene fields), object.ply (with observed flags),
 // skeleton.json, segmentation.ply, scene.bt and report.html with its PNG pictures. All of them

@@ -1,0 +1,449 @@
+// Hands, the planners, closing a hand at a pose, re-scoring grasps and pictures.
+#include <pybind11/stl.h>
+
+#include <optional>
+
+#include "bindings.h"
+#include "convert.h"
+#include "skelgrasp/common/json.h"
+#include "skelgrasp/evaluation/robustness.h"
+#include "skelgrasp/grasping/hand_render.h"
+#include "skelgrasp/grasping/plan_output.h"
+#include "skelgrasp/grasping/planners.h"
+#include "skelgrasp/skeleton/output.h"
+
+namespace skelgrasp::python {
+namespace {
+
+struct Plan {
+  grasping::PlanResult result;
+  HandPtr hand;
+  std::string object;
+  std::optional<SkeletonOutput> skeleton;
+};
+
+// A hand closed at a pose (``skelgrasp close --json``).
+struct Closing {
+  HandPtr hand;
+  std::string preshape;
+  Pose gcp_pose, hand_pose;
+  grasping::ClosingResult closing;
+  grasping::WrenchSpaceResult quality;
+
+  // The CLI's close --json document; joints and contacts through the grasp writer.
+  nlohmann::json json() const {
+    grasping::Grasp g;
+    g.joints = closing.joints;
+    g.contacts = closing.contacts;
+    const nlohmann::json written = grasping::graspToJson(g, *hand);
+    return nlohmann::json{{"hand", hand->name()},
+                          {"preshape", preshape},
+                          {"gcp_pose", poseToJson(gcp_pose)},
+                          {"hand_pose", poseToJson(hand_pose)},
+                          {"status", closing.status.ok() ? "closed" : closing.reason},
+                          {"message", closing.status.message},
+                          {"colliding_link", closing.colliding_link},
+                          {"joints", written["joints"]},
+                          {"contacts", written["contacts"]},
+                          {"force_closure", quality.force_closure},
+                          {"epsilon", quality.epsilon},
+                          {"closure_margin", quality.closure_margin},
+                          {"volume", quality.volume},
+                          {"hull_facets", quality.hull_facets}};
+  }
+};
+
+py::list contactsList(const std::vector<grasping::Contact>& contacts) {
+  py::list out;
+  for (const auto& c : contacts) {
+    py::dict d;
+    d["point"] = fromPoints({c.point}).attr("reshape")(3);
+    d["normal"] = fromPoints({c.normal}).attr("reshape")(3);
+    d["link"] = c.link;
+    d["palm"] = c.palm;
+    out.append(d);
+  }
+  return out;
+}
+
+HandPtr builtinOrUrdf(const std::string& name) {
+  py::gil_scoped_release release;
+  return std::make_shared<grasping::HandModel>(grasping::resolveHand(name));
+}
+
+HandPtr handFromFiles(const std::string& urdf, const std::string& description) {
+  py::gil_scoped_release release;
+  return std::make_shared<grasping::HandModel>(grasping::loadHand(urdf, description));
+}
+
+grasping::QualityParams qualityParams(double mu, const std::string& fc_test,
+                                      bool reference_compat) {
+  grasping::QualityParams q;
+  q.friction = mu;
+  q.fc_test = grasping::parseForceClosureTest(fc_test);
+  q.reference_compat = reference_compat;
+  return q;
+}
+
+Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std::uint64_t seed,
+          double timeout_s, std::size_t max_grasps, double min_epsilon, double mu,
+          double vertex_distance_m, std::optional<double> round_ratio, bool reference_compat,
+          const std::string& fc_test, const std::string& closing, std::size_t max_hypotheses,
+          const std::string& regularisation, double alpha_divisor, double offset_divisor,
+          double spur_radius_factor) {
+  if (planner != "skeleton" && planner != "surface")
+    throw InvalidArgument("planner: '" + planner + "' is not skeleton or surface");
+  grasping::HypothesisParams hypothesis;
+  hypothesis.min_epsilon = min_epsilon;
+  hypothesis.quality = qualityParams(mu, fc_test, reference_compat);
+  hypothesis.closing.method = grasping::parseClosingMethod(closing);
+  skeleton::SkeletonParams skeleton_params;
+  skeleton_params.regularisation.method = geometry::parseRegularisationMethod(regularisation);
+  skeleton_params.regularisation.alpha_divisor = alpha_divisor;
+  skeleton_params.regularisation.offset_divisor = offset_divisor;
+  skeleton_params.spur_radius_factor = spur_radius_factor;
+
+  Plan out{{}, hand, mesh.name, std::nullopt};
+  py::gil_scoped_release release;
+  const grasping::GraspObject object(mesh.mesh);
+  if (planner == "skeleton") {
+    out.skeleton = SkeletonOutput{skeleton::extractSkeleton(mesh.mesh, skeleton_params), mesh};
+    // As the CLI: a mesh the skeleton stage cannot process is bad input.
+    if (!out.skeleton->result.status.ok())
+      throw InvalidArgument(mesh.name + ": " + out.skeleton->result.status.message);
+    grasping::SkeletonPlannerParams p;
+    p.timeout_s = timeout_s;
+    p.max_grasps = max_grasps;
+    p.seed = seed;
+    p.vertex_distance_m = vertex_distance_m;
+    p.round_ratio = round_ratio;
+    p.hypothesis = hypothesis;
+    out.result = grasping::planSkeletonGrasps(*hand, object, out.skeleton->result.skeleton, p);
+  } else {
+    grasping::SurfacePlannerParams p;
+    p.timeout_s = timeout_s;
+    p.max_hypotheses = max_hypotheses;
+    p.max_grasps = max_grasps;
+    p.seed = seed;
+    p.hypothesis = hypothesis;
+    out.result = grasping::planSurfaceGrasps(*hand, object, p);
+  }
+  return out;
+}
+
+Closing closeHand(const Mesh& mesh, const HandPtr& hand, const std::string& preshape_name,
+                  const py::object& gcp_pose, double mu, const std::string& fc_test,
+                  const std::string& closing, bool reference_compat) {
+  Closing out;
+  out.hand = hand;
+  out.gcp_pose = toPose(gcp_pose, "gcp_pose");
+  const auto& preshape = hand->preshape(preshape_name);
+  out.preshape = preshape.name;
+  grasping::ClosingParams closing_params;
+  closing_params.method = grasping::parseClosingMethod(closing);
+  auto quality = qualityParams(mu, fc_test, reference_compat);
+  quality.torsional_friction_m = hand->closingDefaults().torsional_friction_m;
+  py::gil_scoped_release release;
+  const grasping::GraspObject object(mesh.mesh);
+  grasping::GraspSimulator simulator(*hand, object);
+  out.hand_pose = simulator.handPoseForGcp(out.gcp_pose, preshape);
+  out.closing = simulator.close(out.hand_pose, preshape, closing_params);
+  if (out.closing.status.ok())
+    out.quality = grasping::evaluateGrasp(out.closing.contacts, object, quality);
+  return out;
+}
+
+std::vector<Grasp> graspsOf(const py::object& grasps) {
+  if (py::isinstance<Grasp>(grasps)) return {grasps.cast<Grasp>()};
+  if (py::isinstance<Plan>(grasps)) {
+    const auto& p = grasps.cast<const Plan&>();
+    std::vector<Grasp> out;
+    for (const auto& g : p.result.grasps) out.push_back({g, p.hand});
+    return out;
+  }
+  try {
+    return grasps.cast<std::vector<Grasp>>();
+  } catch (const py::cast_error&) {
+    throw InvalidArgument("grasps: expected a Grasp, a list of Grasps or a plan result");
+  }
+}
+
+py::list score(const Mesh& mesh, const HandPtr& hand, const py::object& grasps, double mu,
+               const std::string& fc_test, bool reference_compat, int robustness_samples,
+               const std::string& robustness_variant, std::uint64_t seed) {
+  const std::vector<Grasp> list = graspsOf(grasps);
+  auto quality = qualityParams(mu, fc_test, reference_compat);
+  quality.torsional_friction_m = hand->closingDefaults().torsional_friction_m;
+  if (robustness_samples < 0) throw InvalidArgument("robustness_samples: must be >= 0");
+  evaluation::RobustnessParams robustness;
+  robustness.samples = robustness_samples;
+  robustness.variant = evaluation::parseRobustnessVariant(robustness_variant);
+  robustness.seed = seed;
+  robustness.quality = quality;
+  std::vector<grasping::WrenchSpaceResult> judged(list.size());
+  std::vector<std::optional<evaluation::RobustnessResult>> robust(list.size());
+  {
+    py::gil_scoped_release release;
+    const grasping::GraspObject object(mesh.mesh);
+    grasping::GraspSimulator simulator(*hand, object);
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      if (list[i].hand->name() != hand->name())
+        throw InvalidArgument("grasps: grasp " + std::to_string(i) + " was planned for hand '" +
+                              list[i].hand->name() + "', not '" + hand->name() + "'");
+      judged[i] = grasping::evaluateGrasp(list[i].grasp.contacts, object, quality);
+      if (robustness_samples > 0)
+        robust[i] = evaluation::evaluateRobustness(simulator, list[i].grasp, robustness, i);
+    }
+  }
+  py::list out;
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    py::dict d;
+    d["force_closure"] = judged[i].force_closure;
+    d["epsilon"] = judged[i].epsilon;
+    d["closure_margin"] = judged[i].closure_margin;
+    d["volume"] = judged[i].volume;
+    if (robust[i]) {
+      d["robustness"] = robust[i]->score;
+      d["robustness_interval"] = py::make_tuple(robust[i]->wilson_low, robust[i]->wilson_high);
+      d["robustness_samples"] = robust[i]->samples;
+      d["robustness_collisions"] = robust[i]->collisions;
+    } else {
+      d["robustness"] = py::none();
+    }
+    out.append(d);
+  }
+  return out;
+}
+
+}  // namespace
+
+void bindGrasping(py::module_& m) {
+  py::class_<grasping::HandModel, std::shared_ptr<grasping::HandModel>>(m, "Hand", R"doc(
+A robot hand: URDF kinematics and collision geometry plus its grasp description (fingers,
+preshapes, planner thresholds; docs/hands.md). From :func:`hand` or :func:`load_hand`.)doc")
+      .def_property_readonly("name", &grasping::HandModel::name, "Short name ('sdh', ...).")
+      .def_property_readonly("title", &grasping::HandModel::title, "Descriptive title.")
+      .def_property_readonly(
+          "preshapes",
+          [](const grasping::HandModel& h) {
+            std::vector<std::string> names;
+            for (const auto& [name, _] : h.preshapes()) names.push_back(name);
+            return names;
+          },
+          "Preshape names (e.g. ['power', 'precision']).")
+      .def_property_readonly(
+          "joints",
+          [](const grasping::HandModel& h) {
+            std::vector<std::string> names;
+            for (const auto& j : h.joints())
+              if (j.movable()) names.push_back(j.name);
+            return names;
+          },
+          "Names of the movable joints (the keys of a grasp's ``joints``).")
+      .def_property_readonly(
+          "fingers", [](const grasping::HandModel& h) { return h.fingers().size(); },
+          "Number of fingers.")
+      .def_property_readonly("dof", &grasping::HandModel::numDrives,
+                             "Actuated drives while closing.")
+      .def("__repr__", [](const grasping::HandModel& h) {
+        return "<skelgrasp.Hand '" + h.name() + "': " + h.title() + ">";
+      });
+
+  m.def("hands", &grasping::builtinHandNames, "Names of the built-in hands.");
+  m.def("hand", &builtinOrUrdf, py::arg("name"), R"doc(
+A built-in hand: 'armar3', 'sdh', 'shadow' or 'parallel_gripper'. Raises ValueError for another
+name (the message lists the built-in hands).)doc");
+  m.def("load_hand", &handFromFiles, py::arg("urdf"), py::arg("grasp_description"), R"doc(
+A hand from a URDF file (meshes resolved relative to it) and a grasp description JSON
+(docs/hands.md). Raises FileNotFoundError / OSError naming the file and the problem.)doc");
+
+  py::class_<Grasp>(m, "Grasp", "A planned grasp on an object (object frame, metres, radians).")
+      .def_property_readonly(
+          "hand_pose", [](const Grasp& g) { return fromPose(g.grasp.hand_pose); },
+          "4 x 4 pose of the hand's root link in the object frame.")
+      .def_property_readonly(
+          "gcp_pose", [](const Grasp& g) { return fromPose(g.grasp.gcp_pose); },
+          "4 x 4 pose of the grasp centre point (z = approach direction) after the retreat.")
+      .def_property_readonly(
+          "joints", [](const Grasp& g) { return jointsDict(*g.hand, g.grasp.joints); },
+          "{joint name: value} of the closed hand (radians or metres).")
+      .def_property_readonly(
+          "contacts", [](const Grasp& g) { return contactsList(g.grasp.contacts); },
+          "List of {point, normal (object's outward unit normal), link, palm}.")
+      .def_property_readonly(
+          "force_closure", [](const Grasp& g) { return g.grasp.force_closure; },
+          "Whether the contacts hold the object against any wrench.")
+      .def_property_readonly(
+          "epsilon", [](const Grasp& g) { return g.grasp.epsilon; },
+          "Ferrari-Canny epsilon (L1) of the grasp wrench space.")
+      .def_property_readonly(
+          "volume", [](const Grasp& g) { return g.grasp.volume; }, "Grasp wrench space volume.")
+      .def_property_readonly(
+          "type", [](const Grasp& g) { return std::string(toString(g.grasp.type)); },
+          "'power' or 'precision'.")
+      .def_property_readonly(
+          "strategy", [](const Grasp& g) { return g.grasp.strategy; },
+          "Planner strategy: '1a' '1b' '2a' '2b' '3' '4' or 'surface'.")
+      .def_property_readonly(
+          "preshape", [](const Grasp& g) { return g.grasp.preshape; }, "Preshape name.")
+      .def_property_readonly(
+          "id", [](const Grasp& g) { return g.grasp.id; }, "Rank in its plan (0 = best).")
+      .def_property_readonly(
+          "observed_contact_ratio", [](const Grasp& g) { return g.observed_contact_ratio; },
+          ":func:`run` only: share of contacts on surface the sensor saw (NaN otherwise).")
+      .def_property_readonly(
+          "rank_score", [](const Grasp& g) { return g.rank_score; },
+          ":func:`run` only: the ranking score (NaN otherwise).")
+      .def(
+          "to_dict",
+          [](const Grasp& g) {
+            auto j = grasping::graspToJson(g.grasp, *g.hand);
+            if (!std::isnan(g.rank_score)) {
+              j["observed_contact_ratio"] = g.observed_contact_ratio;
+              j["rank_score"] = g.rank_score;
+            }
+            return fromJson(j);
+          },
+          "The grasp as in grasps.json (docs/planning.md).")
+      .def("__repr__", [](const Grasp& g) {
+        return "<skelgrasp.Grasp " + std::string(toString(g.grasp.type)) + " strategy " +
+               g.grasp.strategy + ", epsilon " + std::to_string(g.grasp.epsilon) + ">";
+      });
+
+  py::class_<Plan>(m, "PlanResult", "The result of :func:`plan`.")
+      .def_property_readonly(
+          "grasps",
+          [](const Plan& p) {
+            std::vector<Grasp> out;
+            for (const auto& g : p.result.grasps) out.push_back({g, p.hand});
+            return out;
+          },
+          "Kept grasps, best (highest epsilon) first.")
+      .def_property_readonly(
+          "summary",
+          [](const Plan& p) {
+            return fromJson(grasping::planToJson(p.result, *p.hand, p.object)["summary"]);
+          },
+          "Counts, rejection reasons and time (grasps.json's summary).")
+      .def_property_readonly(
+          "status",
+          [](const Plan& p) {
+            return py::make_tuple(toString(p.result.status.code), p.result.status.message);
+          },
+          "(code, message): 'ok', or 'no_result' when no grasp was kept.")
+      .def_property_readonly(
+          "skeleton",
+          [](const Plan& p) -> py::object {
+            return p.skeleton ? py::cast(*p.skeleton) : py::none();
+          },
+          "The object's Skeleton (skeleton planner), else None.")
+      .def(
+          "to_dict",
+          [](const Plan& p) { return fromJson(grasping::planToJson(p.result, *p.hand, p.object)); },
+          "grasps.json as ``skelgrasp plan`` writes it (schema skelgrasp.grasps/1).")
+      .def("__len__", [](const Plan& p) { return p.result.grasps.size(); })
+      .def("__repr__", [](const Plan& p) {
+        return "<skelgrasp.PlanResult: " +
+               grasping::planSummaryLine(p.result, p.hand->name(), p.object) + ">";
+      });
+
+  const grasping::SkeletonPlannerParams planner;
+  const grasping::SurfacePlannerParams surface;
+  const skeleton::SkeletonParams skel;
+  m.def("plan", &plan, py::arg("mesh"), py::arg("hand"), py::arg("planner") = "skeleton",
+        py::arg("seed") = planner.seed, py::kw_only(), py::arg("timeout_s") = planner.timeout_s,
+        py::arg("max_grasps") = planner.max_grasps,
+        py::arg("min_epsilon") = planner.hypothesis.min_epsilon,
+        py::arg("mu") = planner.hypothesis.quality.friction,
+        py::arg("vertex_distance_m") = planner.vertex_distance_m,
+        py::arg("round_ratio") = planner.round_ratio,
+        py::arg("reference_compat") = planner.hypothesis.quality.reference_compat,
+        py::arg("fc_test") = std::string(toString(planner.hypothesis.quality.fc_test)),
+        py::arg("closing") = std::string(toString(planner.hypothesis.closing.method)),
+        py::arg("max_hypotheses") = surface.max_hypotheses,
+        py::arg("regularisation") = std::string(toString(skel.regularisation.method)),
+        py::arg("alpha_divisor") = skel.regularisation.alpha_divisor,
+        py::arg("offset_divisor") = skel.regularisation.offset_divisor,
+        py::arg("spur_radius_factor") = skel.spur_radius_factor, R"doc(
+Plans grasps for ``mesh`` with ``hand`` (``skelgrasp plan``): planner 'skeleton' (paper Alg. 1)
+or 'surface' (surface-normal baseline). Deterministic for a seed. The defaults are the library's
+SkeletonPlannerParams / SurfacePlannerParams (no time limit: ``timeout_s=0``; the command line
+sets 30 s). ``max_hypotheses`` is the surface planner's. A mesh the skeleton stage cannot process
+raises ValueError.)doc");
+
+  py::class_<Closing>(m, "CloseResult", "A hand closed at a pose, from :func:`close`.")
+      .def_property_readonly(
+          "closed", [](const Closing& c) { return c.closing.status.ok(); },
+          "True when the fingers closed on the object with enough contacts.")
+      .def_property_readonly(
+          "status",
+          [](const Closing& c) { return c.closing.status.ok() ? "closed" : c.closing.reason; },
+          "'closed', 'start_collision' or 'too_few_contacts'.")
+      .def_property_readonly(
+          "hand_pose", [](const Closing& c) { return fromPose(c.hand_pose); },
+          "4 x 4 hand root pose that puts the preshape's grasp centre point at gcp_pose.")
+      .def_property_readonly(
+          "gcp_pose", [](const Closing& c) { return fromPose(c.gcp_pose); }, "4 x 4 pose given.")
+      .def_property_readonly(
+          "joints", [](const Closing& c) { return jointsDict(*c.hand, c.closing.joints); },
+          "{joint name: value} reached.")
+      .def_property_readonly(
+          "contacts", [](const Closing& c) { return contactsList(c.closing.contacts); },
+          "List of {point, normal, link, palm}.")
+      .def_property_readonly(
+          "force_closure", [](const Closing& c) { return c.quality.force_closure; },
+          "Force closure of the contacts.")
+      .def_property_readonly(
+          "epsilon", [](const Closing& c) { return c.quality.epsilon; }, "Ferrari-Canny epsilon.")
+      .def(
+          "to_dict", [](const Closing& c) { return fromJson(c.json()); },
+          "The document of ``skelgrasp close --json``.");
+
+  const grasping::QualityParams quality;
+  m.def("close", &closeHand, py::arg("mesh"), py::arg("hand"), py::arg("preshape"),
+        py::arg("gcp_pose"), py::kw_only(), py::arg("mu") = quality.friction,
+        py::arg("fc_test") = std::string(toString(quality.fc_test)),
+        py::arg("closing") = std::string(toString(grasping::ClosingParams{}.method)),
+        py::arg("reference_compat") = quality.reference_compat, R"doc(
+Closes ``hand`` in ``preshape`` with its grasp centre point at ``gcp_pose`` (4 x 4, or x y z qw qx
+qy qz; object frame) and judges the contacts (``skelgrasp close``). Raises ValueError for an
+unknown preshape or a pose that is not a rigid transform.)doc");
+
+  const evaluation::RobustnessParams robustness;
+  m.def("score", &score, py::arg("mesh"), py::arg("hand"), py::arg("grasps"), py::kw_only(),
+        py::arg("mu") = quality.friction,
+        py::arg("fc_test") = std::string(toString(quality.fc_test)),
+        py::arg("reference_compat") = quality.reference_compat,
+        py::arg("robustness_samples") = robustness.samples,
+        py::arg("robustness_variant") = std::string(evaluation::toString(robustness.variant)),
+        py::arg("seed") = robustness.seed, R"doc(
+Re-scores grasps (a Grasp, a list of them or a PlanResult) planned with ``hand`` on ``mesh``:
+force closure, epsilon, closure margin and volume of their contacts with these quality
+parameters, and the robustness r (paper Sec. V-B: the share of ``robustness_samples`` perturbed
+hand poses that still close to force closure, with its 95 % Wilson interval; 0 samples skips
+it). Returns one dict per grasp.)doc");
+
+  m.def(
+      "render_plan",
+      [](const std::string& path, const Plan& p, const Mesh& mesh) {
+        py::gil_scoped_release release;
+        grasping::renderPlanPng(path, mesh.mesh,
+                                p.skeleton ? &p.skeleton->result.skeleton : nullptr, p.result,
+                                *p.hand);
+      },
+      py::arg("path"), py::arg("plan"), py::arg("mesh"),
+      "PNG of the object, its skeleton and every grasp's approach, plus the best grasp with the "
+      "closed hand (``skelgrasp plan --render``).");
+  m.def(
+      "render_grasp",
+      [](const std::string& path, const Grasp& g, const Mesh& mesh) {
+        const auto& preshape = g.hand->preshape(g.grasp.preshape);
+        py::gil_scoped_release release;
+        grasping::renderGraspPng(path, mesh.mesh, *g.hand, g.grasp.hand_pose, preshape.joints,
+                                 g.grasp.joints, g.grasp.contacts);
+      },
+      py::arg("path"), py::arg("grasp"), py::arg("mesh"),
+      "PNG of the object with the hand in its preshape and closed, from two sides.");
+}
+
+}  // namespace skelgrasp::python

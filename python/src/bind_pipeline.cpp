@@ -1,0 +1,231 @@
+// The perception branch and the main job: reconstruct (scan -> closed meshes) and run (scan ->
+// ranked collision-free grasps on one object).
+#include <pybind11/stl.h>
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "bindings.h"
+#include "convert.h"
+#include "skelgrasp/pipeline/reconstruction_report.h"
+#include "skelgrasp/pipeline/run_output.h"
+#include "skelgrasp/pipeline/run_pipeline.h"
+
+namespace skelgrasp::python {
+namespace {
+
+struct Reconstruction {
+  pipeline::ReconstructionResult result;
+  pipeline::ReconstructionParams params;
+  perception::Scan scan;
+};
+
+struct Run {
+  pipeline::RunResult result;
+  HandPtr hand;
+  perception::Scan scan;
+  std::string name;
+};
+
+// "largest" | "all" | "nearest:x,y,z", or a point (x, y, z): the object nearest to it.
+perception::TargetSpec targetOf(const py::object& objects) {
+  if (py::isinstance<py::str>(objects))
+    return perception::TargetSpec::parse(objects.cast<std::string>());
+  const Matrix point = Matrix::ensure(objects);  // null when not numeric
+  if (!point || point.size() != 3)
+    throw InvalidArgument("objects: expected 'largest', 'all', 'nearest:x,y,z' or a point x, y, z");
+  const double* xyz = point.data();
+  if (!std::isfinite(xyz[0]) || !std::isfinite(xyz[1]) || !std::isfinite(xyz[2]))
+    throw InvalidArgument("objects: the point is not finite");
+  perception::TargetSpec spec;
+  spec.mode = perception::TargetMode::kNearest;
+  spec.point = Eigen::Vector3d(xyz[0], xyz[1], xyz[2]);
+  return spec;
+}
+
+// The scan's file name (as the CLI names the run) or the name the cloud was given.
+std::string scanName(const perception::Scan& scan) {
+  const auto name = std::filesystem::path(scan.source).filename().string();
+  return name.empty() ? scan.source : name;
+}
+
+pipeline::ReconstructionParams reconstructionParams(const py::object& objects,
+                                                    const std::string& plane, double voxel_leaf_m,
+                                                    double cluster_tolerance_m,
+                                                    double plane_distance_m, int poisson_depth,
+                                                    double samples_per_node,
+                                                    double observed_distance_m, bool completion) {
+  pipeline::ReconstructionParams p;
+  p.ingest.filters.voxel_leaf_m = voxel_leaf_m;
+  p.ingest.scene.plane = perception::parsePlaneRequirement(plane);
+  p.ingest.scene.target = targetOf(objects);
+  p.ingest.scene.cluster_tolerance_m = cluster_tolerance_m;
+  p.ingest.scene.plane_distance_m = plane_distance_m;
+  p.meshing.poisson.depth = poisson_depth;
+  p.meshing.poisson.samples_per_node = samples_per_node;
+  p.meshing.observed_distance_m = observed_distance_m;
+  p.meshing.completion.support_plane = completion;
+  return p;
+}
+
+Reconstruction reconstruct(const Cloud& cloud, const py::object& objects, const std::string& plane,
+                           double voxel_leaf_m, double cluster_tolerance_m, double plane_distance_m,
+                           int poisson_depth, double samples_per_node, double observed_distance_m,
+                           bool completion) {
+  Reconstruction out;
+  out.params =
+      reconstructionParams(objects, plane, voxel_leaf_m, cluster_tolerance_m, plane_distance_m,
+                           poisson_depth, samples_per_node, observed_distance_m, completion);
+  out.scan = cloud.scan;
+  py::gil_scoped_release release;
+  out.result = pipeline::reconstructScan(out.scan, out.params);
+  // As `skelgrasp reconstruct`: no plane, no object, an all-NaN cloud are bad input.
+  if (!out.result.status.ok())
+    throw InvalidArgument(out.scan.source + ": " + out.result.status.message);
+  return out;
+}
+
+Run run(const Cloud& cloud, const HandPtr& hand, const py::object& objects, bool scene_check,
+        double timeout_s, std::size_t max_grasps, std::uint64_t seed, double mu,
+        double observed_weight, double octree_resolution_m, const std::string& unknown_space,
+        double pregrasp_distance_m, const std::string& plane, double voxel_leaf_m,
+        int poisson_depth) {
+  pipeline::RunParams p;
+  p.reconstruction.ingest.filters.voxel_leaf_m = voxel_leaf_m;
+  p.reconstruction.ingest.scene.plane = perception::parsePlaneRequirement(plane);
+  p.reconstruction.ingest.scene.target = targetOf(objects);
+  p.reconstruction.meshing.poisson.depth = poisson_depth;
+  p.scene_check = scene_check;
+  p.planner.timeout_s = timeout_s;
+  p.planner.max_grasps = max_grasps;
+  p.planner.seed = seed;
+  p.planner.hypothesis.quality.friction = mu;
+  p.observed_weight = observed_weight;
+  p.occupancy.resolution_m = octree_resolution_m;
+  if (unknown_space != "free" && unknown_space != "occupied")
+    throw InvalidArgument("unknown_space: '" + unknown_space + "' is not free or occupied");
+  p.occupancy.unknown = unknown_space == "occupied" ? grasping::UnknownSpace::kOccupied
+                                                    : grasping::UnknownSpace::kFree;
+  p.approach.pregrasp_distance_m = pregrasp_distance_m;
+  Run out{{}, hand, cloud.scan, scanName(cloud.scan)};
+  py::gil_scoped_release release;
+  out.result = pipeline::runPipeline(out.scan, *hand, p);
+  if (!out.result.reconstruction.status.ok())
+    throw InvalidArgument(out.scan.source + ": " + out.result.reconstruction.status.message);
+  return out;
+}
+
+py::array_t<std::uint8_t> flags(const std::vector<std::uint8_t>& values) {
+  return py::array_t<std::uint8_t>(static_cast<py::ssize_t>(values.size()), values.data());
+}
+
+}  // namespace
+
+void bindPipeline(py::module_& m) {
+  py::class_<Reconstruction>(m, "Reconstruction", "The result of :func:`reconstruct`.")
+      .def_property_readonly(
+          "objects",
+          [](const Reconstruction& r) {
+            std::vector<Mesh> out;
+            for (const auto& o : r.result.objects)
+              out.push_back({o.meshing.mesh, {}, fmt::format("object_{}", o.cluster)});
+            return out;
+          },
+          "One closed Mesh per selected object (scan frame, metres).")
+      .def_property_readonly(
+          "observed",
+          [](const Reconstruction& r) {
+            std::vector<py::array_t<std::uint8_t>> out;
+            for (const auto& o : r.result.objects) out.push_back(flags(o.meshing.observed));
+            return out;
+          },
+          "Per object: uint8 per mesh vertex, 1 where the sensor saw the surface, 0 filled in.")
+      .def(
+          "to_dict",
+          [](const Reconstruction& r) {
+            return fromJson(pipeline::reconstructionReport(r.scan, r.params, r.result));
+          },
+          "report.json of ``skelgrasp reconstruct`` (schema skelgrasp.reconstruction/1).");
+
+  const pipeline::ReconstructionParams rec;
+  m.def("reconstruct", &reconstruct, py::arg("cloud"), py::kw_only(),
+        py::arg("objects") = rec.ingest.scene.target.toString(),
+        py::arg("plane") = std::string(toString(rec.ingest.scene.plane)),
+        py::arg("voxel_leaf_m") = rec.ingest.filters.voxel_leaf_m,
+        py::arg("cluster_tolerance_m") = rec.ingest.scene.cluster_tolerance_m,
+        py::arg("plane_distance_m") = rec.ingest.scene.plane_distance_m,
+        py::arg("poisson_depth") = rec.meshing.poisson.depth,
+        py::arg("samples_per_node") = rec.meshing.poisson.samples_per_node,
+        py::arg("observed_distance_m") = rec.meshing.observed_distance_m,
+        py::arg("completion") = rec.meshing.completion.support_plane, R"doc(
+Scan to closed meshes (``skelgrasp reconstruct``): filters, support plane ('required',
+'optional', 'none'), object clusters, Poisson meshing with observed flags. ``objects``:
+'largest', 'all', 'nearest:x,y,z' or a point (x, y, z). Defaults are the library's
+ReconstructionParams (docs/reconstruction.md). No plane, no object or an all-NaN cloud raise
+ValueError with the command line's message.)doc");
+
+  py::class_<Run>(m, "RunResult", "The result of :func:`run` (scan frame, metres).")
+      .def_property_readonly(
+          "grasps",
+          [](const Run& r) {
+            std::vector<Grasp> out;
+            for (const auto& g : r.result.ranked)
+              out.push_back({g.grasp, r.hand, g.observed_contact_ratio, g.score});
+            return out;
+          },
+          "Ranked collision-free grasps on the target, best first.")
+      .def_property_readonly(
+          "mesh",
+          [](const Run& r) {
+            return Mesh{r.result.mesh, {}, r.name + " (target)"};
+          },
+          "The target's closed mesh.")
+      .def_property_readonly(
+          "observed", [](const Run& r) { return flags(r.result.observed); },
+          "uint8 per target mesh vertex: 1 observed, 0 filled in.")
+      .def_property_readonly(
+          "summary",
+          [](const Run& r) {
+            return fromJson(pipeline::runToJson(r.result, *r.hand, r.scan, r.name)["summary"]);
+          },
+          "Counts and rejection reasons of the planner (grasps.json's summary).")
+      .def_property_readonly(
+          "status",
+          [](const Run& r) {
+            return py::make_tuple(toString(r.result.status.code), r.result.status.message);
+          },
+          "(code, message): 'ok', or why there is no grasp.")
+      .def(
+          "to_dict",
+          [](const Run& r) {
+            return fromJson(pipeline::runToJson(r.result, *r.hand, r.scan, r.name));
+          },
+          "grasps.json as ``skelgrasp run`` writes it (schema skelgrasp.run/1).")
+      .def("__len__", [](const Run& r) { return r.result.ranked.size(); });
+
+  const pipeline::RunParams run_defaults;
+  m.def("run", &run, py::arg("cloud"), py::arg("hand"), py::kw_only(),
+        py::arg("objects") = run_defaults.reconstruction.ingest.scene.target.toString(),
+        py::arg("scene_check") = run_defaults.scene_check,
+        py::arg("timeout_s") = run_defaults.planner.timeout_s,
+        py::arg("max_grasps") = run_defaults.planner.max_grasps,
+        py::arg("seed") = run_defaults.planner.seed,
+        py::arg("mu") = run_defaults.planner.hypothesis.quality.friction,
+        py::arg("observed_weight") = run_defaults.observed_weight,
+        py::arg("octree_resolution_m") = run_defaults.occupancy.resolution_m,
+        py::arg("unknown_space") = std::string(
+            run_defaults.occupancy.unknown == grasping::UnknownSpace::kOccupied ? "occupied"
+                                                                                : "free"),
+        py::arg("pregrasp_distance_m") = run_defaults.approach.pregrasp_distance_m,
+        py::arg("plane") = std::string(toString(run_defaults.reconstruction.ingest.scene.plane)),
+        py::arg("voxel_leaf_m") = run_defaults.reconstruction.ingest.filters.voxel_leaf_m,
+        py::arg("poisson_depth") = run_defaults.reconstruction.meshing.poisson.depth, R"doc(
+The main job (``skelgrasp run``): a scan of a table scene to ranked, collision-free grasps on one
+object (``objects``: 'largest', 'nearest:x,y,z' or a point). Defaults are the library's RunParams
+(docs/pipeline.md). A scan without a plane or object raises ValueError; no grasp is a result with
+status 'no_result'.)doc");
+}
+
+}  // namespace skelgrasp::python

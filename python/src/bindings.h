@@ -1,0 +1,11 @@
+#pragma once
+// The parts of the module, one per binding file (module.cpp calls them in this order).
+#include <pybind11/pybind11.h>
+
+namespace skelgrasp::python {
+
+void bindGeometry(pybind11::module_& m);  // Mesh, PointCloud, load_*, skeleton
+void bindGrasping(pybind11::module_& m);  // hands, plan, close, score, pictures
+void bindPipeline(pybind11::module_& m);  // reconstruct, run
+
+}  // namespace skelgrasp::python

@@ -1,0 +1,81 @@
+#pragma once
+// numpy <-> skelgrasp conversions shared by the binding files, and the wrapper types the module
+// hands to Python (each keeps what its to_dict() needs: a mesh its load info, a grasp its hand).
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <nlohmann/json.hpp>
+
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "skelgrasp/common/mesh_io.h"
+#include "skelgrasp/common/point_cloud.h"
+#include "skelgrasp/common/pose.h"
+#include "skelgrasp/grasping/grasp.h"
+#include "skelgrasp/grasping/hand_model.h"
+#include "skelgrasp/perception/scan.h"
+#include "skelgrasp/skeleton/extraction.h"
+
+namespace skelgrasp::python {
+
+namespace py = pybind11;
+
+using Matrix = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using IndexMatrix = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
+
+// A mesh and where it came from (skeleton.json's "input" and grasps.json's "object").
+struct Mesh {
+  TriangleMesh mesh;
+  MeshLoadInfo info;  // path "" for a mesh made from arrays
+  std::string name;   // file name, or the name given to Mesh(...)
+};
+
+// A point cloud as the pipeline consumes it (a scan of one or more views).
+struct Cloud {
+  perception::Scan scan;
+};
+
+// The skeleton stage's result on `input` (skeleton.json through json()).
+struct SkeletonOutput {
+  skeleton::SkeletonResult result;
+  Mesh input;
+
+  nlohmann::json json() const;
+};
+
+using HandPtr = std::shared_ptr<grasping::HandModel>;
+
+// A planned grasp with the hand it was planned for (joint names, to_dict()).
+struct Grasp {
+  grasping::Grasp grasp;
+  HandPtr hand;
+  // `run` only: ranking terms (NaN otherwise).
+  double observed_contact_ratio = std::numeric_limits<double>::quiet_NaN();
+  double rank_score = std::numeric_limits<double>::quiet_NaN();
+};
+
+// N x 3 float64 (any float or int dtype converts) -> points; throws InvalidArgument naming `what`
+// for another shape or a non-finite entry.
+std::vector<Eigen::Vector3d> toPoints(const py::object& array, const std::string& what);
+// F x 3 integer indices, each in [0, vertex_count).
+std::vector<Eigen::Vector3i> toFaces(const py::object& array, std::size_t vertex_count,
+                                     const std::string& what);
+std::vector<Rgb> toColours(const py::object& array, std::size_t count, const std::string& what);
+// A 4 x 4 homogeneous rigid transform (rotation orthonormal within kPoseUnitTolerance, then made
+// exact; last row 0 0 0 1), or the 7 numbers x y z qw qx qy qz.
+Pose toPose(const py::object& array, const std::string& what);
+
+Matrix fromPoints(const std::vector<Eigen::Vector3d>& points);
+IndexMatrix fromFaces(const std::vector<Eigen::Vector3i>& faces);
+Matrix fromPose(const Pose& pose);
+
+// nlohmann::json -> Python objects (dict, list, float, int, str, bool, None).
+py::object fromJson(const nlohmann::json& j);
+
+// {joint name: value} for the movable joints of `hand` in configuration `q`.
+py::dict jointsDict(const grasping::HandModel& hand, const Eigen::VectorXd& q);
+
+}  // namespace skelgrasp::python

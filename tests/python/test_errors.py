@@ -1,0 +1,106 @@
+"""Every error path raises the right exception with the message the CLI prints, and nothing
+crashes the interpreter."""
+import numpy as np
+import pytest
+
+import skelgrasp
+
+from conftest import cli_error, run_cli, write_ply
+
+
+def test_missing_mesh_is_file_not_found_with_the_cli_message(tmp_path, sdh):
+    path = str(tmp_path / "missing.ply")
+    with pytest.raises(FileNotFoundError) as error:
+        skelgrasp.load_mesh(path)
+    assert str(error.value) == f"{path}: no such file"
+    code, _, stderr = run_cli("plan", path, "--hand", "sdh", "--out", tmp_path / "g.json")
+    assert code == 2 and cli_error(stderr) == str(error.value)
+
+
+def test_malformed_mesh_is_os_error_with_the_cli_message(tmp_path):
+    path = tmp_path / "broken.ply"
+    path.write_text("ply\nformat ascii 1.0\nelement vertex 3\nend_header\n1 2\n")
+    with pytest.raises(OSError) as error:
+        skelgrasp.load_mesh(str(path))
+    assert not isinstance(error.value, FileNotFoundError)
+    assert str(error.value).startswith(f"{path}: ")
+    code, _, stderr = run_cli("plan", path, "--hand", "sdh", "--out", tmp_path / "g.json")
+    assert code == 2 and cli_error(stderr) == str(error.value)
+
+
+def test_nan_vertex_in_a_file_is_os_error(tmp_path):
+    path = tmp_path / "nan.ply"
+    write_ply(path, [[0, 0, 0], [1, 0, float("nan")], [0, 1, 0]], [[0, 1, 2]])
+    with pytest.raises(OSError) as error:
+        skelgrasp.load_mesh(str(path))
+    code, _, stderr = run_cli("plan", path, "--hand", "sdh", "--out", tmp_path / "g.json")
+    assert code == 2 and cli_error(stderr) == str(error.value)
+
+
+def test_unknown_units_is_value_error():
+    with pytest.raises(ValueError):
+        skelgrasp.load_mesh("whatever.ply", units="inch")
+
+
+def test_missing_cloud_is_file_not_found(tmp_path):
+    path = str(tmp_path / "missing.pcd")
+    with pytest.raises(FileNotFoundError) as error:
+        skelgrasp.load_cloud(path)
+    code, _, stderr = run_cli("run", path, "--out", tmp_path / "out")
+    assert code == 2 and cli_error(stderr) == str(error.value)
+
+
+def test_unknown_hand_is_value_error_with_the_cli_message(tmp_path):
+    with pytest.raises(ValueError) as error:
+        skelgrasp.hand("robotiq")
+    assert "unknown hand 'robotiq'" in str(error.value) and "sdh" in str(error.value)
+    code, _, stderr = run_cli("hands")  # the list the message names
+    assert code == 0
+    code, _, stderr = run_cli("plan", tmp_path / "x.ply", "--hand", "robotiq", "--out",
+                              tmp_path / "g.json")
+    assert code == 2 and cli_error(stderr) == str(error.value)
+
+
+def test_missing_hand_files(tmp_path):
+    with pytest.raises(FileNotFoundError):
+        skelgrasp.load_hand(str(tmp_path / "hand.urdf"), str(tmp_path / "hand.grasp.json"))
+
+
+def test_bad_planner_preshape_and_pose(capsule, sdh):
+    with pytest.raises(ValueError, match="planner: 'magic' is not skeleton or surface"):
+        skelgrasp.plan(capsule, sdh, planner="magic")
+    with pytest.raises(ValueError, match="fist"):
+        skelgrasp.close(capsule, sdh, "fist", np.eye(4))
+    with pytest.raises(ValueError, match="gcp_pose: expected a 4 x 4 matrix"):
+        skelgrasp.close(capsule, sdh, "power", np.eye(3))
+    skewed = np.eye(4)
+    skewed[0, 1] = 0.5
+    with pytest.raises(ValueError, match="gcp_pose: "):
+        skelgrasp.close(capsule, sdh, "power", skewed)
+    with pytest.raises(ValueError, match="gcp_pose: "):
+        skelgrasp.close(capsule, sdh, "power", np.full((4, 4), np.nan))
+    with pytest.raises(ValueError):
+        skelgrasp.plan(capsule, sdh, fc_test="guess")
+    with pytest.raises(ValueError):
+        skelgrasp.score(capsule, sdh, "not grasps")
+    with pytest.raises(TypeError):
+        skelgrasp.plan("mesh.ply", sdh)
+
+
+def test_flat_mesh_the_skeleton_cannot_process_is_value_error(sdh):
+    # Two triangles: no volume to wrap into a skeleton worth planning on, or a planner result
+    # without grasps; either way no crash.
+    vertices = np.array([[0, 0, 0], [0.1, 0, 0], [0, 0.1, 0], [0.1, 0.1, 0]], dtype=float)
+    mesh = skelgrasp.Mesh(vertices, [[0, 1, 2], [1, 3, 2]])
+    try:
+        result = skelgrasp.plan(mesh, sdh, max_grasps=1, timeout_s=5)
+    except ValueError as error:
+        assert str(error).startswith("mesh: ")
+    else:
+        assert result.status[0] in ("ok", "no_result")
+
+
+def test_bad_log_level():
+    with pytest.raises(ValueError):
+        skelgrasp.set_log_level("loud")
+    skelgrasp.set_log_level("warn")

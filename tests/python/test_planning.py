@@ -1,0 +1,130 @@
+"""Skeleton, plan, close and score on a generated capsule: the C++ tests' invariants."""
+import numpy as np
+import pytest
+
+import skelgrasp
+
+from conftest import without_timing
+
+
+def is_rigid(pose):
+    rotation = pose[:3, :3]
+    return (pose.shape == (4, 4) and np.allclose(rotation.T @ rotation, np.eye(3), atol=1e-9)
+            and np.isclose(np.linalg.det(rotation), 1.0) and np.allclose(pose[3], [0, 0, 0, 1]))
+
+
+def capsule_distance(points, radius=0.03, length=0.10):
+    """Distance of points from the capsule's surface (axis z, centred)."""
+    z = np.clip(points[:, 2], -length / 2, length / 2)
+    axis = np.stack([np.zeros_like(z), np.zeros_like(z), z], axis=1)
+    return np.abs(np.linalg.norm(points - axis, axis=1) - radius)
+
+
+def test_capsule_skeleton_is_one_segment_between_two_endpoints(capsule):
+    s = skelgrasp.skeleton(capsule)
+    assert s.ok, s.status
+    assert s.vertices.dtype == np.float64 and s.vertices.shape[1] == 3
+    assert s.edges.shape[1] == 2 and s.edges.min() >= 0 and s.edges.max() < len(s.vertices)
+    assert s.types.count("endpoint") == 2 and s.types.count("branch") == 0
+    assert len(s.segments) == 1 and 0.05 < s.segments[0]["length"] < 0.16
+    # On the axis, and a tree (|E| = |V| - 1 for one component).
+    assert np.all(np.linalg.norm(s.vertices[:, :2], axis=1) < 0.004)
+    assert len(s.edges) == len(s.vertices) - 1
+    # Every input vertex is in exactly one vertex's surface points.
+    mapped = np.sort(np.concatenate(s.surface_points))
+    assert np.array_equal(mapped, np.arange(len(capsule.vertices)))
+    document = s.to_dict()
+    assert document["schema"] == "skelgrasp.skeleton/1"
+    assert document["summary"]["vertices"] == len(s.vertices)
+    assert document["segments"] == s.segments
+
+
+def test_skeleton_defaults_come_from_the_library(capsule):
+    import inspect  # noqa: F401  (pybind11 signatures are in the docstring)
+    assert "alpha_divisor: float = 50.0" in skelgrasp.skeleton.__doc__
+    assert "seed: int = 1" in skelgrasp.plan.__doc__
+    assert "mu: float = 0.35" in skelgrasp.plan.__doc__
+
+
+def test_plan_invariants(capsule, sdh, capsule_plan):
+    result = capsule_plan
+    assert result.status[0] == "ok" and 0 < len(result.grasps) <= 4
+    epsilons = [g.epsilon for g in result.grasps]
+    assert epsilons == sorted(epsilons, reverse=True)
+    for g in result.grasps:
+        assert is_rigid(g.hand_pose) and is_rigid(g.gcp_pose)
+        assert g.force_closure and g.epsilon > 0
+        assert g.type in ("power", "precision")
+        assert set(g.joints) == set(sdh.joints)
+        points = np.array([c["point"] for c in g.contacts])
+        normals = np.array([c["normal"] for c in g.contacts])
+        assert len(points) >= 2 and np.all(capsule_distance(points) < 2e-3)
+        assert np.allclose(np.linalg.norm(normals, axis=1), 1.0)
+        assert g.to_dict()["hand_pose"]["position"] == pytest.approx(list(g.hand_pose[:3, 3]))
+    document = result.to_dict()
+    assert document["schema"] == "skelgrasp.grasps/1" and document["hand"] == "sdh"
+    assert document["object"] == "capsule" and document["summary"] == result.summary
+    assert [g["epsilon"] for g in document["grasps"]] == epsilons
+    assert result.skeleton is not None and result.skeleton.ok
+
+
+def test_plan_is_deterministic_for_a_seed(capsule, sdh, capsule_plan):
+    again = skelgrasp.plan(capsule, sdh, seed=1, max_grasps=4)
+    assert without_timing(again.to_dict()) == without_timing(capsule_plan.to_dict())
+
+
+def test_surface_planner(capsule, sdh):
+    result = skelgrasp.plan(capsule, sdh, planner="surface", seed=2, max_hypotheses=40)
+    assert result.to_dict()["planner"] == "surface" and result.skeleton is None
+    assert result.summary["hypotheses"] <= 40
+    assert all(g.strategy == "surface" for g in result.grasps)
+
+
+def test_close_at_a_planned_grasp_reproduces_its_contacts(capsule, sdh, capsule_plan):
+    best = capsule_plan.grasps[0]
+    closed = skelgrasp.close(capsule, sdh, best.to_dict()["preshape"], best.gcp_pose)
+    assert closed.closed and closed.status == "closed"
+    assert np.allclose(closed.hand_pose, best.hand_pose, atol=1e-9)
+    assert closed.force_closure == best.force_closure
+    assert closed.epsilon == pytest.approx(best.epsilon, rel=1e-6)
+    assert closed.joints == pytest.approx(best.joints)
+    document = closed.to_dict()
+    assert document["status"] == "closed" and document["hand"] == "sdh"
+
+
+def test_close_away_from_the_object_finds_too_few_contacts(capsule, sdh):
+    # The grasp centre point half a metre beside the capsule: the fingers close on nothing.
+    gcp = np.eye(4)
+    gcp[:3, 3] = [0.5, 0.0, 0.0]
+    closed = skelgrasp.close(capsule, sdh, "power", gcp)
+    assert not closed.closed and closed.status == "too_few_contacts"
+    assert closed.contacts == [] and not closed.force_closure and closed.epsilon == 0
+    assert closed.to_dict()["status"] == "too_few_contacts"
+
+
+def test_score_recomputes_quality_and_robustness(capsule, sdh, capsule_plan):
+    scores = skelgrasp.score(capsule, sdh, capsule_plan, robustness_samples=4, seed=3)
+    assert len(scores) == len(capsule_plan.grasps)
+    for s, g in zip(scores, capsule_plan.grasps):
+        assert s["force_closure"] == g.force_closure
+        assert s["epsilon"] == pytest.approx(g.epsilon, rel=1e-9)
+        assert 0.0 <= s["robustness"] <= 1.0 and s["robustness_samples"] == 4
+        low, high = s["robustness_interval"]
+        assert low <= s["robustness"] <= high
+    single = skelgrasp.score(capsule, sdh, capsule_plan.grasps[0], robustness_samples=0)
+    assert single[0]["robustness"] is None
+    # Higher friction never loses force closure for the same contacts.
+    assert all(s["force_closure"] for s in skelgrasp.score(capsule, sdh, capsule_plan.grasps,
+                                                           mu=0.8, robustness_samples=0))
+
+
+def test_other_hand_grasps_are_refused(capsule, capsule_plan):
+    with pytest.raises(ValueError, match="planned for hand 'sdh'"):
+        skelgrasp.score(capsule, skelgrasp.hand("armar3"), capsule_plan, robustness_samples=0)
+
+
+def test_render(tmp_path, capsule, capsule_plan):
+    skelgrasp.render_plan(str(tmp_path / "plan.png"), capsule_plan, capsule)
+    skelgrasp.render_grasp(str(tmp_path / "grasp.png"), capsule_plan.grasps[0], capsule)
+    for name in ("plan.png", "grasp.png"):
+        assert (tmp_path / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
