@@ -49,6 +49,9 @@ install(FILES ${CMAKE_BINARY_DIR}/skelgrasp-config.cmake
 # The CLI. The built-in hands are compiled into the library (grasping/CMakeLists.txt), so an
 # installed `skelgrasp --hand sdh` needs no files; the hand files are installed beside it for users
 # who adapt a hand (load_hand / --hand my.urdf --grasp-description my.grasp.json).
-install(TARGETS skelgrasp RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime)
+# The launcher and the two command programs it starts from its own directory
+# (apps/command_programs.h).
+install(TARGETS skelgrasp skelgrasp-mesh skelgrasp-full RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
+        COMPONENT runtime)
 install(DIRECTORY ${CMAKE_SOURCE_DIR}/grasping/hands/
         DESTINATION ${CMAKE_INSTALL_DATADIR}/skelgrasp/hands COMPONENT runtime)
