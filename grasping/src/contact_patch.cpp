@@ -247,6 +247,7 @@ std::optional<Contact> fastContactPatch(const HandModel& hand,
   // A patch point bounds the distance of the patch centre from the surface.
   double reach = std::numeric_limits<double>::infinity();
   for (const auto& q : patch) reach = std::min(reach, (centre - q).norm());
+  reach = std::min(reach, field.unsignedUpperBound(centre));
   std::optional<SurfacePoint> nearest;
   if (reach <= kExactClosestReachM) nearest = field.closestPointWithin(centre, reach + 1e-12);
   if (!nearest) {

@@ -326,6 +326,31 @@ double DistanceField::lowerBound(const Eigen::Vector3d& p) const {
   return bound;
 }
 
+double DistanceField::unsignedUpperBound(const Eigen::Vector3d& p) const {
+  const auto& m = *impl_;
+  Eigen::Vector3i i;
+  Eigen::Vector3d t;
+  for (int k = 0; k < 3; ++k) {
+    const double u = (p[k] - m.origin[k]) / m.h;
+    if (!(u >= 0 && u <= m.dims[k] - 1.0)) return std::numeric_limits<double>::infinity();
+    i[k] = std::min(static_cast<int>(u), m.dims[k] - 2);
+    t[k] = u - i[k];
+  }
+  // |d| is 1-Lipschitz: |d(p)| <= |d(n_c)| + |p - n_c| for every corner with an exact value
+  // (strictly inside the band; beyond it the nodes hold bounds only).
+  double bound = std::numeric_limits<double>::infinity();
+  for (int c = 0; c < 8; ++c) {
+    const int dx = c & 1, dy = (c >> 1) & 1, dz = (c >> 2) & 1;
+    const double v = std::abs(m.values[m.node(i.x() + dx, i.y() + dy, i.z() + dz)]);
+    if (!(v < m.band)) continue;
+    const Eigen::Vector3d offset =
+        m.h *
+        Eigen::Vector3d(dx ? 1 - t.x() : t.x(), dy ? 1 - t.y() : t.y(), dz ? 1 - t.z() : t.z());
+    bound = std::min(bound, v + offset.norm());
+  }
+  return bound + kFloatSlackM;
+}
+
 std::optional<SurfacePoint> DistanceField::closestPointWithin(const Eigen::Vector3d& p,
                                                               double radius) const {
   const auto& m = *impl_;
@@ -363,12 +388,24 @@ double DistanceField::boxDistance(const Pose& box_pose, const Eigen::Vector3d& h
   const Eigen::Matrix3d rotation = box_pose.linear();
   const Eigen::Matrix3d to_box = rotation.transpose();
   const Eigen::Vector3d centre = box_pose.translation();
-  const Eigen::Vector3d reach = rotation.cwiseAbs() * half + Eigen::Vector3d::Constant(upper);
+  // A tight start for the search from the field: the distance of points on the box's surface
+  // (corners, edge midpoints, face centres) bounds the gap from above, so that few triangles
+  // pass the bounding-sphere test below.
+  double best = upper;
+  for (int x = -1; x <= 1; ++x) {
+    for (int y = -1; y <= 1; ++y) {
+      for (int z = -1; z <= 1; ++z) {
+        if (x || y || z) {
+          best = std::min(
+              best, unsignedUpperBound(box_pose * half.cwiseProduct(Eigen::Vector3d(x, y, z))));
+        }
+      }
+    }
+  }
+  const Eigen::Vector3d reach = rotation.cwiseAbs() * half + Eigen::Vector3d::Constant(best);
   const Eigen::Vector3i a = m.cellOf(centre - reach), b = m.cellOf(centre + reach);
-  // Candidates with a lower bound (their bounding sphere against the box) below `upper`, nearest
-  // first, so that the exact test runs on few of them.
-  std::vector<std::pair<double, std::uint32_t>> candidates;
   const double cell_radius = m.cell * std::sqrt(3.0) / 2;
+  bool found = false;  // an exact distance below `upper`
   for (int z = a.z(); z <= b.z(); ++z) {
     for (int y = a.y(); y <= b.y(); ++y) {
       for (int x = a.x(); x <= b.x(); ++x) {
@@ -376,31 +413,31 @@ double DistanceField::boxDistance(const Pose& box_pose, const Eigen::Vector3d& h
         if (m.cell_first[c] == m.cell_first[c + 1]) continue;
         const Eigen::Vector3d cell_centre =
             m.origin + m.cell * (Eigen::Vector3d(x, y, z) + Eigen::Vector3d::Constant(0.5));
-        if (internal::pointBoxDistance(half, to_box * (cell_centre - centre)) - cell_radius > upper)
-          continue;  // a triangle reaching past its cell is also listed in the cells it reaches
+        // A triangle reaching past its cell is also listed in the cells it reaches.
+        if (internal::pointBoxDistance(half, to_box * (cell_centre - centre)) - cell_radius > best)
+          continue;
         for (std::uint32_t k = m.cell_first[c]; k < m.cell_first[c + 1]; ++k) {
           const std::uint32_t f = m.cell_faces[k];
           const double bound =
               internal::pointBoxDistance(half, to_box * (m.face_centres[f] - centre)) -
               m.face_radii[f];
-          if (bound < upper) candidates.emplace_back(bound, f);
+          if (bound > best || (found && bound == best)) continue;
+          const auto& t = m.faces[f];
+          const double d = internal::boxTriangleDistance(half, to_box * (m.vertices[t[0]] - centre),
+                                                         to_box * (m.vertices[t[1]] - centre),
+                                                         to_box * (m.vertices[t[2]] - centre));
+          if (d <= best) {
+            best = d;
+            found = true;
+          }
+          if (best <= 0) return 0;
         }
       }
     }
   }
-  std::sort(candidates.begin(), candidates.end());
-  double best = upper;
-  std::uint32_t previous = std::numeric_limits<std::uint32_t>::max();
-  for (const auto& [bound, f] : candidates) {
-    if (bound >= best) break;
-    if (f == previous) continue;  // listed in several cells
-    previous = f;
-    const auto& t = m.faces[f];
-    best = std::min(best, internal::boxTriangleDistance(half, to_box * (m.vertices[t[0]] - centre),
-                                                        to_box * (m.vertices[t[1]] - centre),
-                                                        to_box * (m.vertices[t[2]] - centre)));
-    if (best <= 0) return 0;
-  }
+  // The closest triangle is never cut (its bound is at most the gap, at most every `best`): no
+  // exact distance at or below `best` means the gap is beyond `upper`.
+  if (!found) return upper;
   return best;
 }
 

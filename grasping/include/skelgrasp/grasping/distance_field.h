@@ -54,6 +54,10 @@ class DistanceField {
   // A guaranteed lower bound of the (signed) distance of p from the surface, anywhere in space.
   double lowerBound(const Eigen::Vector3d& p) const;
 
+  // A guaranteed upper bound of the unsigned distance of p from the surface where the grid holds
+  // exact values near p, else infinity.
+  double unsignedUpperBound(const Eigen::Vector3d& p) const;
+
   // Exact closest surface point of p if it is within `radius` (from the triangle grid).
   std::optional<SurfacePoint> closestPointWithin(const Eigen::Vector3d& p, double radius) const;
   // Exact distance between the solid box of half extents `half` placed at `box_pose` and the
