@@ -105,9 +105,50 @@ std::vector<std::pair<Eigen::Vector3d, double>> sphereCover(const CollisionShape
 // Object points within this distance beyond the gap belong to the touching patch.
 constexpr double kPatchBandM = 0.001;
 
-std::optional<Contact> contactPatch(const HandModel& hand, const std::vector<ShapeInstance>& shapes,
-                                    int link, const Pose& link_pose, const GraspObject& object,
-                                    bool palm, double max_distance, std::size_t& queries) {
+namespace {
+
+// The exact distance between a link and the object with the nearest points, from FCL.
+struct FclGap {
+  double distance = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d object_point = Eigen::Vector3d::Zero(), link_point = Eigen::Vector3d::Zero();
+};
+
+FclGap fclGap(const std::vector<ShapeInstance>& shapes, const GraspObject& object,
+              std::size_t& queries) {
+  const auto& fcl_object = *object.collisionData().object;
+  fcl::DistanceRequestd request(true);
+  FclGap gap;
+  for (const auto& s : shapes) {
+    fcl::DistanceResultd distance;
+    ++queries;
+    // The object goes first: FCL 0.7 reports mesh-shape pairs with the mesh as object 1 (b1,
+    // nearest_points[0]) whatever the argument order.
+    fcl::distance(&fcl_object, s.object.get(), request, distance);
+    if (distance.min_distance < gap.distance) {
+      gap.distance = distance.min_distance;
+      gap.object_point = distance.nearest_points[0];
+      gap.link_point = distance.nearest_points[1];
+    }
+  }
+  return gap;
+}
+
+Contact makeContact(const HandModel& hand, int link, const GraspObject& object,
+                    const Eigen::Vector3d& point, std::size_t face,
+                    const Eigen::Vector3d& link_centre, bool palm, double gap) {
+  Contact contact;
+  contact.point = point;
+  contact.normal = object.surfaceNormal(point, face, link_centre - point);
+  contact.link = hand.links()[link].name;
+  contact.palm = palm;
+  contact.distance = gap;
+  return contact;
+}
+
+std::optional<Contact> stepwiseContactPatch(const HandModel& hand,
+                                            const std::vector<ShapeInstance>& shapes, int link,
+                                            const Pose& link_pose, const GraspObject& object,
+                                            bool palm, double max_distance, std::size_t& queries) {
   const auto& surface = object.surfaceQuery();
   if (std::isfinite(max_distance)) {
     // A link whose bounding spheres all stay farther than max_distance from the surface cannot
@@ -123,24 +164,9 @@ std::optional<Contact> contactPatch(const HandModel& hand, const std::vector<Sha
   // FCL gives the exact gap but an arbitrary point of a flat contact patch (a pad on a face), so
   // the point is the centre of the patch: the object points closest to the link's surface samples
   // that lie within kPatchBandM of the gap.
-  const auto& fcl_object = *object.collisionData().object;
-  fcl::DistanceRequestd request(true);
-  double best = std::numeric_limits<double>::infinity();
-  Eigen::Vector3d object_point = Eigen::Vector3d::Zero(), link_point = Eigen::Vector3d::Zero();
-  for (const auto& s : shapes) {
-    fcl::DistanceResultd distance;
-    ++queries;
-    // The object goes first: FCL 0.7 reports mesh-shape pairs with the mesh as object 1 (b1,
-    // nearest_points[0]) whatever the argument order.
-    fcl::distance(&fcl_object, s.object.get(), request, distance);
-    if (distance.min_distance < best) {
-      best = distance.min_distance;
-      object_point = distance.nearest_points[0];
-      link_point = distance.nearest_points[1];
-    }
-  }
-  if (best > max_distance) return std::nullopt;
-  const double gap = std::max(0.0, best);
+  const FclGap exact = fclGap(shapes, object, queries);
+  if (exact.distance > max_distance) return std::nullopt;
+  const double gap = std::max(0.0, exact.distance);
   // FCL's point is only a fallback: on a flat patch it is any point, and it would bias the mean.
   Eigen::Vector3d patch_sum = Eigen::Vector3d::Zero(), link_sum = Eigen::Vector3d::Zero();
   int patch_count = 0;
@@ -157,18 +183,91 @@ std::optional<Contact> contactPatch(const HandModel& hand, const std::vector<Sha
     }
   }
   if (patch_count == 0) {
-    patch_sum = object_point;
-    link_sum = link_point;
+    patch_sum = exact.object_point;
+    link_sum = exact.link_point;
     patch_count = 1;
   }
-  Contact contact;
   const auto [point, face] = surface.closestPointAndFace(patch_sum / patch_count);
-  contact.point = point;
-  contact.normal = object.surfaceNormal(point, face, link_sum / patch_count - point);
-  contact.link = hand.links()[link].name;
-  contact.palm = palm;
-  contact.distance = gap;
-  return contact;
+  return makeContact(hand, link, object, point, face, link_sum / patch_count, palm, gap);
+}
+
+// A touched link is within a closing step of the object; farther gaps are found by FCL.
+constexpr double kTouchedGapReachM = 0.01;
+// Over a few field cells the exact closest-point query scans too many triangles: CGAL's tree.
+constexpr double kExactClosestReachM = 0.008;
+
+// The same gap, patch and contact as stepwiseContactPatch, from the object's distance field:
+// field bounds skip what is far, the triangle grid gives exact box gaps and closest points near
+// the surface, and FCL only runs for links that are not boxes.
+std::optional<Contact> fastContactPatch(const HandModel& hand,
+                                        const std::vector<ShapeInstance>& shapes, int link,
+                                        const Pose& link_pose, const GraspObject& object, bool palm,
+                                        double max_distance, std::size_t& queries) {
+  const DistanceField& field = object.distanceField();
+  const bool bounded = std::isfinite(max_distance);
+  if (bounded && linkObjectGap(shapes, field, max_distance) > max_distance) return std::nullopt;
+  // Gaps at or beyond `upper` come back as `upper`.
+  const double upper = bounded ? max_distance + kPatchBandM : kTouchedGapReachM;
+  bool all_boxes = true;
+  double best = upper;
+  for (const auto& s : shapes) {
+    all_boxes = all_boxes && s.box_half.has_value();
+    if (all_boxes) best = std::min(best, field.boxDistance(shapePose(s), *s.box_half, best));
+  }
+  std::optional<FclGap> exact;
+  if (!all_boxes || best >= upper) {
+    if (all_boxes && bounded) return std::nullopt;  // farther than max_distance
+    exact = fclGap(shapes, object, queries);
+    best = exact->distance;
+  }
+  if (best > max_distance) return std::nullopt;
+  const double gap = std::max(0.0, best);
+  const double band = gap + kPatchBandM;
+  Eigen::Vector3d patch_sum = Eigen::Vector3d::Zero(), link_sum = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> patch;
+  for (const auto& s : shapes) {
+    const Pose shape_pose = link_pose * s.origin;
+    for (const auto& sample : s.surface_samples) {
+      const Eigen::Vector3d p = shape_pose * sample;
+      if (field.lowerBound(p) > band) continue;
+      const auto closest = field.closestPointWithin(p, band);
+      if (!closest) continue;
+      patch_sum += closest->point;
+      link_sum += p;
+      patch.push_back(closest->point);
+    }
+  }
+  if (patch.empty()) {
+    if (!exact) exact = fclGap(shapes, object, queries);
+    patch_sum = exact->object_point;
+    link_sum = exact->link_point;
+    patch.push_back(exact->object_point);
+  }
+  const Eigen::Vector3d centre = patch_sum / static_cast<double>(patch.size());
+  // A patch point bounds the distance of the patch centre from the surface.
+  double reach = std::numeric_limits<double>::infinity();
+  for (const auto& q : patch) reach = std::min(reach, (centre - q).norm());
+  reach = std::min(reach, field.unsignedUpperBound(centre));
+  std::optional<SurfacePoint> nearest;
+  if (reach <= kExactClosestReachM) nearest = field.closestPointWithin(centre, reach + 1e-12);
+  if (!nearest) {
+    const auto [point, face] = object.surfaceQuery().closestPointAndFace(centre);
+    nearest = SurfacePoint{point, face, 0};
+  }
+  return makeContact(hand, link, object, nearest->point, nearest->face,
+                     link_sum / static_cast<double>(patch.size()), palm, gap);
+}
+
+}  // namespace
+
+std::optional<Contact> contactPatch(const HandModel& hand, const std::vector<ShapeInstance>& shapes,
+                                    int link, const Pose& link_pose, const GraspObject& object,
+                                    bool palm, double max_distance, ClosingMethod method,
+                                    std::size_t& queries) {
+  return method == ClosingMethod::kFast
+             ? fastContactPatch(hand, shapes, link, link_pose, object, palm, max_distance, queries)
+             : stepwiseContactPatch(hand, shapes, link, link_pose, object, palm, max_distance,
+                                    queries);
 }
 
 }  // namespace skelgrasp::grasping::internal

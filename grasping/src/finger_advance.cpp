@@ -37,6 +37,7 @@ HandGeometry::HandGeometry(const HandModel& hand) : motion(hand) {
       instance.bounding_radius = boundingRadius(shape);
       instance.surface_samples = surfaceSamples(shape);
       instance.sphere_cover = sphereCover(shape);
+      if (shape.type == ShapeType::kBox) instance.box_half = 0.5 * shape.box_size;
       shapes[l].push_back(std::move(instance));
     }
     if (shapes[l].empty()) continue;
@@ -69,6 +70,22 @@ bool collide(const fcl::CollisionObjectd& a, const fcl::CollisionObjectd& b, std
   return result.isCollision();
 }
 
+// Exact box gaps are asked up to this distance: farther, the covering spheres' bound suffices and
+// the query would scan every triangle within reach.
+constexpr double kExactGapReachM = 0.01;
+
+// A lower bound of the distance between two placed shapes from their covering spheres.
+double sphereCoverGap(const ShapeInstance& a, const ShapeInstance& b) {
+  const Pose pose_a = shapePose(a), pose_b = shapePose(b);
+  double gap = std::numeric_limits<double>::infinity();
+  for (const auto& [ca, ra] : a.sphere_cover) {
+    const Eigen::Vector3d centre = pose_a * ca;
+    for (const auto& [cb, rb] : b.sphere_cover)
+      gap = std::min(gap, (centre - pose_b * cb).norm() - ra - rb);
+  }
+  return gap;
+}
+
 }  // namespace
 
 bool linksCollide(const std::vector<ShapeInstance>& a, const std::vector<ShapeInstance>& b,
@@ -87,6 +104,26 @@ bool linkHitsObject(const std::vector<ShapeInstance>& link, const fcl::Collision
     if (collide(*s.object, object, queries)) return true;
   }
   return false;
+}
+
+double linkObjectGap(const std::vector<ShapeInstance>& link, const DistanceField& field,
+                     double needed) {
+  // The spheres cost a field lookup each; the exact box gap (tens of microseconds) only runs for
+  // shapes that may be within `needed`, where the spheres' slack (their bulge beyond the shape
+  // plus the field's interpolation bound) would stop the advance millimetres early.
+  double gap = std::numeric_limits<double>::infinity();
+  for (const auto& s : link) {
+    const Pose pose = shapePose(s);
+    double shape_gap = std::numeric_limits<double>::infinity();
+    for (const auto& [centre, radius] : s.sphere_cover)
+      shape_gap = std::min(shape_gap, field.lowerBound(pose * centre) - radius);
+    if (shape_gap < needed && s.box_half) {
+      shape_gap = std::max(shape_gap,
+                           field.boxDistance(pose, *s.box_half, std::min(needed, kExactGapReachM)));
+    }
+    gap = std::min(gap, shape_gap);
+  }
+  return gap;
 }
 
 AllowedPairs allowedLinkPairs(const HandModel& hand, const HandGeometry& geometry,
@@ -346,7 +383,8 @@ class FingerAdvance {
     fcl::DistanceRequestd request;
     for (const auto& sa : geometry_.shapes[a]) {
       for (const auto& sb : geometry_.shapes[b]) {
-        const double bound = sa.object->getAABB().distance(sb.object->getAABB());
+        double bound = sa.object->getAABB().distance(sb.object->getAABB());
+        if (bound < needed) bound = std::max(bound, sphereCoverGap(sa, sb));
         if (bound >= needed) {
           gap = std::min(gap, bound);
           continue;
@@ -360,24 +398,9 @@ class FingerAdvance {
     return gap;
   }
 
-  // A lower bound of the distance from a link to the object: bounding sphere to the surface when
-  // that already reaches `needed`, else the exact FCL distance.
+  // A lower bound of the distance from a link to the object (the object's distance field).
   double objectGap(int link, double needed) {
-    const auto& surface = grasp_object_.surfaceQuery();
-    double gap = std::numeric_limits<double>::infinity();
-    fcl::DistanceRequestd request;
-    // Exact FCL distances to the object's BVH cost about a millisecond: the spheres covering the
-    // link give a bound from a few closest-point queries; too small a bound only means fewer
-    // steps at once.
-    for (const auto& s : geometry_.shapes[link]) {
-      const Pose shape_pose(s.object->getTransform().matrix());
-      for (const auto& [centre, radius] : s.sphere_cover) {
-        gap = std::min(gap, surface.distance(shape_pose * centre) - radius);
-        if (gap < kClearanceMarginM) return gap;
-      }
-    }
-    (void)needed;
-    return gap;
+    return linkObjectGap(geometry_.shapes[link], grasp_object_.distanceField(), needed);
   }
 
   // Per finger, the group it moves in lockstep with: fingers whose links may come within reach

@@ -58,6 +58,11 @@ const geometry::MeshQuery& GraspObject::surfaceQuery() const {
   return *query_;
 }
 
+const DistanceField& GraspObject::distanceField() const {
+  std::call_once(field_once_, [this] { field_ = std::make_unique<DistanceField>(mesh_, closed_); });
+  return *field_;
+}
+
 Eigen::Vector3d GraspObject::surfaceNormal(const Eigen::Vector3d& point, std::size_t face,
                                            const Eigen::Vector3d& towards) const {
   Eigen::Vector3d best = face_normals_[face];

@@ -115,7 +115,7 @@ ClosingResult GraspSimulator::close(const Pose& hand_pose, const Preshape& presh
   auto addContact = [&](int link, bool palm, double max_distance) {
     auto contact =
         internal::contactPatch(hand_, geometry.shapes[link], link, impl_->link_poses[link], object_,
-                               palm, max_distance, queries_);
+                               palm, max_distance, params.method, queries_);
     if (contact) result.contacts.push_back(std::move(*contact));
   };
   for (int l : geometry.finger_links) {

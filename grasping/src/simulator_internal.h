@@ -20,7 +20,20 @@ struct ShapeInstance {
   // Spheres (centre in the shape's frame, radius) covering the shape: a cheap lower bound of its
   // distance to the object's surface (fast closing).
   std::vector<std::pair<Eigen::Vector3d, double>> sphere_cover;
+  // Half extents of a box shape (the fast closing's exact gaps from the object's distance field).
+  std::optional<Eigen::Vector3d> box_half;
 };
+
+// Pose of a placed shape (object frame).
+inline Pose shapePose(const ShapeInstance& shape) {
+  return Pose(shape.object->getTransform().matrix());
+}
+
+// A lower bound of the distance from a link to the object from the object's distance field: its
+// covering spheres, then, for box shapes that may be within `needed`, the exact gap. At least
+// `needed` when the link is provably that far.
+double linkObjectGap(const std::vector<ShapeInstance>& link, const DistanceField& field,
+                     double needed);
 
 // Upper bound of how far any point of a link moves when the joints change by a given amount along
 // a straight path in joint space: sum over the joints above the link of |change| times the
@@ -97,10 +110,12 @@ AdvanceResult advanceFingers(const HandModel& hand, HandGeometry& geometry,
                              const AdvanceSettings& settings, std::size_t& queries);
 
 // The contact of one link (placed at `link_pose`) with the object, or nullopt when the link is
-// farther than `max_distance` (infinity: always a contact).
+// farther than `max_distance` (infinity: always a contact). kFast finds the same gap and patch
+// from the object's distance field and exact queries near the surface instead of FCL and CGAL.
 std::optional<Contact> contactPatch(const HandModel& hand, const std::vector<ShapeInstance>& shapes,
                                     int link, const Pose& link_pose, const GraspObject& object,
-                                    bool palm, double max_distance, std::size_t& queries);
+                                    bool palm, double max_distance, ClosingMethod method,
+                                    std::size_t& queries);
 
 std::vector<Eigen::Vector3d> surfaceSamples(const CollisionShape& shape);
 std::vector<std::pair<Eigen::Vector3d, double>> sphereCover(const CollisionShape& shape);

@@ -7,6 +7,7 @@
 
 #include "skelgrasp/common/mesh.h"
 #include "skelgrasp/geometry/mesh_query.h"
+#include "skelgrasp/grasping/distance_field.h"
 
 namespace skelgrasp::grasping {
 
@@ -38,6 +39,10 @@ class GraspObject {
   // Closest-point queries on the surface (AABB tree, built on first use, thread-safe).
   const geometry::MeshQuery& surfaceQuery() const;
 
+  // Signed distance field of the surface (unsigned when the mesh is open) with the default
+  // DistanceFieldParams, built on first use (tens of milliseconds), thread-safe.
+  const DistanceField& distanceField() const;
+
   struct CollisionData;  // FCL geometry, defined in the FCL translation units
   const CollisionData& collisionData() const { return *collision_; }
 
@@ -53,6 +58,8 @@ class GraspObject {
   std::unique_ptr<CollisionData> collision_;
   mutable std::once_flag query_once_;
   mutable std::unique_ptr<geometry::MeshQuery> query_;
+  mutable std::once_flag field_once_;
+  mutable std::unique_ptr<DistanceField> field_;
 };
 
 }  // namespace skelgrasp::grasping

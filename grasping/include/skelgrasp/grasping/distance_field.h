@@ -1,0 +1,72 @@
+#pragma once
+// The signed distance field of an object to grasp: a regular grid over the object's bounding box
+// (plus a margin) with exact distances to the surface in a narrow band, and a grid of triangles
+// for exact queries near the surface. The fast closing reads conservative gap bounds from it in
+// O(1) and asks the exact queries only near contact (docs/hands.md, "The judge, old against new").
+#include <cstddef>
+#include <memory>
+#include <optional>
+
+#include "skelgrasp/common/mesh.h"
+#include "skelgrasp/common/pose.h"
+
+namespace skelgrasp::grasping {
+
+struct DistanceFieldParams {
+  // Grid spacing. The worst-case slack of lowerBound is spacing * sqrt(3) / 2 (1.7 mm at 2 mm),
+  // taken up by exact queries near contact; memory is 4 bytes per node.
+  double spacing_m = 0.002;
+  // Nodes within this distance of the surface hold the exact distance; farther nodes hold only
+  // the bound "at least band_m" (outside) or "inside". Wider bands cost build time.
+  double band_m = 0.004;
+  // Memory guard: when the grid over the box plus margin would have more nodes, the spacing grows
+  // until it fits (default: 64 MB of floats).
+  std::size_t max_nodes = 16'000'000;
+};
+
+// A point on the surface with the face it lies on and its distance from the query point.
+struct SurfacePoint {
+  Eigen::Vector3d point;
+  std::size_t face = 0;
+  double distance = 0;
+};
+
+class DistanceField {
+ public:
+  // `signed_field`: negative inside (the mesh must be closed); else the unsigned distance.
+  // Throws InvalidArgument for an empty mesh or a non-positive spacing or band.
+  DistanceField(const TriangleMesh& mesh, bool signed_field,
+                const DistanceFieldParams& params = {});
+  ~DistanceField();
+  DistanceField(const DistanceField&) = delete;
+  DistanceField& operator=(const DistanceField&) = delete;
+
+  double spacing() const;  // after the memory guard
+  std::size_t nodeCount() const;
+  bool isSigned() const;
+  // Worst-case amount by which lowerBound lies below the true distance where the grid holds
+  // exact values (half the cell diagonal).
+  double errorBound() const;
+
+  // Trilinear interpolation of the node values (within band_m of the surface: the distance to
+  // within errorBound(); farther: clamped to about band_m).
+  double value(const Eigen::Vector3d& p) const;
+  // A guaranteed lower bound of the (signed) distance of p from the surface, anywhere in space.
+  double lowerBound(const Eigen::Vector3d& p) const;
+
+  // A guaranteed upper bound of the unsigned distance of p from the surface where the grid holds
+  // exact values near p, else infinity.
+  double unsignedUpperBound(const Eigen::Vector3d& p) const;
+
+  // Exact closest surface point of p if it is within `radius` (from the triangle grid).
+  std::optional<SurfacePoint> closestPointWithin(const Eigen::Vector3d& p, double radius) const;
+  // Exact distance between the solid box of half extents `half` placed at `box_pose` and the
+  // surface (0 when they intersect), or `upper` when it is at least `upper`.
+  double boxDistance(const Pose& box_pose, const Eigen::Vector3d& half, double upper) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace skelgrasp::grasping

@@ -1,0 +1,36 @@
+#pragma once
+// Internal: exact distances between a triangle and a point, a segment or a solid box, for the
+// object's distance field (grid values, closest points and link gaps of the fast closing).
+#include <Eigen/Core>
+
+namespace skelgrasp::grasping::internal {
+
+// Where on a triangle the closest point lies: its face, an edge (k: from vertex k to k+1) or a
+// vertex (k). Selects the pseudo-normal that gives the sign of the distance.
+enum class TriangleFeature { kFace, kEdge, kVertex };
+
+struct TrianglePoint {
+  Eigen::Vector3d point;
+  TriangleFeature feature = TriangleFeature::kFace;
+  int index = 0;  // edge or vertex index
+};
+
+// Closest point of triangle (a, b, c) to p (Ericson, Real-Time Collision Detection, 5.1.5).
+TrianglePoint closestOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                                const Eigen::Vector3d& b, const Eigen::Vector3d& c);
+
+// Squared distance between segments p0-p1 and q0-q1.
+double segmentSegmentDistanceSquared(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
+                                     const Eigen::Vector3d& q0, const Eigen::Vector3d& q1);
+
+// Distance between the solid axis-aligned box [-half, half] and triangle (a, b, c) given in the
+// box's frame; 0 when they intersect.
+double boxTriangleDistance(const Eigen::Vector3d& half, const Eigen::Vector3d& a,
+                           const Eigen::Vector3d& b, const Eigen::Vector3d& c);
+
+// Distance from p to the solid box [-half, half] (0 inside).
+inline double pointBoxDistance(const Eigen::Vector3d& half, const Eigen::Vector3d& p) {
+  return (p.cwiseAbs() - half).cwiseMax(0.0).norm();
+}
+
+}  // namespace skelgrasp::grasping::internal

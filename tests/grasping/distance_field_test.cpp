@@ -1,0 +1,164 @@
+// The object's distance field against exact distances: analytic ones on a box, the mesh's own
+// (CGAL closest points and inside test) on a sphere; its exact near-surface queries against
+// brute force.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "skelgrasp/common/error.h"
+#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/mesh_query.h"
+#include "skelgrasp/grasping/distance_field.h"
+#include "skelgrasp/grasping/grasp_object.h"
+
+namespace skelgrasp::grasping {
+namespace {
+
+// Signed distance from p to the surface of the box [-half, half] centred at the origin.
+double boxSignedDistance(const Eigen::Vector3d& half, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d q = p.cwiseAbs() - half;
+  return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
+}
+
+TEST(DistanceField, BoxValuesWithinTheBoundAndLowerBoundsHold) {
+  const Eigen::Vector3d size(0.06, 0.04, 0.1), half = size / 2;
+  const TriangleMesh mesh = primitives::makeBox(size);
+  DistanceFieldParams params;
+  params.band_m = 0.008;
+  const DistanceField field(mesh, true, params);
+  EXPECT_TRUE(field.isSigned());
+  EXPECT_DOUBLE_EQ(field.spacing(), params.spacing_m);
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> coordinate(-0.08, 0.08);
+  int in_band = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const Eigen::Vector3d p(coordinate(rng), coordinate(rng), coordinate(rng));
+    const double exact = boxSignedDistance(half, p);
+    const double bound = field.lowerBound(p);
+    ASSERT_LE(bound, exact + 1e-12) << p.transpose();
+    // Every corner of p's cell lies within the band: exact values.
+    if (std::abs(exact) < params.band_m - std::sqrt(3.0) * field.spacing()) {
+      ++in_band;
+      // Near the surface the field holds exact values: interpolation and bound are tight.
+      EXPECT_NEAR(field.value(p), exact, field.errorBound()) << p.transpose();
+      EXPECT_GE(bound, exact - 2 * field.errorBound()) << p.transpose();
+    }
+    if (exact > params.band_m + 2 * field.spacing()) {
+      EXPECT_GT(field.value(p), 0);
+    }
+    if (exact < -params.band_m - 2 * field.spacing()) {
+      EXPECT_LT(field.value(p), 0);
+    }
+  }
+  EXPECT_GT(in_band, 500);
+  EXPECT_LT(field.value(Eigen::Vector3d::Zero()), 0);  // inside
+  // 2 cm outside in x: beyond the band the field holds the band's width.
+  EXPECT_NEAR(field.value(Eigen::Vector3d(0.05, 0, 0)), params.band_m, 1e-6);
+  EXPECT_NEAR(field.value(Eigen::Vector3d(0.031, 0, 0)), 0.001, 1e-6);  // planar: exact
+  // Far from the grid the bound is the distance to the box.
+  EXPECT_NEAR(field.lowerBound(Eigen::Vector3d(1.03, 0, 0)), 1.0, 1e-12);
+}
+
+TEST(DistanceField, SphereMeshAgreesWithExactMeshDistanceAndInsideTest) {
+  const TriangleMesh mesh = primitives::makeSphere(0.04, 48, 24);
+  const GraspObject object(mesh);
+  ASSERT_TRUE(object.closed());
+  const DistanceField& field = object.distanceField();
+  ASSERT_TRUE(field.isSigned());
+  const auto& query = object.surfaceQuery();
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> coordinate(-0.06, 0.06);
+  for (int i = 0; i < 3000; ++i) {
+    const Eigen::Vector3d p(coordinate(rng), coordinate(rng), coordinate(rng));
+    const double unsigned_distance = query.distance(p);
+    const double exact = query.contains(p) ? -unsigned_distance : unsigned_distance;
+    ASSERT_LE(field.lowerBound(p), exact + 1e-12) << p.transpose();
+    if (unsigned_distance < 0.002) {
+      EXPECT_NEAR(field.value(p), exact, field.errorBound()) << p.transpose();
+      // The exact near-surface query finds the same closest point.
+      const auto closest = field.closestPointWithin(p, 0.003);
+      ASSERT_TRUE(closest.has_value());
+      EXPECT_NEAR(closest->distance, unsigned_distance, 1e-9);
+      EXPECT_LT((closest->point - query.closestPoint(p)).norm(), 1e-6);
+    }
+    if (unsigned_distance > 0.0035) {
+      EXPECT_FALSE(field.closestPointWithin(p, 0.003).has_value());
+    }
+    if (std::abs(exact) > 0.01) {
+      EXPECT_EQ(field.value(p) < 0, exact < 0) << p.transpose();
+    }
+  }
+}
+
+TEST(DistanceField, BoxDistanceIsTheExactGapOfASolidBox) {
+  const TriangleMesh mesh = primitives::makeSphere(0.04, 48, 24);
+  const geometry::MeshQuery query(mesh);
+  const DistanceField field(mesh, true);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  int near = 0;
+  for (int i = 0; i < 120; ++i) {
+    const Eigen::Vector3d half(0.004 + 0.01 * std::abs(unit(rng)),
+                               0.004 + 0.01 * std::abs(unit(rng)), 0.02);
+    Pose pose = Pose::Identity();
+    pose.linear() = Eigen::Quaterniond(unit(rng), unit(rng), unit(rng), unit(rng))
+                        .normalized()
+                        .toRotationMatrix();
+    const Eigen::Vector3d direction = Eigen::Vector3d(unit(rng), unit(rng), unit(rng)).normalized();
+    pose.translation() = direction * (0.04 + half.minCoeff() + 0.006 * unit(rng));
+    // Brute force: the distance of a dense grid of points on the box's faces bounds the gap
+    // from above, and from below up to half the grid's diagonal.
+    constexpr int kSteps = 24;
+    double sampled = std::numeric_limits<double>::infinity();
+    double cell = 0;
+    for (int axis = 0; axis < 3; ++axis) {
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      cell = std::max(cell, std::hypot(2 * half[u], 2 * half[v]) / kSteps);
+      for (int side : {-1, 1}) {
+        for (int a = 0; a <= kSteps; ++a) {
+          for (int b = 0; b <= kSteps; ++b) {
+            Eigen::Vector3d local;
+            local[axis] = side * half[axis];
+            local[u] = half[u] * (2.0 * a / kSteps - 1);
+            local[v] = half[v] * (2.0 * b / kSteps - 1);
+            const Eigen::Vector3d p = pose * local;
+            sampled = std::min(sampled, query.contains(p) ? 0.0 : query.distance(p));
+          }
+        }
+      }
+    }
+    const double upper = 0.02;
+    const double gap = field.boxDistance(pose, half, upper);
+    if (sampled >= upper + cell) {
+      EXPECT_DOUBLE_EQ(gap, upper);
+      continue;
+    }
+    ++near;
+    EXPECT_LE(gap, sampled + 1e-9) << i;
+    // A box intersecting the surface has gap 0, and then some sample is inside or on it.
+    EXPECT_GE(gap, sampled - cell / 2 - 1e-9) << i;
+    EXPECT_LE(field.lowerBound(pose.translation()) - half.norm(), gap + 1e-9) << i;
+  }
+  EXPECT_GT(near, 40);
+}
+
+TEST(DistanceField, MemoryGuardGrowsTheSpacingAndOpenMeshesAreUnsigned) {
+  TriangleMesh open = primitives::makeBox({0.1, 0.1, 0.1});
+  open.faces.pop_back();
+  open.faces.pop_back();
+  DistanceFieldParams params;
+  params.max_nodes = 20000;
+  const DistanceField field(open, false, params);
+  EXPECT_FALSE(field.isSigned());
+  EXPECT_LE(field.nodeCount(), params.max_nodes);
+  EXPECT_GT(field.spacing(), params.spacing_m);
+  EXPECT_GE(field.value(Eigen::Vector3d::Zero()), 0);
+  EXPECT_LE(field.lowerBound(Eigen::Vector3d(0.07, 0, 0)), 0.02 + 1e-12);
+  params.spacing_m = 0;
+  EXPECT_THROW(DistanceField(open, false, params), InvalidArgument);
+}
+
+}  // namespace
+}  // namespace skelgrasp::grasping
