@@ -7,6 +7,7 @@
 #include <memory>
 #include <random>
 
+#include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/logging.h"
 
 namespace skelgrasp::evaluation {
@@ -38,9 +39,8 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
   const bool paper = params.variant == RobustnessVariant::kPaper;
   const double sigma_p =
       params.position_sigma_m >= 0 ? params.position_sigma_m : (paper ? 0.010 : 0.005);
-  const double sigma_r = params.orientation_sigma_rad >= 0
-                             ? params.orientation_sigma_rad
-                             : (paper ? 5.0 : 2.5) * 3.14159265358979323846 / 180;
+  const double sigma_r = params.orientation_sigma_rad >= 0 ? params.orientation_sigma_rad
+                                                           : radiansFromDegrees(paper ? 5.0 : 2.5);
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   for (const auto& c : grasp.contacts)
     centre += c.point / static_cast<double>(grasp.contacts.size());

@@ -7,6 +7,7 @@
 #include <limits>
 #include <random>
 
+#include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/logging.h"
 
@@ -14,7 +15,13 @@ namespace skelgrasp::perception {
 namespace {
 
 constexpr double kNearClip = 0.01;  // metres; geometry closer to the camera is clipped away
-constexpr double kPi = 3.14159265358979323846;
+// The axial noise's grazing term grows without bound towards 90 degrees: the angle is capped this
+// far below it (radians).
+constexpr double kGrazingCapMarginRad = 1e-3;
+// A view direction and `up` whose cross product is shorter than this are parallel (unit vectors).
+constexpr double kParallelUpNorm = 1e-9;
+// Smallest grazing ramp (radians), so equal start and max angles drop everything past them.
+constexpr double kMinGrazingSpanRad = 1e-9;
 
 struct ZBuffer {
   Image<double> depth;
@@ -111,7 +118,7 @@ ZBuffer rasterise(const std::vector<TriangleMesh>& scene, const Pose& camera_to_
 double axialSigma(const DepthNoiseParams& n, double z, double theta) {
   const double dz = z - n.axial_sigma_z0_m;
   double sigma = n.axial_sigma_base_m + n.axial_sigma_quadratic * dz * dz;
-  const double t = std::min(theta, 0.5 * kPi - 1e-3);
+  const double t = std::min(theta, 0.5 * kPi - kGrazingCapMarginRad);
   sigma += n.axial_sigma_angle / std::sqrt(z) * t * t / ((0.5 * kPi - t) * (0.5 * kPi - t));
   return sigma;
 }
@@ -133,7 +140,7 @@ Pose lookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target, const Eig
   if (!((target - eye).norm() > 0)) throw InvalidArgument("lookAt: eye and target coincide");
   const Eigen::Vector3d z = (target - eye).normalized();
   Eigen::Vector3d x = z.cross(up);
-  if (x.norm() < 1e-9) x = anyPerpendicular(z);  // looking along `up`
+  if (x.norm() < kParallelUpNorm) x = anyPerpendicular(z);  // looking along `up`
   x.normalize();
   const Eigen::Vector3d y = z.cross(x);
   Pose pose = Pose::Identity();
@@ -148,7 +155,7 @@ std::vector<Pose> orbitPoses(const Eigen::Vector3d& target, double radius, doubl
                              int count, double azimuth0_rad) {
   std::vector<Pose> poses;
   for (int i = 0; i < count; ++i) {
-    const double azimuth = azimuth0_rad + 2.0 * kPi * i / count;
+    const double azimuth = azimuth0_rad + kTwoPi * i / count;
     const Eigen::Vector3d direction(std::cos(elevation_rad) * std::cos(azimuth),
                                     std::cos(elevation_rad) * std::sin(azimuth),
                                     std::sin(elevation_rad));
@@ -201,7 +208,8 @@ DepthView renderDepth(const std::vector<TriangleMesh>& scene, const Pose& camera
       const double r_grazing = uniform(rng), r_edge = uniform(rng), r_random = uniform(rng);
       const double r_noise = gaussian(rng);
       if (theta > noise.grazing_start_rad) {
-        const double span = std::max(1e-9, noise.grazing_max_rad - noise.grazing_start_rad);
+        const double span =
+            std::max(kMinGrazingSpanRad, noise.grazing_max_rad - noise.grazing_start_rad);
         drop = drop || r_grazing < (theta - noise.grazing_start_rad) / span;
       }
       bool edge = false;
