@@ -80,9 +80,4 @@ struct SkeletonResult {
 // Runs the whole stage. Data problems (empty mesh, wrap failure) are reported in the status.
 SkeletonResult extractSkeleton(const TriangleMesh& input, const SkeletonParams& params = {});
 
-// Index of the nearest `targets` point for every query (exact kd-tree search).
-std::vector<int> nearestPoints(const std::vector<Eigen::Vector3d>& targets,
-                               const std::vector<Eigen::Vector3d>& queries,
-                               std::vector<double>* distances = nullptr);
-
 }  // namespace skelgrasp::skeleton
