@@ -1,8 +1,10 @@
-// Simulated depth camera: z-buffer rasterisation of triangle meshes through a pinhole model, then
-// the structured-light error model of depth_camera.h.
+// Simulated depth camera: z-buffer rasterisation of triangle meshes through a pinhole model (with
+// the shared rasteriser of common/rasterise.h), then the structured-light error model of
+// depth_camera.h.
 #include "skelgrasp/perception/depth_camera.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -10,6 +12,7 @@
 #include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/logging.h"
+#include "skelgrasp/common/rasterise.h"
 
 namespace skelgrasp::perception {
 namespace {
@@ -50,38 +53,20 @@ void rasteriseTriangle(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
                        const Eigen::Vector3d& p2, const PinholeIntrinsics& k, int mesh, int face,
                        ZBuffer& z) {
   const Eigen::Vector3d* p[3] = {&p0, &p1, &p2};
-  double sx[3], sy[3], inv_z[3];
+  std::array<Eigen::Vector2d, 3> screen;
   for (int i = 0; i < 3; ++i) {
-    inv_z[i] = 1.0 / p[i]->z();
-    sx[i] = k.fx * p[i]->x() * inv_z[i] + k.cx;
-    sy[i] = k.fy * p[i]->y() * inv_z[i] + k.cy;
+    const double inv_z = 1.0 / p[i]->z();
+    screen[i] = Eigen::Vector2d(k.fx * p[i]->x() * inv_z + k.cx, k.fy * p[i]->y() * inv_z + k.cy);
   }
-  const double area = (sx[1] - sx[0]) * (sy[2] - sy[0]) - (sx[2] - sx[0]) * (sy[1] - sy[0]);
-  if (std::abs(area) < 1e-12) return;
-  const int u0 = std::max(0, static_cast<int>(std::ceil(std::min({sx[0], sx[1], sx[2]}))));
-  const int u1 =
-      std::min(k.width - 1, static_cast<int>(std::floor(std::max({sx[0], sx[1], sx[2]}))));
-  const int v0 = std::max(0, static_cast<int>(std::ceil(std::min({sy[0], sy[1], sy[2]}))));
-  const int v1 =
-      std::min(k.height - 1, static_cast<int>(std::floor(std::max({sy[0], sy[1], sy[2]}))));
-  const double inv_area = 1.0 / area;
-  for (int v = v0; v <= v1; ++v) {
-    for (int u = u0; u <= u1; ++u) {
-      // Barycentric weights from edge functions; a pixel centre on an edge counts for both faces,
-      // which the depth test resolves.
-      const double w0 = ((sx[1] - u) * (sy[2] - v) - (sx[2] - u) * (sy[1] - v)) * inv_area;
-      const double w1 = ((sx[2] - u) * (sy[0] - v) - (sx[0] - u) * (sy[2] - v)) * inv_area;
-      const double w2 = 1.0 - w0 - w1;
-      if (w0 < 0 || w1 < 0 || w2 < 0) continue;
-      const double depth = 1.0 / (w0 * inv_z[0] + w1 * inv_z[1] + w2 * inv_z[2]);
-      double& current = z.depth.at(u, v);
-      if (depth < current) {
-        current = depth;
-        z.mesh.at(u, v) = mesh;
-        z.face.at(u, v) = face;
-      }
-    }
-  }
+  raster::rasteriseTriangle(screen, {p0.z(), p1.z(), p2.z()}, k.width, k.height,
+                            raster::kCornerSample, [&](int u, int v, double depth) {
+                              double& current = z.depth.at(u, v);
+                              if (depth < current) {
+                                current = depth;
+                                z.mesh.at(u, v) = mesh;
+                                z.face.at(u, v) = face;
+                              }
+                            });
 }
 
 ZBuffer rasterise(const std::vector<TriangleMesh>& scene, const Pose& camera_to_world,
