@@ -142,12 +142,13 @@ TEST(Closing, UnsetStepsAreTheHandsDefaultsAndSetStepsAreUsed) {
   explicit_defaults.step_rad = gripper.closingDefaults().step_rad;
   explicit_defaults.palm_contact_distance_m = gripper.closingDefaults().palm_contact_distance_m;
   EXPECT_EQ(sim.close(hand, preshape).joints, sim.close(hand, preshape, explicit_defaults).joints);
-  // A coarser step than the hand's stops the jaws up to that step from the 5 cm face.
+  // A coarser step than the hand's stops the jaws up to that step from the 5 cm faces (too far
+  // to count as touching, so the status may be too few contacts: the reached joints tell).
   ClosingParams coarse;
   coarse.step_m = 0.004;
   const auto r = sim.close(hand, preshape, coarse);
-  ASSERT_TRUE(r.status.ok()) << r.status.message;
   EXPECT_NEAR(2 * r.joints[jaw], 0.05, 2 * 0.004 + 1e-9);
+  EXPECT_GT(2 * r.joints[jaw], 0.05 + 2 * 0.0005);  // farther than the hand's step would stop
   // Zero is a step that never arrives, not "the default" any more.
   ClosingParams zero;
   zero.step_m = 0.0;
