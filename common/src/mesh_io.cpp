@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "skelgrasp/common/atomic_file.h"
+#include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/file_header.h"
 #include "skelgrasp/common/logging.h"
@@ -259,11 +260,11 @@ TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options, M
     case LengthUnit::kMeters:
       break;
     case LengthUnit::kMillimeters:
-      local.scale_to_meters = 1e-3;
+      local.scale_to_meters = kMetresPerMillimetre;
       break;
     case LengthUnit::kAuto:
       if (diagonal > options.auto_millimetre_diagonal) {
-        local.scale_to_meters = 1e-3;
+        local.scale_to_meters = kMetresPerMillimetre;
         local.units_guessed = true;
         log().warn(
             "{}: bounding-box diagonal {:.3g} exceeds {:.3g}, assuming millimetres and scaling "

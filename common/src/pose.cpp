@@ -25,6 +25,9 @@ namespace {
 
 // Corrections smaller than this come from printing a pose with 6-7 digits: made silently.
 constexpr double kPoseRoundingTolerance = 1e-6;
+// A y hint shorter than this after removing its z part is (nearly) parallel to z: any
+// perpendicular is used instead (unit vectors, so dimensionless).
+constexpr double kParallelHintNorm = 1e-9;
 
 std::vector<double> poseNumbers(const std::string& text) {
   const auto fail = [&](const std::string& problem) {
@@ -127,7 +130,7 @@ Eigen::Vector3d anyPerpendicular(const Eigen::Vector3d& v) {
 Eigen::Matrix3d frameFromZY(const Eigen::Vector3d& z, const Eigen::Vector3d& y_hint) {
   const Eigen::Vector3d zn = z.normalized();
   Eigen::Vector3d y = y_hint - y_hint.dot(zn) * zn;
-  if (y.norm() < 1e-9) y = anyPerpendicular(zn);
+  if (y.norm() < kParallelHintNorm) y = anyPerpendicular(zn);
   y.normalize();
   Eigen::Matrix3d r;
   r.col(0) = y.cross(zn);

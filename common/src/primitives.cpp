@@ -2,12 +2,15 @@
 
 #include <cmath>
 
+#include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/error.h"
 
 namespace skelgrasp::primitives {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+// Vertices closer than this are one vertex when the box's sides are welded (metres; the sides'
+// shared edge vertices are computed identically, so they coincide up to rounding).
+constexpr double kWeldDistanceM = 1e-12;
 
 int addVertex(TriangleMesh& mesh, const Eigen::Vector3d& p) {
   mesh.vertices.push_back(p);
@@ -73,7 +76,7 @@ TriangleMesh makeBox(const Eigen::Vector3d& size, int subdivisions) {
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
     int found = -1;
     for (std::size_t k = 0; k < unique.size(); ++k) {
-      if ((unique[k] - mesh.vertices[i]).norm() < 1e-12) {
+      if ((unique[k] - mesh.vertices[i]).norm() < kWeldDistanceM) {
         found = static_cast<int>(k);
         break;
       }
@@ -104,7 +107,7 @@ TriangleMesh makeRevolution(const std::vector<Eigen::Vector2d>& profile, int seg
     }
     ring_start[i] = static_cast<int>(mesh.vertices.size());
     for (int s = 0; s < segments; ++s) {
-      const double a = 2 * kPi * s / segments;
+      const double a = kTwoPi * s / segments;
       addVertex(mesh, {r * std::cos(a), r * std::sin(a), z});
     }
   }
@@ -179,9 +182,9 @@ TriangleMesh makeTorus(double major_radius, double minor_radius, int major_segme
   }
   TriangleMesh mesh;
   for (int i = 0; i < major_segments; ++i) {
-    const double u = 2 * kPi * i / major_segments;
+    const double u = kTwoPi * i / major_segments;
     for (int j = 0; j < minor_segments; ++j) {
-      const double v = 2 * kPi * j / minor_segments;
+      const double v = kTwoPi * j / minor_segments;
       const double r = major_radius + minor_radius * std::cos(v);
       addVertex(mesh, {r * std::cos(u), r * std::sin(u), minor_radius * std::sin(v)});
     }
@@ -218,7 +221,7 @@ TriangleMesh makeNamedShape(const std::string& name) {
         name == "y_shape" ? std::vector<double>{90, 210, 330} : std::vector<double>{0, 180, 270};
     TriangleMesh mesh;
     for (double deg : angles) {
-      const double a = deg * kPi / 180;
+      const double a = radiansFromDegrees(deg);
       const Vector3d dir(std::cos(a), std::sin(a), 0);
       // The cylinder's z axis is turned onto dir; its centre sits half an arm out.
       const auto rot = Eigen::Quaterniond::FromTwoVectors(Vector3d::UnitZ(), dir);

@@ -10,8 +10,23 @@
 #include "png_file.h"
 #include "skelgrasp/common/atomic_file.h"
 #include "skelgrasp/common/error.h"
+#include "skelgrasp/common/rasterise.h"
 
 namespace skelgrasp::render {
+namespace {
+
+// Smallest radius (metres) a camera frames, so a point-sized box still gets a finite distance.
+constexpr double kMinFramingRadiusM = 1e-3;
+// Points closer to the eye than this (metres, along the view axis) are behind the near plane.
+constexpr double kNearPlaneM = 1e-6;
+// A view direction and `up` whose cross product is shorter than this are parallel (unit vectors).
+constexpr double kParallelUpNorm = 1e-9;
+// Depth-tested overlays: lines are drawn in this many pieces, each shown when its start is no
+// more than the tolerance (metres) behind the surface, so lines on a surface stay visible.
+constexpr int kDepthTestedLineSegments = 64;
+constexpr double kOverlayDepthToleranceM = 1e-4;
+
+}  // namespace
 
 Camera Camera::framing(const AxisAlignedBox& box, const Eigen::Vector3d& view_from, int width,
                        int height, const Eigen::Vector3d& up) {
@@ -20,7 +35,7 @@ Camera Camera::framing(const AxisAlignedBox& box, const Eigen::Vector3d& view_fr
   cam.height = height;
   cam.up = up;
   cam.target = box.center();
-  const double radius = std::max(0.5 * box.diagonal(), 1e-3);
+  const double radius = std::max(0.5 * box.diagonal(), kMinFramingRadiusM);
   const double fov = std::min(cam.fov_y_rad, cam.fov_y_rad * width / height);
   const double distance = radius / std::sin(0.5 * fov) * 1.05;
   cam.eye = cam.target + view_from.normalized() * distance;
@@ -36,7 +51,7 @@ struct Canvas::Impl {
 
   bool toCamera(const Eigen::Vector3d& p, Eigen::Vector3d& c) const {
     c = world_to_cam * (p - camera.eye);
-    return c.z() > 1e-6;
+    return c.z() > kNearPlaneM;
   }
   Eigen::Vector2d toPixel(const Eigen::Vector3d& c) const {
     return {0.5 * camera.width + focal * c.x() / c.z(),
@@ -53,7 +68,7 @@ Canvas::Canvas(const Camera& camera, Rgb background) : impl_(std::make_unique<Im
                       std::numeric_limits<double>::infinity());
   const Eigen::Vector3d forward = (camera.target - camera.eye).normalized();
   Eigen::Vector3d right = forward.cross(camera.up);
-  if (right.norm() < 1e-9) right = forward.cross(Eigen::Vector3d::UnitX());
+  if (right.norm() < kParallelUpNorm) right = forward.cross(Eigen::Vector3d::UnitX());
   right.normalize();
   const Eigen::Vector3d down = forward.cross(right);
   impl_->world_to_cam.row(0) = right;
@@ -94,8 +109,6 @@ void Canvas::drawMesh(const TriangleMesh& mesh, Rgb color, bool use_vertex_color
     if (!valid[t[0]] || !valid[t[1]] || !valid[t[2]]) continue;
     const Eigen::Vector2d p0 = im.toPixel(cam[t[0]]), p1 = im.toPixel(cam[t[1]]),
                           p2 = im.toPixel(cam[t[2]]);
-    const double area = (p1 - p0).x() * (p2 - p0).y() - (p1 - p0).y() * (p2 - p0).x();
-    if (std::abs(area) < 1e-12) continue;
     // Two-sided lighting: the renderer is for inspection, inverted faces should still show.
     const double shade = 0.35 + 0.65 * std::abs(mesh.faceNormal(f).dot(light));
     Eigen::Vector3d base(color[0], color[1], color[2]);
@@ -109,27 +122,14 @@ void Canvas::drawMesh(const TriangleMesh& mesh, Rgb color, bool use_vertex_color
     const cv::Vec3b bgr(static_cast<uchar>(std::min(255.0, base[2] * shade)),
                         static_cast<uchar>(std::min(255.0, base[1] * shade)),
                         static_cast<uchar>(std::min(255.0, base[0] * shade)));
-    const int x0 = std::max(0, static_cast<int>(std::floor(std::min({p0.x(), p1.x(), p2.x()}))));
-    const int x1 = std::min(w - 1, static_cast<int>(std::ceil(std::max({p0.x(), p1.x(), p2.x()}))));
-    const int y0 = std::max(0, static_cast<int>(std::floor(std::min({p0.y(), p1.y(), p2.y()}))));
-    const int y1 = std::min(h - 1, static_cast<int>(std::ceil(std::max({p0.y(), p1.y(), p2.y()}))));
-    // Perspective-correct depth: interpolate 1/z in screen space.
-    const double iz0 = 1 / cam[t[0]].z(), iz1 = 1 / cam[t[1]].z(), iz2 = 1 / cam[t[2]].z();
-    for (int y = y0; y <= y1; ++y) {
-      for (int x = x0; x <= x1; ++x) {
-        const Eigen::Vector2d q(x + 0.5, y + 0.5);
-        const double w0 = ((p1 - q).x() * (p2 - q).y() - (p1 - q).y() * (p2 - q).x()) / area;
-        const double w1 = ((p2 - q).x() * (p0 - q).y() - (p2 - q).y() * (p0 - q).x()) / area;
-        const double w2 = 1 - w0 - w1;
-        if (w0 < 0 || w1 < 0 || w2 < 0) continue;
-        const double z = 1 / (w0 * iz0 + w1 * iz1 + w2 * iz2);
-        double& zbuf = im.depth[static_cast<std::size_t>(y) * w + x];
-        if (z < zbuf) {
-          zbuf = z;
-          im.image.at<cv::Vec3b>(y, x) = bgr;
-        }
-      }
-    }
+    raster::rasteriseTriangle({p0, p1, p2}, {cam[t[0]].z(), cam[t[1]].z(), cam[t[2]].z()}, w, h,
+                              raster::kCentreSample, [&](int x, int y, double z) {
+                                double& zbuf = im.depth[static_cast<std::size_t>(y) * w + x];
+                                if (z < zbuf) {
+                                  zbuf = z;
+                                  im.image.at<cv::Vec3b>(y, x) = bgr;
+                                }
+                              });
   }
 }
 
@@ -145,14 +145,16 @@ void Canvas::drawLine(const Eigen::Vector3d& a, const Eigen::Vector3d& b, Rgb co
              cv::LINE_AA);
     return;
   }
-  const int steps = 64;
+  const int steps = kDepthTestedLineSegments;
   for (int i = 0; i < steps; ++i) {
     const Eigen::Vector3d c0 = ca + (cb - ca) * (double(i) / steps);
     const Eigen::Vector3d c1 = ca + (cb - ca) * (double(i + 1) / steps);
     const Eigen::Vector2d p0 = im.toPixel(c0), p1 = im.toPixel(c1);
     const int x = static_cast<int>(p0.x()), y = static_cast<int>(p0.y());
     if (x < 0 || y < 0 || x >= im.camera.width || y >= im.camera.height) continue;
-    if (c0.z() > im.depth[static_cast<std::size_t>(y) * im.camera.width + x] + 1e-4) continue;
+    if (c0.z() >
+        im.depth[static_cast<std::size_t>(y) * im.camera.width + x] + kOverlayDepthToleranceM)
+      continue;
     cv::line(im.image, cv::Point2d(p0.x(), p0.y()), cv::Point2d(p1.x(), p1.y()), bgr, thickness_px,
              cv::LINE_AA);
   }
@@ -165,7 +167,8 @@ void Canvas::drawPoint(const Eigen::Vector3d& p, Rgb color, int radius_px, bool 
   const Eigen::Vector2d px = im.toPixel(c);
   const int x = static_cast<int>(px.x()), y = static_cast<int>(px.y());
   if (depth_test && x >= 0 && y >= 0 && x < im.camera.width && y < im.camera.height &&
-      c.z() > im.depth[static_cast<std::size_t>(y) * im.camera.width + x] + 1e-4) {
+      c.z() >
+          im.depth[static_cast<std::size_t>(y) * im.camera.width + x] + kOverlayDepthToleranceM) {
     return;
   }
   cv::circle(im.image, cv::Point2d(px.x(), px.y()), radius_px,

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "hdf5_io.h"
+#include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/primitives.h"
 #include "skelgrasp/perception/depth_camera.h"
@@ -14,10 +15,9 @@
 namespace skelgrasp::datasets {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 Eigen::Matrix3d rotationZ(double degrees) {
-  return Eigen::AngleAxisd(degrees * kPi / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return Eigen::AngleAxisd(radiansFromDegrees(degrees), Eigen::Vector3d::UnitZ())
+      .toRotationMatrix();
 }
 
 Eigen::Matrix3d cameraMatrix(const perception::PinholeIntrinsics& k) {
@@ -49,7 +49,7 @@ TriangleMesh writeYcbRawFixture(const std::string& folder, const YcbRawFixtureSp
   const Eigen::Vector3d target(0, 0, 0.05);
   std::vector<Pose> rgb_to_world(6), ir_to_world(6);
   for (int k = 1; k <= 5; ++k) {
-    const double e = spec.elevation_deg[k - 1] * kPi / 180.0;
+    const double e = radiansFromDegrees(spec.elevation_deg[k - 1]);
     const Eigen::Vector3d eye =
         target + spec.distance_m * Eigen::Vector3d(std::cos(e), 0.0, std::sin(e));
     rgb_to_world[k] = perception::lookAt(eye, target, Eigen::Vector3d::UnitZ());

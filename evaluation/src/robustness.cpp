@@ -7,6 +7,7 @@
 #include <memory>
 #include <random>
 
+#include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/logging.h"
 
 namespace skelgrasp::evaluation {
@@ -29,6 +30,14 @@ std::pair<double, double> wilsonInterval(int successes, int trials, double z) {
   return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
 }
 
+namespace {
+// The variants' pose errors (standard deviations) when RobustnessParams leaves them unset.
+constexpr double kPaperPositionSigmaM = 0.010;
+constexpr double kPaperOrientationSigmaDeg = 5.0;
+constexpr double kReferencePositionSigmaM = 0.005;
+constexpr double kReferenceOrientationSigmaDeg = 2.5;
+}  // namespace
+
 RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
                                     const grasping::Grasp& grasp, const RobustnessParams& params,
                                     std::uint64_t grasp_index) {
@@ -36,11 +45,14 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
   if (grasp.contacts.empty()) throw InvalidArgument("robustness: the grasp has no contacts");
   Stopwatch watch;
   const bool paper = params.variant == RobustnessVariant::kPaper;
+  if ((params.position_sigma_m && !(*params.position_sigma_m >= 0)) ||
+      (params.orientation_sigma_rad && !(*params.orientation_sigma_rad >= 0))) {
+    throw InvalidArgument("robustness: pose error sigmas must be >= 0");
+  }
   const double sigma_p =
-      params.position_sigma_m >= 0 ? params.position_sigma_m : (paper ? 0.010 : 0.005);
-  const double sigma_r = params.orientation_sigma_rad >= 0
-                             ? params.orientation_sigma_rad
-                             : (paper ? 5.0 : 2.5) * 3.14159265358979323846 / 180;
+      params.position_sigma_m.value_or(paper ? kPaperPositionSigmaM : kReferencePositionSigmaM);
+  const double sigma_r = params.orientation_sigma_rad.value_or(
+      radiansFromDegrees(paper ? kPaperOrientationSigmaDeg : kReferenceOrientationSigmaDeg));
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   for (const auto& c : grasp.contacts)
     centre += c.point / static_cast<double>(grasp.contacts.size());

@@ -12,6 +12,10 @@
 namespace skelgrasp::geometry {
 
 namespace {
+
+// Ray directions shorter than this (metres) have no direction: no hit.
+constexpr double kZeroDirectionNorm = 1e-15;
+
 using internal::CgalKernel;
 using internal::CgalMesh;
 using Primitive = CGAL::AABB_face_graph_triangle_primitive<CgalMesh>;
@@ -57,7 +61,7 @@ Eigen::Vector3d MeshQuery::closestPoint(const Eigen::Vector3d& p) const {
 
 std::optional<Eigen::Vector3d> MeshQuery::firstHit(const Eigen::Vector3d& origin,
                                                    const Eigen::Vector3d& direction) const {
-  if (direction.norm() < 1e-15) return std::nullopt;
+  if (direction.norm() < kZeroDirectionNorm) return std::nullopt;
   const CgalKernel::Ray_3 ray(internal::toCgal(origin),
                               CgalKernel::Vector_3(direction.x(), direction.y(), direction.z()));
   const auto hit = impl_->tree.first_intersection(ray);

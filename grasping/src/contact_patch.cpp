@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "simulator_internal.h"
+#include "skelgrasp/common/constants.h"
 
 namespace skelgrasp::grasping::internal {
 
@@ -32,7 +33,7 @@ std::vector<Eigen::Vector3d> surfaceSamples(const CollisionShape& shape) {
       for (double z : {-0.5, 0.0, 0.5}) {
         if (z != 0.0) samples.emplace_back(0, 0, z * shape.length);
         for (int k = 0; k < 8; ++k) {
-          const double a = k * 3.14159265358979 / 4;
+          const double a = k * kPi / 4;
           samples.emplace_back(shape.radius * std::cos(a), shape.radius * std::sin(a),
                                z * shape.length);
         }

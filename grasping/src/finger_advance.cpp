@@ -61,6 +61,11 @@ void placeLink(const Pose& link_pose, std::vector<ShapeInstance>& shapes) {
 
 namespace {
 
+// A joint move smaller than this (radians or metres) is no move: the joints are at their limits.
+constexpr double kNoJointMove = 1e-12;
+// Slack (in steps) so that a room that is a whole number of steps up to rounding is not one more.
+constexpr double kStepCountSlack = 1e-9;
+
 bool collide(const fcl::CollisionObjectd& a, const fcl::CollisionObjectd& b, std::size_t& queries) {
   if (!a.getAABB().overlap(b.getAABB())) return false;
   ++queries;
@@ -208,7 +213,7 @@ class FingerAdvance {
     Eigen::VectorXd candidate = q_;
     for (const auto& [joint, amount] : moves) candidate[joint] += amount;
     hand_.normalise(candidate);
-    if ((candidate - q_).cwiseAbs().maxCoeff() < 1e-12) return false;  // at the limits
+    if ((candidate - q_).cwiseAbs().maxCoeff() < kNoJointMove) return false;  // at the limits
     placeFinger(finger, candidate);
     if (blocked(finger, check_object) != Blocker::kNone) {
       placeFinger(finger, q_);
@@ -365,7 +370,7 @@ class FingerAdvance {
     for (const auto& [joint, amount] : moves) {
       const auto& j = hand_.joints()[joint];
       const double room = amount > 0 ? j.upper - q_[joint] : q_[joint] - j.lower;
-      steps = std::max(steps, std::ceil(room / std::abs(amount) - 1e-9));
+      steps = std::max(steps, std::ceil(room / std::abs(amount) - kStepCountSlack));
     }
     return steps;
   }
@@ -488,7 +493,7 @@ class FingerAdvance {
     std::vector<int> placed;
     for (std::size_t i = 0; i < members.size(); ++i) {
       Drive* d = members[i];
-      if (changes[i].cwiseAbs().maxCoeff() < 1e-12) {
+      if (changes[i].cwiseAbs().maxCoeff() < kNoJointMove) {
         d->stopped = true;  // at its limits, as the stepwise closing's first failed step
       } else {
         d->steps += static_cast<int>(steps);

@@ -6,6 +6,18 @@
 
 namespace skelgrasp::grasping {
 
+namespace {
+
+// A mesh whose |signed volume| is below this share of its bounding box's diagonal cubed is open
+// or flat: the centre of mass comes from the surface instead.
+constexpr double kFlatVolumeShare = 1e-6;
+// An approach direction shorter than this (metres) has none: the face normal is kept.
+constexpr double kZeroDirectionNorm = 1e-12;
+// Normals of faces at the contact within this share of the object size (at least 1 mm) compete.
+constexpr double kNormalSearchShare = 1e-6;
+constexpr double kMinNormalSearchScaleM = 1e-3;
+}  // namespace
+
 GraspObject::GraspObject(TriangleMesh mesh) : mesh_(std::move(mesh)) {
   if (mesh_.empty()) throw InvalidArgument("GraspObject: empty mesh");
   bounds_ = mesh_.bounds();
@@ -30,7 +42,7 @@ GraspObject::GraspObject(TriangleMesh mesh) : mesh_(std::move(mesh)) {
     face_normals_.push_back(mesh_.faceNormal(f));
   }
   const double scale = bounds_.diagonal();
-  if (std::abs(volume) > 1e-6 * scale * scale * scale) {
+  if (std::abs(volume) > kFlatVolumeShare * scale * scale * scale) {
     center_of_mass_ = volume_moment / volume;
   } else if (area > 0) {
     center_of_mass_ = area_moment / area;
@@ -66,10 +78,11 @@ const DistanceField& GraspObject::distanceField() const {
 Eigen::Vector3d GraspObject::surfaceNormal(const Eigen::Vector3d& point, std::size_t face,
                                            const Eigen::Vector3d& towards) const {
   Eigen::Vector3d best = face_normals_[face];
-  if (towards.norm() < 1e-12) return best;
+  if (towards.norm() < kZeroDirectionNorm) return best;
   const Eigen::Vector3d dir = towards.normalized();
   double best_dot = best.dot(dir);
-  const double tolerance = 1e-6 * std::max(1e-3, bounds_.diagonal());
+  const double tolerance =
+      kNormalSearchShare * std::max(kMinNormalSearchScaleM, bounds_.diagonal());
   for (int k = 0; k < 3; ++k) {
     for (int f : vertex_faces_[mesh_.faces[face][k]]) {
       const auto& t = mesh_.faces[f];

@@ -80,14 +80,17 @@ ClosingResult GraspSimulator::close(const Pose& hand_pose, const Preshape& presh
   ClosingResult result;
   const auto& defaults = hand_.closingDefaults();
   internal::AdvanceSettings settings;
-  settings.step_rad = params.step_rad > 0 ? params.step_rad : defaults.step_rad;
-  settings.step_m = params.step_m > 0 ? params.step_m : defaults.step_m;
+  if ((params.step_rad && !(*params.step_rad > 0)) || (params.step_m && !(*params.step_m > 0)) ||
+      (params.palm_contact_distance_m && !(*params.palm_contact_distance_m >= 0))) {
+    throw InvalidArgument("close: closing steps must be > 0 and the palm contact distance >= 0");
+  }
+  settings.step_rad = params.step_rad.value_or(defaults.step_rad);
+  settings.step_m = params.step_m.value_or(defaults.step_m);
   settings.max_passes = params.max_passes;
   settings.max_iterations_per_pass = params.max_iterations_per_pass;
   settings.method = params.method;
-  const double palm_distance = params.palm_contact_distance_m >= 0
-                                   ? params.palm_contact_distance_m
-                                   : defaults.palm_contact_distance_m;
+  const double palm_distance =
+      params.palm_contact_distance_m.value_or(defaults.palm_contact_distance_m);
   auto& geometry = impl_->geometry;
 
   Eigen::VectorXd q = preshape.joints;

@@ -9,6 +9,9 @@
 namespace skelgrasp::grasping {
 namespace {
 
+// Skeleton displacements shorter than this (metres) give no direction.
+constexpr double kZeroLengthM = 1e-9;
+
 using skeleton::Segment;
 using skeleton::SegmentEnd;
 using skeleton::Skeleton;
@@ -81,7 +84,7 @@ LocalShape analyzeLocalShape(const Skeleton& skel,
     shape.interval.insert(shape.interval.end(), in.vertices.begin(), in.vertices.end());
     shape.length_after = in.length;
     const Eigen::Vector3d inward = skel.vertices[in.far_vertex].position - s;
-    if (inward.norm() > 1e-9) {
+    if (inward.norm() > kZeroLengthM) {
       shape.tangent = inward.normalized();
     } else {
       // An isolated vertex (a ball contracted to a point): along the points' longest axis.
@@ -103,8 +106,8 @@ LocalShape analyzeLocalShape(const Skeleton& skel,
     }
     const Eigen::Vector3d chord =
         skel.vertices[after.far_vertex].position - skel.vertices[before.far_vertex].position;
-    shape.tangent =
-        chord.norm() > 1e-9 ? Eigen::Vector3d(chord.normalized()) : Eigen::Vector3d::UnitZ();
+    shape.tangent = chord.norm() > kZeroLengthM ? Eigen::Vector3d(chord.normalized())
+                                                : Eigen::Vector3d::UnitZ();
   }
 
   // Project the interval's surface points onto the grasping plane and take the 2D principal axes.

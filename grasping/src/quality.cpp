@@ -14,11 +14,26 @@ extern "C" {
 #include <cmath>
 #include <cstdio>
 
+#include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/common/pose.h"
 #include "skelgrasp/common/resources.h"
 
 namespace skelgrasp::grasping {
+
+namespace {
+
+// Relative tolerances (dimensionless, scaled by the largest magnitude involved): a tangent
+// shorter than this is parallel to the normal; singular values below it do not count to the rank.
+constexpr double kRelativeParallelTolerance = 1e-9;
+constexpr double kRelativeRankTolerance = 1e-9;
+// The contact forces' hull holds the origin strictly when every facet offset is below -this.
+constexpr double kForceHullInsideMargin = 1e-9;
+// Hull test: closure when every facet is farther than this from the origin (wrench units);
+// reference-compatible test: when every facet is within this of containing the origin.
+constexpr double kHullClosureMargin = 1e-12;
+constexpr double kReferenceHullTolerance = 1e-4;
+}  // namespace
 
 const char* toString(ForceClosureTest test) {
   return test == ForceClosureTest::kHull ? "hull" : "lp";
@@ -35,15 +50,16 @@ std::vector<Eigen::Vector3d> frictionConeEdges(const Eigen::Vector3d& outward_no
                                                const Eigen::Vector3d& reference) {
   const Eigen::Vector3d axis = -outward_normal.normalized();
   Eigen::Vector3d t1 = reference - reference.dot(axis) * axis;
-  t1 = t1.norm() > 1e-9 * std::max(1.0, reference.norm()) ? Eigen::Vector3d(t1.normalized())
-                                                          : anyPerpendicular(axis);
+  t1 = t1.norm() > kRelativeParallelTolerance * std::max(1.0, reference.norm())
+           ? Eigen::Vector3d(t1.normalized())
+           : anyPerpendicular(axis);
   const Eigen::Vector3d t2 = axis.cross(t1);
   // Reference quirk: radial and axial parts both scaled by cos(atan mu) -> 45 degrees.
   const double half_angle = params.reference_compat ? std::atan(1.0) : std::atan(params.friction);
   std::vector<Eigen::Vector3d> edges;
   edges.reserve(params.cone_edges);
   for (int i = 0; i < params.cone_edges; ++i) {
-    const double theta = 2 * 3.14159265358979323846 * i / params.cone_edges;
+    const double theta = kTwoPi * i / params.cone_edges;
     edges.push_back(std::cos(half_angle) * axis +
                     std::sin(half_angle) * (std::cos(theta) * t1 + std::sin(theta) * t2));
   }
@@ -73,7 +89,7 @@ std::vector<Wrench> contactWrenches(const std::vector<Contact>& contacts,
     const Eigen::Vector3d inward = -c.normal.normalized();
     const Eigen::Vector3d tangential = r - r.dot(inward) * inward;
     const Eigen::Vector3d reference =
-        tangential.norm() > 1e-9 * std::max(1.0, r.norm()) ? r : plane_normal;
+        tangential.norm() > kRelativeParallelTolerance * std::max(1.0, r.norm()) ? r : plane_normal;
     for (const auto& f : frictionConeEdges(c.normal, params, reference)) {
       Wrench w;
       w << f, torque_scale * r.cross(f);
@@ -230,7 +246,8 @@ WrenchSpaceResult evaluateWrenchSpace(const std::vector<Contact>& contacts,
     matrix.col(static_cast<Eigen::Index>(i)) = wrenches[i];
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(matrix);
   const auto& sv = svd.singularValues();
-  result.rank = static_cast<int>((sv.array() > 1e-9 * std::max(1.0, sv[0])).count());
+  result.rank =
+      static_cast<int>((sv.array() > kRelativeRankTolerance * std::max(1.0, sv[0])).count());
   if (result.rank < 6 && !params.reference_compat) {
     result.note = "wrenches span only " + std::to_string(result.rank) + " dimensions";
     return result;
@@ -254,7 +271,8 @@ WrenchSpaceResult evaluateWrenchSpace(const std::vector<Contact>& contacts,
     for (const auto& w : wrenches) forces.push_back(w.head<3>());
     const Hull force_hull = convexHull<3>(forces, false);
     bool inside = force_hull.ok;
-    for (const auto& facet : force_hull.facets) inside = inside && facet.second < -1e-9;
+    for (const auto& facet : force_hull.facets)
+      inside = inside && facet.second < -kForceHullInsideMargin;
     if (!inside) {
       result.note += "contact forces cannot push in every direction";
       return result;
@@ -276,10 +294,10 @@ WrenchSpaceResult evaluateWrenchSpace(const std::vector<Contact>& contacts,
     max_offset = std::max(max_offset, offset);
   }
   if (params.reference_compat) {
-    result.force_closure = max_offset <= 1e-4;
+    result.force_closure = max_offset <= kReferenceHullTolerance;
     result.epsilon = result.force_closure ? std::max(0.0, min_centre) : 0.0;
   } else {
-    result.force_closure = min_origin > 1e-12;
+    result.force_closure = min_origin > kHullClosureMargin;
     result.epsilon = result.force_closure ? min_origin : 0.0;
   }
   return result;

@@ -18,6 +18,9 @@ namespace skelgrasp::grasping {
 
 namespace {
 
+// A support plane whose normal is shorter than this (coefficients as given) has no orientation.
+constexpr double kDegeneratePlaneNormal = 1e-12;
+
 // Calibration of estimateSceneOccupancyBytes (docs/limits.md, "Scene occupancy"): `run
 // osd_test2.pcd` at 10, 5 and 2.5 mm (1.2e5, 4.8e5 and 3.0e6 estimated cells; 4.8e4, 3.3e5 and
 // 2.3e6 leaves after pruning) peaked at 178, 202 and 422 MiB: 70-90 bytes per estimated cell.
@@ -285,7 +288,8 @@ SceneChecker::SceneChecker(const HandModel& hand, const SceneOccupancy* occupanc
     // The obstacle is the half-space below the plane: n . x <= -d - tolerance.
     Eigen::Vector3d n = plane->coefficients.head<3>();
     const double norm = n.norm();
-    if (norm < 1e-12) throw InvalidArgument("scene check: degenerate support plane");
+    if (norm < kDegeneratePlaneNormal)
+      throw InvalidArgument("scene check: degenerate support plane");
     n /= norm;
     const double offset = -plane->coefficients[3] / norm - params.plane_tolerance_m;
     impl_->halfspace =

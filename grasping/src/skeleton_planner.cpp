@@ -2,6 +2,7 @@
 #include <cmath>
 #include <random>
 
+#include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/grasping/planners.h"
 
@@ -10,8 +11,6 @@ namespace {
 
 using skeleton::Skeleton;
 using skeleton::VertexType;
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Vertices to visit: along every segment, at least `distance` apart (endpoints always), then the
 // branch vertices (which no strategy applies to, reported as such).
@@ -53,7 +52,7 @@ std::vector<Pose> hypothesisFrames(const Eigen::Vector3d& s, const LocalShape& s
     // The hand comes in along the skeleton from outside; rolls about that axis.
     if (shape.round) {
       for (int k = 0; k < params.round_endpoint_rolls; ++k) {
-        const double a = 2 * kPi * k / params.round_endpoint_rolls;
+        const double a = kTwoPi * k / params.round_endpoint_rolls;
         frames.push_back(gcpFrame(s, t, std::cos(a) * shape.ev1 + std::sin(a) * shape.ev2));
       }
     } else {
@@ -67,7 +66,7 @@ std::vector<Pose> hypothesisFrames(const Eigen::Vector3d& s, const LocalShape& s
   if (shape.round) {
     const int n = params.round_connecting_directions;
     for (int k = 0; k < n; ++k) {
-      const double a = 2 * kPi * k / n;
+      const double a = kTwoPi * k / n;
       const Eigen::Vector3d approach = -(std::cos(a) * shape.ev1 + std::sin(a) * shape.ev2);
       frames.push_back(gcpFrame(s, approach, k % 2 == 0 ? t : Eigen::Vector3d(-t)));
     }

@@ -1,5 +1,6 @@
 #include <random>
 
+#include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/grasping/planners.h"
 
@@ -53,7 +54,7 @@ PlanResult planSurfaceGrasps(const HandModel& hand, const GraspObject& object,
                                   a * (mesh.vertices[t[1]] - mesh.vertices[t[0]]) +
                                   b * (mesh.vertices[t[2]] - mesh.vertices[t[0]]);
     const Eigen::Vector3d normal = object.faceNormal(face);
-    const double roll = 2 * 3.14159265358979323846 * unit(rng);
+    const double roll = kTwoPi * unit(rng);
     ++summary.hypotheses;
     ++summary.poses;
     progress.step(summary.hypotheses);

@@ -11,6 +11,7 @@
 #include <limits>
 
 #include "skelgrasp/common/atomic_file.h"
+#include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/internal/cloud_file_check.h"
@@ -69,11 +70,13 @@ constexpr double kPeakBytesPerPoint = 200;
 // Growth of the voxel leaf between attempts to bring a large cloud under the point cap.
 constexpr double kLeafGrowth = 1.5;
 constexpr int kMaxLeafAttempts = 30;
+// Added to each box side (metres) so a flat or single-point cloud has a nonzero volume.
+constexpr double kFlatExtentPaddingM = 1e-9;
 
 // Smallest leaf for which PCL's voxel grid (32-bit voxel indices) does not refuse the box.
 double smallestIndexableLeaf(const AxisAlignedBox& box) {
   const double cells = static_cast<double>(std::numeric_limits<std::int32_t>::max()) / 2;
-  return std::cbrt((box.extent().array() + 1e-9).prod() / cells);
+  return std::cbrt((box.extent().array() + kFlatExtentPaddingM).prod() / cells);
 }
 
 // Voxel-downsamples `cloud` until it has at most `cap` points. A scan is a surface, so a leaf of
@@ -109,12 +112,12 @@ double normaliseUnits(PointCloud& cloud, const CloudLoadOptions& options, const 
     case LengthUnit::kMeters:
       return 1.0;
     case LengthUnit::kMillimeters:
-      scale = 1e-3;
+      scale = kMetresPerMillimetre;
       break;
     case LengthUnit::kAuto: {
       const double diagonal = cloud.bounds().diagonal();
       if (!(diagonal > options.auto_millimetre_diagonal)) return 1.0;
-      scale = 1e-3;
+      scale = kMetresPerMillimetre;
       if (guessed) *guessed = true;
       log().warn(
           "{}: bounding-box diagonal {:.4g} exceeds {:.4g}, assuming millimetres and scaling to "

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/primitives.h"
 #include "skelgrasp/perception/cloud_ops.h"
@@ -10,8 +11,6 @@
 
 namespace skelgrasp::perception {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Rests the mesh on z = 0 at (x, y) after rotating it.
 TriangleMesh placed(TriangleMesh mesh, double x, double y,
@@ -53,8 +52,8 @@ DemoScene makeDemoScene(std::uint64_t seed, int views) {
   const Eigen::Vector3d target(0, 0, 0.05);
   std::vector<PointCloud> clouds;
   for (int v = 0; v < views; ++v) {
-    const double azimuth = views == 1 ? 0.0 : (-50.0 + 100.0 * v / (views - 1)) * kPi / 180;
-    const double elevation = 50.0 * kPi / 180, radius = 0.85;
+    const double azimuth = views == 1 ? 0.0 : radiansFromDegrees(-50.0 + 100.0 * v / (views - 1));
+    const double elevation = radiansFromDegrees(50.0), radius = 0.85;
     const Eigen::Vector3d eye =
         target + radius * Eigen::Vector3d(std::cos(elevation) * std::cos(azimuth),
                                           std::cos(elevation) * std::sin(azimuth),

@@ -1,20 +1,30 @@
-// Simulated depth camera: z-buffer rasterisation of triangle meshes through a pinhole model, then
-// the structured-light error model of depth_camera.h.
+// Simulated depth camera: z-buffer rasterisation of triangle meshes through a pinhole model (with
+// the shared rasteriser of common/rasterise.h), then the structured-light error model of
+// depth_camera.h.
 #include "skelgrasp/perception/depth_camera.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <random>
 
+#include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/logging.h"
+#include "skelgrasp/common/rasterise.h"
 
 namespace skelgrasp::perception {
 namespace {
 
 constexpr double kNearClip = 0.01;  // metres; geometry closer to the camera is clipped away
-constexpr double kPi = 3.14159265358979323846;
+// The axial noise's grazing term grows without bound towards 90 degrees: the angle is capped this
+// far below it (radians).
+constexpr double kGrazingCapMarginRad = 1e-3;
+// A view direction and `up` whose cross product is shorter than this are parallel (unit vectors).
+constexpr double kParallelUpNorm = 1e-9;
+// Smallest grazing ramp (radians), so equal start and max angles drop everything past them.
+constexpr double kMinGrazingSpanRad = 1e-9;
 
 struct ZBuffer {
   Image<double> depth;
@@ -43,38 +53,20 @@ void rasteriseTriangle(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
                        const Eigen::Vector3d& p2, const PinholeIntrinsics& k, int mesh, int face,
                        ZBuffer& z) {
   const Eigen::Vector3d* p[3] = {&p0, &p1, &p2};
-  double sx[3], sy[3], inv_z[3];
+  std::array<Eigen::Vector2d, 3> screen;
   for (int i = 0; i < 3; ++i) {
-    inv_z[i] = 1.0 / p[i]->z();
-    sx[i] = k.fx * p[i]->x() * inv_z[i] + k.cx;
-    sy[i] = k.fy * p[i]->y() * inv_z[i] + k.cy;
+    const double inv_z = 1.0 / p[i]->z();
+    screen[i] = Eigen::Vector2d(k.fx * p[i]->x() * inv_z + k.cx, k.fy * p[i]->y() * inv_z + k.cy);
   }
-  const double area = (sx[1] - sx[0]) * (sy[2] - sy[0]) - (sx[2] - sx[0]) * (sy[1] - sy[0]);
-  if (std::abs(area) < 1e-12) return;
-  const int u0 = std::max(0, static_cast<int>(std::ceil(std::min({sx[0], sx[1], sx[2]}))));
-  const int u1 =
-      std::min(k.width - 1, static_cast<int>(std::floor(std::max({sx[0], sx[1], sx[2]}))));
-  const int v0 = std::max(0, static_cast<int>(std::ceil(std::min({sy[0], sy[1], sy[2]}))));
-  const int v1 =
-      std::min(k.height - 1, static_cast<int>(std::floor(std::max({sy[0], sy[1], sy[2]}))));
-  const double inv_area = 1.0 / area;
-  for (int v = v0; v <= v1; ++v) {
-    for (int u = u0; u <= u1; ++u) {
-      // Barycentric weights from edge functions; a pixel centre on an edge counts for both faces,
-      // which the depth test resolves.
-      const double w0 = ((sx[1] - u) * (sy[2] - v) - (sx[2] - u) * (sy[1] - v)) * inv_area;
-      const double w1 = ((sx[2] - u) * (sy[0] - v) - (sx[0] - u) * (sy[2] - v)) * inv_area;
-      const double w2 = 1.0 - w0 - w1;
-      if (w0 < 0 || w1 < 0 || w2 < 0) continue;
-      const double depth = 1.0 / (w0 * inv_z[0] + w1 * inv_z[1] + w2 * inv_z[2]);
-      double& current = z.depth.at(u, v);
-      if (depth < current) {
-        current = depth;
-        z.mesh.at(u, v) = mesh;
-        z.face.at(u, v) = face;
-      }
-    }
-  }
+  raster::rasteriseTriangle(screen, {p0.z(), p1.z(), p2.z()}, k.width, k.height,
+                            raster::kCornerSample, [&](int u, int v, double depth) {
+                              double& current = z.depth.at(u, v);
+                              if (depth < current) {
+                                current = depth;
+                                z.mesh.at(u, v) = mesh;
+                                z.face.at(u, v) = face;
+                              }
+                            });
 }
 
 ZBuffer rasterise(const std::vector<TriangleMesh>& scene, const Pose& camera_to_world,
@@ -111,7 +103,7 @@ ZBuffer rasterise(const std::vector<TriangleMesh>& scene, const Pose& camera_to_
 double axialSigma(const DepthNoiseParams& n, double z, double theta) {
   const double dz = z - n.axial_sigma_z0_m;
   double sigma = n.axial_sigma_base_m + n.axial_sigma_quadratic * dz * dz;
-  const double t = std::min(theta, 0.5 * kPi - 1e-3);
+  const double t = std::min(theta, 0.5 * kPi - kGrazingCapMarginRad);
   sigma += n.axial_sigma_angle / std::sqrt(z) * t * t / ((0.5 * kPi - t) * (0.5 * kPi - t));
   return sigma;
 }
@@ -133,7 +125,7 @@ Pose lookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target, const Eig
   if (!((target - eye).norm() > 0)) throw InvalidArgument("lookAt: eye and target coincide");
   const Eigen::Vector3d z = (target - eye).normalized();
   Eigen::Vector3d x = z.cross(up);
-  if (x.norm() < 1e-9) x = anyPerpendicular(z);  // looking along `up`
+  if (x.norm() < kParallelUpNorm) x = anyPerpendicular(z);  // looking along `up`
   x.normalize();
   const Eigen::Vector3d y = z.cross(x);
   Pose pose = Pose::Identity();
@@ -148,7 +140,7 @@ std::vector<Pose> orbitPoses(const Eigen::Vector3d& target, double radius, doubl
                              int count, double azimuth0_rad) {
   std::vector<Pose> poses;
   for (int i = 0; i < count; ++i) {
-    const double azimuth = azimuth0_rad + 2.0 * kPi * i / count;
+    const double azimuth = azimuth0_rad + kTwoPi * i / count;
     const Eigen::Vector3d direction(std::cos(elevation_rad) * std::cos(azimuth),
                                     std::cos(elevation_rad) * std::sin(azimuth),
                                     std::sin(elevation_rad));
@@ -201,7 +193,8 @@ DepthView renderDepth(const std::vector<TriangleMesh>& scene, const Pose& camera
       const double r_grazing = uniform(rng), r_edge = uniform(rng), r_random = uniform(rng);
       const double r_noise = gaussian(rng);
       if (theta > noise.grazing_start_rad) {
-        const double span = std::max(1e-9, noise.grazing_max_rad - noise.grazing_start_rad);
+        const double span =
+            std::max(kMinGrazingSpanRad, noise.grazing_max_rad - noise.grazing_start_rad);
         drop = drop || r_grazing < (theta - noise.grazing_start_rad) / span;
       }
       bool edge = false;

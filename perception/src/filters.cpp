@@ -18,6 +18,9 @@
 namespace skelgrasp::perception {
 namespace {
 
+// Averaged normals shorter than this (unit normals, dimensionless) cancelled out: no normal.
+constexpr double kCancelledNormalLength = 1e-9;
+
 using internal::PclCloud;
 using internal::PclPoint;
 
@@ -46,7 +49,7 @@ PointCloud voxelDownsample(const PointCloud& cloud, double leaf) {
   result.sensor_orientation = cloud.sensor_orientation;
   for (auto& n : result.normals) {
     const double norm = n.norm();
-    n = norm > 1e-9 ? Eigen::Vector3d(n / norm) : Eigen::Vector3d::Zero();
+    n = norm > kCancelledNormalLength ? Eigen::Vector3d(n / norm) : Eigen::Vector3d::Zero();
   }
   if (cloud.hasLabels() && !result.empty()) {
     // A voxel's label is the label of the input point nearest to its centroid: averaging labels

@@ -7,8 +7,8 @@
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/common/resources.h"
+#include "skelgrasp/geometry/point_index.h"
 #include "skelgrasp/perception/completion.h"
-#include "skelgrasp/perception/point_index.h"
 
 namespace skelgrasp::reconstruction {
 namespace {
@@ -95,7 +95,7 @@ std::vector<std::uint8_t> observedFlags(const TriangleMesh& mesh,
                                         const std::vector<Eigen::Vector3d>& observed_points,
                                         double distance) {
   std::vector<std::uint8_t> flags(mesh.vertices.size(), 0);
-  const perception::PointIndex index(observed_points);
+  const geometry::PointIndex index(observed_points);
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
     flags[i] = index.nearest(mesh.vertices[i]).second <= distance ? 1 : 0;
   }
@@ -147,7 +147,7 @@ MeshingResult meshObject(const PointCloud& object,
   std::vector<char> keep(poisson.faces.size(), 1);
   const auto& trim = params.trim;
   if (trim.mode != TrimMode::kNone) {
-    const perception::PointIndex data(samples.points);
+    const geometry::PointIndex data(samples.points);
     report.trim_threshold_m = trim.mode == TrimMode::kDistance
                                   ? std::max(trim.max_distance_m, trim.max_distance_fraction *
                                                                       samples.bounds().diagonal())

@@ -1,20 +1,17 @@
-// CGAL translation unit: mean-curvature-flow skeletonization and kd-tree nearest neighbours.
+// CGAL translation unit: mean-curvature-flow skeletonization.
 // CGAL containers of this file allocate from an ordered arena while one is active (see
 // ordered_arena.h): it makes the contraction's address-ordered edge collapses deterministic.
 #include "ordered_arena.h"
 #define CGAL_ALLOCATOR(T) skelgrasp::internal::OrderedArenaAllocator<T>
 
 #include <CGAL/Mean_curvature_flow_skeletonization.h>
-#include <CGAL/Orthogonal_k_neighbor_search.h>
 #include <CGAL/Random.h>
-#include <CGAL/Search_traits_3.h>
-#include <CGAL/Search_traits_adapter.h>
 #include <CGAL/boost/graph/property_maps.h>
-#include <boost/iterator/counting_iterator.hpp>
 
 #include <set>
 
 #include "skelgrasp/common/logging.h"
+#include "skelgrasp/geometry/point_index.h"
 #include "skelgrasp/internal/cgal_conversions.h"
 #include "skelgrasp/skeleton/extraction.h"
 
@@ -23,33 +20,6 @@ namespace skelgrasp::skeleton {
 using internal::CgalKernel;
 using internal::CgalMesh;
 using internal::CgalPoint;
-
-std::vector<int> nearestPoints(const std::vector<Eigen::Vector3d>& targets,
-                               const std::vector<Eigen::Vector3d>& queries,
-                               std::vector<double>* distances) {
-  if (targets.empty()) throw InvalidArgument("nearestPoints: no target points");
-  using Traits =
-      CGAL::Search_traits_adapter<std::size_t, CGAL::Pointer_property_map<CgalPoint>::type,
-                                  CGAL::Search_traits_3<CgalKernel>>;
-  using Search = CGAL::Orthogonal_k_neighbor_search<Traits>;
-  using Tree = Search::Tree;
-  std::vector<CgalPoint> pts;
-  pts.reserve(targets.size());
-  for (const auto& p : targets) pts.push_back(internal::toCgal(p));
-  auto ppmap = CGAL::make_property_map(pts);
-  Tree tree(boost::counting_iterator<std::size_t>(0),
-            boost::counting_iterator<std::size_t>(pts.size()), Tree::Splitter(), Traits(ppmap));
-  Search::Distance metric(ppmap);
-  std::vector<int> nearest(queries.size());
-  if (distances) distances->resize(queries.size());
-  for (std::size_t i = 0; i < queries.size(); ++i) {
-    Search search(tree, internal::toCgal(queries[i]), 1, 0, true, metric);
-    const auto it = search.begin();
-    nearest[i] = static_cast<int>(it->first);
-    if (distances) (*distances)[i] = std::sqrt(it->second);
-  }
-  return nearest;
-}
 
 namespace {
 
@@ -164,7 +134,7 @@ Contraction contractMesh(const TriangleMesh& closed_mesh, const ContractionParam
     }
   }
   if (!orphans.empty()) {
-    const auto nearest = nearestPoints(out.positions, orphans);
+    const auto nearest = geometry::nearestPoints(out.positions, orphans);
     for (std::size_t k = 0; k < orphans.size(); ++k)
       out.mesh_vertex_to_skeleton[orphan_ids[k]] = nearest[k];
     out.unassigned_mesh_vertices = orphans.size();

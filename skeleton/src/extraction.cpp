@@ -1,6 +1,7 @@
 #include "skelgrasp/skeleton/extraction.h"
 
 #include "skelgrasp/common/logging.h"
+#include "skelgrasp/geometry/point_index.h"
 #include "skelgrasp/skeleton/cleanup.h"
 
 namespace skelgrasp::skeleton {
@@ -46,7 +47,7 @@ SkeletonResult extractSkeleton(const TriangleMesh& input, const SkeletonParams& 
     distances.assign(input.numVertices(), 0.0);
   } else {
     const auto nearest =
-        nearestPoints(result.regularised_mesh.vertices, input.vertices, &distances);
+        geometry::nearestPoints(result.regularised_mesh.vertices, input.vertices, &distances);
     for (std::size_t i = 0; i < nearest.size(); ++i) {
       point_to_vertex[i] = contraction.mesh_vertex_to_skeleton[nearest[i]];
     }

@@ -7,6 +7,13 @@
 
 namespace skelgrasp::skeleton {
 
+namespace {
+
+// Below this speed (metres per unit of the curve parameter) the curve is stationary and its
+// curvature undefined: reported as 0.
+constexpr double kStationarySpeed = 1e-12;
+}  // namespace
+
 const char* toString(VertexType type) {
   switch (type) {
     case VertexType::kBranch:
@@ -73,7 +80,7 @@ double polylineCurvature(const std::array<Eigen::Vector3d, 3>& p, const std::arr
     d2 += p[i] * 2.0 / denom;
   }
   const double speed = d1.norm();
-  if (speed < 1e-12) return 0.0;
+  if (speed < kStationarySpeed) return 0.0;
   return d1.cross(d2).norm() / (speed * speed * speed);
 }
 

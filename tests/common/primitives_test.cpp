@@ -4,13 +4,12 @@
 
 #include <cmath>
 
+#include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/geometry/mesh_topology.h"
 
 namespace skelgrasp {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 TEST(Primitives, SingleShapesAreClosedOutwardAndHaveTheRightVolume) {
   struct Case {

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/datasets/input.h"
 #include "skelgrasp/datasets/ycb_raw_fixture.h"
@@ -70,7 +71,7 @@ TEST(YcbRaw, FusedPointsLieOnTheKnownShapeFromAllSides) {
     worst = std::max(worst, d);
     close += d < 0.002 ? 1 : 0;
     if (p.z() > 0.01 && p.z() < 0.09) {
-      ++sectors[static_cast<int>((std::atan2(p.y(), p.x()) + M_PI) / (M_PI / 4)) % 8];
+      ++sectors[static_cast<int>((std::atan2(p.y(), p.x()) + kPi) / (kPi / 4)) % 8];
       // Side points: normals point away from the axis (each view oriented its own); the
       // exceptions are a few points NP5 sees from above next to the rim, whose neighbourhood is
       // mostly top.

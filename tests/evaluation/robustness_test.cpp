@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/primitives.h"
 #include "skelgrasp/grasping/planners.h"
 #include "skelgrasp/skeleton/extraction.h"
@@ -41,6 +42,24 @@ TEST(Robustness, WilsonIntervalBracketsTheRate) {
   EXPECT_NEAR(high, 0.945, 0.005);
   EXPECT_EQ(wilsonInterval(0, 10).first, 0.0);
   EXPECT_NEAR(wilsonInterval(10, 10).second, 1.0, 1e-12);
+}
+
+TEST(Robustness, UnsetSigmasAreTheVariantsDefaults) {
+  const auto hand = grasping::loadBuiltinHand("parallel_gripper");
+  const grasping::GraspObject box(primitives::makeBox({0.05, 0.09, 0.16}, 2));
+  grasping::GraspSimulator sim(hand, box);
+  const Grasp g = graspAt(sim, frame({0, 0.035, 0}, {0, -1, 0}, {0, 0, 1}), "precision");
+  RobustnessParams unset;
+  unset.samples = 12;
+  RobustnessParams paper = unset;  // the paper variant's 10 mm and 5 degrees, stated
+  paper.position_sigma_m = 0.010;
+  paper.orientation_sigma_rad = radiansFromDegrees(5.0);
+  const auto a = evaluateRobustness(sim, g, unset), b = evaluateRobustness(sim, g, paper);
+  EXPECT_EQ(a.force_closure, b.force_closure);
+  EXPECT_EQ(a.collisions, b.collisions);
+  RobustnessParams negative = unset;
+  negative.position_sigma_m = -0.001;
+  EXPECT_THROW(evaluateRobustness(sim, g, negative), InvalidArgument);
 }
 
 TEST(Robustness, DeepPowerGraspAroundACylinderIsRobust) {

@@ -130,6 +130,31 @@ TEST(Closing, ShadowTendonMovesTheDistalPhalanxWithTheMiddleOne) {
   }
 }
 
+TEST(Closing, UnsetStepsAreTheHandsDefaultsAndSetStepsAreUsed) {
+  const HandModel gripper = loadBuiltinHand("parallel_gripper");
+  const GraspObject box(primitives::makeBox({0.05, 0.09, 0.16}, 2));
+  GraspSimulator sim(gripper, box);
+  const auto& preshape = gripper.preshape("precision");
+  const Pose hand = sim.handPoseForGcp(gcpPose({0, 0.035, 0}, {0, -1, 0}, {0, 0, 1}), preshape);
+  const int jaw = gripper.jointIndex("finger_left");
+  ClosingParams explicit_defaults;
+  explicit_defaults.step_m = gripper.closingDefaults().step_m;
+  explicit_defaults.step_rad = gripper.closingDefaults().step_rad;
+  explicit_defaults.palm_contact_distance_m = gripper.closingDefaults().palm_contact_distance_m;
+  EXPECT_EQ(sim.close(hand, preshape).joints, sim.close(hand, preshape, explicit_defaults).joints);
+  // A coarser step than the hand's stops the jaws up to that step from the 5 cm faces (too far
+  // to count as touching, so the status may be too few contacts: the reached joints tell).
+  ClosingParams coarse;
+  coarse.step_m = 0.004;
+  const auto r = sim.close(hand, preshape, coarse);
+  EXPECT_NEAR(2 * r.joints[jaw], 0.05, 2 * 0.004 + 1e-9);
+  EXPECT_GT(2 * r.joints[jaw], 0.05 + 2 * 0.0005);  // farther than the hand's step would stop
+  // Zero is a step that never arrives, not "the default" any more.
+  ClosingParams zero;
+  zero.step_m = 0.0;
+  EXPECT_THROW(sim.close(hand, preshape, zero), InvalidArgument);
+}
+
 TEST(Closing, IsDeterministic) {
   const HandModel hand = loadBuiltinHand("armar3");
   const GraspObject capsule(primitives::makeCapsule(0.025, 0.12));

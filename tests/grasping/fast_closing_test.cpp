@@ -8,6 +8,7 @@
 #include <memory>
 #include <random>
 
+#include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/common/pose.h"
@@ -18,8 +19,6 @@
 
 namespace skelgrasp::grasping {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 TEST(FastClosing, MethodNamesRoundTrip) {
   EXPECT_EQ(parseClosingMethod("fast"), ClosingMethod::kFast);

@@ -9,6 +9,7 @@
 #include <random>
 #include <thread>
 
+#include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/common/pose.h"
@@ -19,7 +20,6 @@
 namespace skelgrasp::grasping {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // A disagreement is explained by rounding when the winning side is this close to the boundary:
 // n l* (LP says closure, hull does not) or the hull's epsilon (hull says closure, LP does not).
 constexpr double kBoundaryBand = 1e-8;

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/pose.h"
 #include "skelgrasp/grasping/contacts_io.h"
@@ -14,8 +15,6 @@
 
 namespace skelgrasp::grasping {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 Contact contact(const Eigen::Vector3d& p, const Eigen::Vector3d& n) {
   Contact c;
@@ -120,7 +119,7 @@ TEST(Quality, ReferenceCompatMeasuresFromTheHullCentre) {
   // The 45 degree cones accept a wedge: two pairs of contacts whose normals lean 30 degrees
   // towards +y, so every force pushes towards -y unless friction beyond atan(0.35) = 19.3 degrees
   // tilts it back. Force closure for the reference, not for mu = 0.35.
-  const double lean = 30 * kPi / 180;
+  const double lean = radiansFromDegrees(30);
   std::vector<Contact> wedge;
   for (double z : {-0.02, 0.02}) {
     wedge.push_back(contact({0.03, 0, z}, {std::cos(lean), std::sin(lean), 0}));

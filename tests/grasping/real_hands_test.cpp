@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "real_hand_urdf.h"
+#include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/common/primitives.h"
 #include "skelgrasp/grasping/grasp_simulator.h"
@@ -15,8 +16,6 @@
 
 namespace skelgrasp::grasping {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 struct RealHand {
   const char* folder;

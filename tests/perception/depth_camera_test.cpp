@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/primitives.h"
 
@@ -125,7 +126,7 @@ TEST(DepthCamera, DropoutsAtTheConfiguredRate) {
   grazing.noise.edge_dropout_probability = 0;
   TriangleMesh slanted = primitives::makeBox({20, 20, 0.01});
   slanted.transform(Pose(Eigen::Translation3d(0, 0, 2.0)) *
-                    Pose(Eigen::AngleAxisd(80.0 * M_PI / 180, Eigen::Vector3d::UnitX())));
+                    Pose(Eigen::AngleAxisd(radiansFromDegrees(80.0), Eigen::Vector3d::UnitX())));
   const auto g = renderDepth({slanted}, Pose::Identity(), grazing);
   double hit = 0, lost = 0;
   for (int v = 235; v <= 245; ++v) {  // rays within 0.5 degrees of the axis

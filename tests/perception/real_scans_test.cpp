@@ -4,9 +4,9 @@
 
 #include <map>
 
+#include "skelgrasp/geometry/point_index.h"
 #include "skelgrasp/perception/cloud_io.h"
 #include "skelgrasp/perception/ingest.h"
-#include "skelgrasp/perception/point_index.h"
 #include "test_support.h"
 
 namespace skelgrasp::perception {
@@ -52,7 +52,7 @@ std::map<std::uint32_t, SegmentationScore> scoreOsdScene(const PointCloud& raw,
       owner.push_back(static_cast<int>(c));
     }
   }
-  const PointIndex index(points);
+  const geometry::PointIndex index(points);
   std::map<std::uint32_t, std::size_t> object_size;
   std::map<std::pair<std::uint32_t, int>, std::size_t> overlap;
   std::vector<std::size_t> cluster_size(clusters.size(), 0);

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <regex>
 
+#include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/primitives.h"
 #include "skelgrasp/datasets/input.h"
 #include "skelgrasp/geometry/mesh_query.h"
@@ -169,7 +170,7 @@ perception::Scan walledCanScan(bool walls, std::vector<TriangleMesh>* wall_meshe
   meshes.push_back(can);
   for (int side = 0; walls && side < 4; ++side) {
     TriangleMesh wall = primitives::makeBox({0.01, 0.12, 0.1}, 4);  // open corners
-    wall.transform(Pose(Eigen::AngleAxisd(side * M_PI / 2, Eigen::Vector3d::UnitZ()) *
+    wall.transform(Pose(Eigen::AngleAxisd(side * kPi / 2, Eigen::Vector3d::UnitZ()) *
                         Eigen::Translation3d(0.08, 0, 0.05)));
     meshes.push_back(wall);
     if (wall_meshes) wall_meshes->push_back(wall);

@@ -2,13 +2,12 @@
 
 #include <cmath>
 
+#include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/skeleton/skeleton.h"
 
 namespace skelgrasp::skeleton {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 std::vector<Eigen::Vector3d> line(int n, double step = 0.01) {
   std::vector<Eigen::Vector3d> pts;

@@ -2,6 +2,7 @@
 // Robustness score r of a grasp (paper Sec. V-B, after Weisz & Allen): the fraction of perturbed
 // hand poses that still close to a force-closure grasp.
 #include <cstdint>
+#include <optional>
 
 #include "skelgrasp/grasping/grasp.h"
 #include "skelgrasp/grasping/grasp_simulator.h"
@@ -20,9 +21,10 @@ const char* toString(RobustnessVariant variant);
 struct RobustnessParams {
   int samples = 100;
   RobustnessVariant variant = RobustnessVariant::kPaper;
-  // Standard deviations of the pose error; negative: the variant's defaults.
-  double position_sigma_m = -1;
-  double orientation_sigma_rad = -1;
+  // Standard deviations of the pose error (>= 0); unset: the variant's defaults (paper: 10 mm and
+  // 5 degrees, reference: 5 mm and 2.5 degrees), resolved in evaluateRobustness.
+  std::optional<double> position_sigma_m;
+  std::optional<double> orientation_sigma_rad;
   std::uint64_t seed = 1;
   grasping::QualityParams quality;
   grasping::ClosingParams closing;

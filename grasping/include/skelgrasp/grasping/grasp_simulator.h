@@ -2,6 +2,7 @@
 // Closing a hand on an object: collision queries and the finger-closing procedure of the
 // reference implementation (fact sheet §8), with FCL collision checks.
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,10 +27,12 @@ const char* toString(ClosingMethod method);
 ClosingMethod parseClosingMethod(const std::string& text);
 
 struct ClosingParams {
-  double step_rad = 0;  // revolute step per iteration; 0: the hand's default (0.02 rad)
-  double step_m = 0;    // prismatic step per iteration; 0: the hand's default (0.5 mm)
-  // Palm (static) links within this distance of the object add contacts; < 0: hand default (3 mm).
-  double palm_contact_distance_m = -1;
+  // Unset: the hand's closing defaults (its grasp description; 0.02 rad, 0.5 mm, 3 mm when it
+  // gives none), resolved in GraspSimulator::close. A set value must be > 0 (distance >= 0).
+  std::optional<double> step_rad;  // revolute step per iteration
+  std::optional<double> step_m;    // prismatic step per iteration
+  // Palm (static) links within this distance of the object add contacts.
+  std::optional<double> palm_contact_distance_m;
   bool palm_contacts = true;
   // Finger links this close to the object count as touching even if they were never blocked.
   double contact_distance_m = 0.001;

@@ -3,6 +3,7 @@
 // -> every input vertex mapped to one skeleton vertex -> classification and segments.
 #include <optional>
 
+#include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/mesh.h"
 #include "skelgrasp/geometry/regularisation.h"
@@ -13,7 +14,7 @@ namespace skelgrasp::skeleton {
 // CGAL Mean_curvature_flow_skeletonization parameters. Defaults are CGAL's, which are also the
 // values the reference implementation sets explicitly.
 struct ContractionParams {
-  double max_triangle_angle_rad = 110.0 * 3.14159265358979323846 / 180.0;
+  double max_triangle_angle_rad = radiansFromDegrees(110.0);
   double quality_speed_tradeoff = 0.1;            // omega_H
   double medially_centered_speed_tradeoff = 0.2;  // omega_P
   double area_variation_factor = 1e-4;  // converged when area change / original area < this
@@ -78,10 +79,5 @@ struct SkeletonResult {
 
 // Runs the whole stage. Data problems (empty mesh, wrap failure) are reported in the status.
 SkeletonResult extractSkeleton(const TriangleMesh& input, const SkeletonParams& params = {});
-
-// Index of the nearest `targets` point for every query (exact kd-tree search).
-std::vector<int> nearestPoints(const std::vector<Eigen::Vector3d>& targets,
-                               const std::vector<Eigen::Vector3d>& queries,
-                               std::vector<double>* distances = nullptr);
 
 }  // namespace skelgrasp::skeleton
