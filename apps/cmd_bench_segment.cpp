@@ -41,7 +41,8 @@ nlohmann::json parametersJson(const perception::IngestParams& p) {
             {"sanity_check", s.lccp.sanity_check},
             {"smoothness_check", s.lccp.smoothness_check},
             {"smoothness_threshold", s.lccp.smoothness_threshold},
-            {"k_factor", s.lccp.k_factor}}}};
+            {"k_factor", s.lccp.k_factor},
+            {"min_segment_points", s.lccp.min_segment_points}}}};
 }
 
 int runBenchSegment(BenchSegmentArgs args) {
@@ -96,6 +97,14 @@ int runBenchSegment(BenchSegmentArgs args) {
       recall_sum += o.recall;
       iou_sum += o.iou;
     }
+    nlohmann::json segments = nlohmann::json::array();
+    for (std::size_t k = 0; k < score.segment_labels.size(); ++k) {
+      const auto& l = score.segment_labels[k];
+      segments.push_back({{"points", ingest.scene.clusters[k].size()},
+                          {"labelled_points", l.points},
+                          {"majority_object", l.majority},
+                          {"majority_fraction", l.majority_fraction}});
+    }
     nlohmann::json dropped = nlohmann::json::array();
     for (const auto& d : ingest.scene.dropped) {
       dropped.push_back({{"points", d.points},
@@ -121,6 +130,7 @@ int runBenchSegment(BenchSegmentArgs args) {
                     {"ingest_s", ingest.total_time_s},
                     {"candidate_points", ingest.scene.candidate_points},
                     {"merged_fragments", ingest.scene.merged_fragments},
+                    {"segments", segments},
                     {"dropped", dropped},
                     {"objects", per_object}});
   }
@@ -176,6 +186,10 @@ void registerBenchSegmentCommand(CLI::App& app, Action& action) {
       ->check(positiveLength())
       ->capture_default_str();
   cmd->add_option("--min-points", scene.min_cluster_points, "Fewest points of an object")
+      ->transform(countIn(1, kMaxCount))
+      ->capture_default_str();
+  cmd->add_option("--min-segment-points", lccp.min_segment_points,
+                  "LCCP: smaller segments are merged into a neighbour or dropped")
       ->transform(countIn(1, kMaxCount))
       ->capture_default_str();
   cmd->add_option("--voxel-resolution", lccp.voxel_resolution_m, "LCCP: supervoxel leaf (m)")

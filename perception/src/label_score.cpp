@@ -54,6 +54,26 @@ LabelScore scoreAgainstLabels(const PointCloud& labelled, const std::vector<Poin
   }
   LabelScore score;
   score.segments = segments.size();
+  score.segment_labels.resize(segments.size());
+  std::vector<std::size_t> object_points(segments.size(), 0);
+  for (const auto& [key, count] : overlap) {
+    auto& s = score.segment_labels[key.second];
+    object_points[key.second] += count;
+    if (count > s.majority_fraction) {  // a count for now, a fraction below
+      s.majority = key.first;
+      s.majority_fraction = static_cast<double>(count);
+    }
+  }
+  for (std::size_t s = 0; s < segments.size(); ++s) {
+    auto& l = score.segment_labels[s];
+    l.points = segment_size[s];
+    const std::size_t table = segment_size[s] - object_points[s];
+    if (static_cast<double>(table) > l.majority_fraction) {
+      l.majority = 0;
+      l.majority_fraction = static_cast<double>(table);
+    }
+    l.majority_fraction = l.points > 0 ? l.majority_fraction / static_cast<double>(l.points) : 0;
+  }
   for (const auto& [object, size] : object_size) {
     LabelledObjectScore o;
     o.object = object;

@@ -386,7 +386,7 @@ SceneResult parseScene(const PointCloud& cloud, const SceneParams& params,
       params.segmentation == SegmentationMethod::kLccp && !masked && result.plane.has_value();
   result.segmentation = use_lccp ? SegmentationMethod::kLccp : SegmentationMethod::kEuclidean;
   internal::Segmentation segmentation =
-      use_lccp ? internal::lccpSegments(cloud, candidates, params)
+      use_lccp ? internal::lccpSegments(cloud, candidates, params, *result.plane)
                : internal::euclideanSegments(cloud, candidates, params);
   auto clusters = std::move(segmentation.segments);
   result.dropped = std::move(segmentation.dropped);

@@ -140,7 +140,7 @@ Segmentation euclideanSegments(const PointCloud& cloud, const std::vector<int>& 
 }
 
 Segmentation lccpSegments(const PointCloud& cloud, const std::vector<int>& candidates,
-                          const SceneParams& params) {
+                          const SceneParams& params, const perception::SupportPlane& plane) {
   Segmentation out;
   if (candidates.empty()) return out;
   const auto& lp = params.lccp;
@@ -193,37 +193,32 @@ Segmentation lccpSegments(const PointCloud& cloud, const std::vector<int>& candi
     ++edges[sa->second + 1][sb->second + 1];
   }
 
-  // Small segments, smallest first, join the neighbour they share most edges with (ties: the
-  // larger one); a small segment without neighbours is an isolated fragment and dropped.
-  for (;;) {
-    std::uint32_t smallest = 0;
-    std::size_t smallest_size = params.min_cluster_points;
-    for (const auto& [label, m] : members) {
-      if (m.size() < smallest_size) {
-        smallest = label;
-        smallest_size = m.size();
-      }
-    }
-    if (smallest == 0) break;
+  // The neighbour a segment shares most supervoxel edges with (ties: the larger one); 0 = none.
+  auto mostConnected = [&](std::uint32_t label) {
     std::uint32_t target = 0;
     std::size_t target_edges = 0, target_size = 0;
-    for (const auto& [neighbour, count] : edges[smallest]) {
-      const std::size_t size = members.count(neighbour) ? members[neighbour].size() : 0;
-      if (size == 0) continue;
+    for (const auto& [neighbour, count] : edges[label]) {
+      const auto it = members.find(neighbour);
+      if (it == members.end()) continue;
+      const std::size_t size = it->second.size();
       if (count > target_edges || (count == target_edges && size > target_size)) {
         target = neighbour;
         target_edges = count;
         target_size = size;
       }
     }
-    auto small = std::move(members[smallest]);
-    members.erase(smallest);
-    const auto small_edges = std::move(edges[smallest]);
-    edges.erase(smallest);
-    for (auto& [label, e] : edges) e.erase(smallest);
+    return target;
+  };
+  // Moves `small` into `target` (0: drops it with `reason`).
+  auto absorb = [&](std::uint32_t small_label, std::uint32_t target, const char* reason) {
+    auto small = std::move(members[small_label]);
+    members.erase(small_label);
+    const auto small_edges = std::move(edges[small_label]);
+    edges.erase(small_label);
+    for (auto& [label, e] : edges) e.erase(small_label);
     if (target == 0) {
-      out.dropped.push_back(fragment(cloud, small, "isolated_fragment"));
-      continue;
+      out.dropped.push_back(fragment(cloud, small, reason));
+      return;
     }
     auto& into = members[target];
     into.insert(into.end(), small.begin(), small.end());
@@ -233,6 +228,46 @@ Segmentation lccpSegments(const PointCloud& cloud, const std::vector<int>& candi
       edges[neighbour][target] += count;
     }
     ++out.merged;
+  };
+
+  // Small segments, smallest first, join their most connected neighbour; a small segment without
+  // neighbours is an isolated fragment and dropped.
+  for (;;) {
+    std::uint32_t smallest = 0;
+    std::size_t smallest_size = std::max(lp.min_segment_points, params.min_cluster_points);
+    for (const auto& [label, m] : members) {
+      if (m.size() < smallest_size) {
+        smallest = label;
+        smallest_size = m.size();
+      }
+    }
+    if (smallest == 0) break;
+    absorb(smallest, mostConnected(smallest), "isolated_fragment");
+  }
+
+  // Parts: a segment that does not reach down to the support and is much smaller than the
+  // neighbour it hangs on is a part of it cut off at a concave edge (a mug's handle, a bottle's
+  // neck, a noisy box top), not an object of its own. A box stacked on a box is about as large
+  // as the one below and stays.
+  const double part_lift = params.min_height_m + lp.part_min_lift_m;
+  for (bool changed = true; changed;) {
+    changed = false;
+    std::vector<std::pair<std::size_t, std::uint32_t>> by_size;
+    for (const auto& [label, m] : members) by_size.emplace_back(m.size(), label);
+    std::sort(by_size.begin(), by_size.end());
+    for (const auto& [size, label] : by_size) {
+      double lowest = std::numeric_limits<double>::infinity();
+      for (int i : members[label]) lowest = std::min(lowest, plane.signedDistance(cloud.points[i]));
+      if (lowest <= part_lift) continue;
+      const std::uint32_t target = mostConnected(label);
+      if (target == 0 || static_cast<double>(size) >=
+                             lp.part_max_fraction * static_cast<double>(members[target].size())) {
+        continue;
+      }
+      absorb(label, target, "");
+      changed = true;
+      break;
+    }
   }
   std::vector<std::vector<int>> segments;
   for (auto& [label, m] : members) segments.push_back(std::move(m));

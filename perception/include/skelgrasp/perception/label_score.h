@@ -27,9 +27,16 @@ struct LabelledObjectScore {
   double iou = 0;            // overlap / (object points + segment points - overlap)
 };
 
+struct SegmentLabels {
+  std::size_t points = 0;        // labelled points that went to the segment
+  std::uint32_t majority = 0;    // object most of them belong to (0 = the table)
+  double majority_fraction = 0;  // its share of them
+};
+
 struct LabelScore {
   std::vector<LabelledObjectScore> objects;  // by object number
   std::size_t segments = 0;
+  std::vector<SegmentLabels> segment_labels;                 // parallel to the segments
   double mean_precision = 0, mean_recall = 0, mean_iou = 0;  // over labelled objects
 };
 

@@ -20,8 +20,11 @@ Segmentation euclideanSegments(const PointCloud& cloud, const std::vector<int>& 
                                const perception::SceneParams& params);
 
 // Supervoxels + LCCP (params.lccp), colour where the cloud has it; segments below
-// params.min_cluster_points merged into their most connected neighbour or dropped when isolated.
+// params.lccp.min_segment_points merged into their most connected neighbour or dropped when
+// isolated. Parts (segments not reaching down to the support, much smaller than their neighbour)
+// are merged.
 Segmentation lccpSegments(const PointCloud& cloud, const std::vector<int>& candidates,
-                          const perception::SceneParams& params);
+                          const perception::SceneParams& params,
+                          const perception::SupportPlane& plane);
 
 }  // namespace skelgrasp::internal
