@@ -34,6 +34,8 @@ void registerBenchReconstructCommand(CLI::App& app, Action& action);
 void registerBenchRunCommand(CLI::App& app, Action& action);
 // Adds `bench judge`; call after registerBenchCommand.
 void registerBenchJudgeCommand(CLI::App& app, Action& action);
+// Adds `bench segment`; call after registerBenchCommand.
+void registerBenchSegmentCommand(CLI::App& app, Action& action);
 
 // Prints "skelgrasp: error: <message>" to stderr and returns kExitBadInput.
 int fail(const std::string& message);

@@ -85,6 +85,7 @@ int main(int argc, char** argv) {
   cli::registerBenchReconstructCommand(app, action);
   cli::registerBenchRunCommand(app, action);
   cli::registerBenchJudgeCommand(app, action);
+  cli::registerBenchSegmentCommand(app, action);
 #endif
 
   try {

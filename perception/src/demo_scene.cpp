@@ -1,5 +1,6 @@
 #include "skelgrasp/perception/demo_scene.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "skelgrasp/common/constants.h"
@@ -26,7 +27,7 @@ TriangleMesh placed(TriangleMesh mesh, double x, double y,
 
 }  // namespace
 
-DemoScene makeDemoScene(std::uint64_t seed, int views) {
+DemoScene makeDemoScene(std::uint64_t seed, int views, const std::vector<DemoPlacement>& moved) {
   if (views < 1) throw InvalidArgument("demo scene: at least one view");
   DemoScene scene;
   TriangleMesh table = primitives::makeBox({1.2, 0.8, 0.04}, 6);
@@ -48,6 +49,14 @@ DemoScene makeDemoScene(std::uint64_t seed, int views) {
   add("hammer", placed(primitives::makeNamedShape("hammer"), 0.12, 0.25,
                        Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitX())));
   add("ball", placed(primitives::makeNamedShape("ball"), -0.16, -0.20));
+  for (const auto& m : moved) {
+    const auto it = std::find(scene.names.begin() + 1, scene.names.end(), m.name);
+    if (it == scene.names.end()) throw InvalidArgument("demo scene: no object '" + m.name + "'");
+    const auto k = static_cast<std::size_t>(it - scene.names.begin());
+    const Eigen::Vector3d shift(m.x - scene.centres[k].x(), m.y - scene.centres[k].y(), 0);
+    scene.meshes[k].transform(Pose(Eigen::Translation3d(shift)));
+    scene.centres[k] += shift;
+  }
 
   const Eigen::Vector3d target(0, 0, 0.05);
   std::vector<PointCloud> clouds;

@@ -53,11 +53,19 @@ nlohmann::json toJson(const Scan& scan, const IngestParams& params, const Ingest
   } else {
     j["plane"] = nullptr;
   }
+  json dropped = json::array();
+  for (const auto& d : scene.dropped) {
+    dropped.push_back(
+        {{"points", d.points}, {"centroid", skelgrasp::toJson(d.centroid)}, {"reason", d.reason}});
+  }
   j["scene"] = {{"plane_requirement", toString(params.scene.plane)},
                 {"target", params.scene.target.toString()},
                 {"candidate_points", scene.candidate_points},
                 {"other_points", scene.other_points.size()},
-                {"cluster_tolerance_m", params.scene.cluster_tolerance_m}};
+                {"cluster_tolerance_m", params.scene.cluster_tolerance_m},
+                {"segmentation", toString(scene.segmentation)},
+                {"merged_fragments", scene.merged_fragments},
+                {"dropped", dropped}};
   json clusters = json::array();
   for (std::size_t i = 0; i < scene.cluster_info.size(); ++i) {
     clusters.push_back(clusterJson(i, scene.cluster_info[i]));

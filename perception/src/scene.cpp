@@ -1,9 +1,9 @@
-// PCL translation unit: support plane (RANSAC), prism over its hull, Euclidean clustering.
+// PCL translation unit: support plane (RANSAC), prism over its hull; the segmentation of the
+// points above it is in segmentation.cpp.
 #include "skelgrasp/perception/scene.h"
 
 #include <pcl/ModelCoefficients.h>
 #include <pcl/filters/project_inliers.h>
-#include <pcl/segmentation/extract_clusters.h>
 #include <pcl/segmentation/extract_polygonal_prism_data.h>
 #include <pcl/segmentation/sac_segmentation.h>
 #include <pcl/surface/convex_hull.h>
@@ -14,6 +14,7 @@
 
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/internal/pcl_conversions.h"
+#include "skelgrasp/internal/segmentation.h"
 #include "skelgrasp/perception/cloud_ops.h"
 
 namespace skelgrasp::perception {
@@ -160,35 +161,6 @@ std::vector<int> prismAbove(const PointCloud& cloud, const std::vector<int>& can
   return out;
 }
 
-std::vector<std::vector<int>> euclideanClusters(const PointCloud& cloud,
-                                                const std::vector<int>& candidates,
-                                                const SceneParams& params) {
-  if (candidates.empty()) return {};
-  const auto xyz = internal::toPclXyz(gather(cloud, candidates));
-  auto tree = std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>();
-  tree->setInputCloud(xyz);
-  pcl::EuclideanClusterExtraction<pcl::PointXYZ> extraction;
-  extraction.setClusterTolerance(params.cluster_tolerance_m);
-  extraction.setMinClusterSize(static_cast<int>(params.min_cluster_points));
-  extraction.setMaxClusterSize(params.max_cluster_points > 0
-                                   ? static_cast<int>(params.max_cluster_points)
-                                   : std::numeric_limits<int>::max());
-  extraction.setSearchMethod(tree);
-  extraction.setInputCloud(xyz);
-  std::vector<pcl::PointIndices> found;
-  extraction.extract(found);
-  std::vector<std::vector<int>> clusters;
-  for (const auto& c : found) {
-    std::vector<int> members;
-    members.reserve(c.indices.size());
-    for (auto i : c.indices) members.push_back(candidates[i]);
-    clusters.push_back(std::move(members));
-  }
-  std::stable_sort(clusters.begin(), clusters.end(),
-                   [](const auto& a, const auto& b) { return a.size() > b.size(); });
-  return clusters;
-}
-
 std::vector<std::size_t> selectTargets(const std::vector<ClusterInfo>& info,
                                        const TargetSpec& target) {
   std::vector<std::size_t> selected;
@@ -217,10 +189,16 @@ void validate(const SceneParams& p) {
   if (!(p.plane_distance_m > 0) || p.plane_max_iterations <= 0 || p.min_plane_fraction < 0 ||
       p.min_plane_fraction > 1 || !(p.cluster_tolerance_m > 0) ||
       p.max_height_m <= p.min_height_m || p.plane_candidates < 1 || p.plane_candidate_ratio < 0 ||
-      p.plane_candidate_ratio > 1) {
+      p.plane_candidate_ratio > 1 || !(p.lccp.voxel_resolution_m > 0) ||
+      !(p.lccp.seed_resolution_m > p.lccp.voxel_resolution_m) ||
+      !(p.lccp.concavity_tolerance_deg >= 0) || !(p.lccp.concavity_tolerance_deg < 180) ||
+      !(p.lccp.color_importance >= 0) || !(p.lccp.spatial_importance >= 0) ||
+      !(p.lccp.normal_importance >= 0) || !(p.lccp.smoothness_threshold >= 0) ||
+      p.lccp.k_factor < 0) {
     throw InvalidArgument(
         "parseScene: plane distance, iterations, plane fraction in [0, 1], candidates, cluster "
-        "tolerance and height limits (max > min) must be valid");
+        "tolerance, height limits (max > min) and LCCP parameters (seed resolution > voxel "
+        "resolution > 0, concavity tolerance in [0, 180) degrees, importances >= 0) must be valid");
   }
 }
 
@@ -242,6 +220,22 @@ const char* toString(PlaneRequirement requirement) {
       return "optional";
     case PlaneRequirement::kNone:
       return "none";
+  }
+  return "?";
+}
+
+SegmentationMethod parseSegmentationMethod(const std::string& text) {
+  if (text == "lccp") return SegmentationMethod::kLccp;
+  if (text == "euclidean") return SegmentationMethod::kEuclidean;
+  throw InvalidArgument("unknown segmentation method '" + text + "' (use lccp or euclidean)");
+}
+
+const char* toString(SegmentationMethod method) {
+  switch (method) {
+    case SegmentationMethod::kLccp:
+      return "lccp";
+    case SegmentationMethod::kEuclidean:
+      return "euclidean";
   }
   return "?";
 }
@@ -386,7 +380,17 @@ SceneResult parseScene(const PointCloud& cloud, const SceneParams& params,
     candidates = scene_indices;
   }
   result.candidate_points = candidates.size();
-  auto clusters = euclideanClusters(cloud, candidates, params);
+  // LCCP cuts objects where they meet on a support; a mask already says what is object, and a
+  // cloud without a support is one object (or nothing stands on anything).
+  const bool use_lccp =
+      params.segmentation == SegmentationMethod::kLccp && !masked && result.plane.has_value();
+  result.segmentation = use_lccp ? SegmentationMethod::kLccp : SegmentationMethod::kEuclidean;
+  internal::Segmentation segmentation =
+      use_lccp ? internal::lccpSegments(cloud, candidates, params, *result.plane)
+               : internal::euclideanSegments(cloud, candidates, params);
+  auto clusters = std::move(segmentation.segments);
+  result.dropped = std::move(segmentation.dropped);
+  result.merged_fragments = segmentation.merged;
   if (masked && clusters.size() > 1) {
     for (std::size_t c = 1; c < clusters.size(); ++c) {
       clusters[0].insert(clusters[0].end(), clusters[c].begin(), clusters[c].end());
@@ -398,11 +402,13 @@ SceneResult parseScene(const PointCloud& cloud, const SceneParams& params,
   if (clusters.empty()) {
     result.status = Status::Make(
         StatusCode::kNoResult,
-        result.plane ? "no object above the support plane (" + std::to_string(candidates.size()) +
-                           " points above it, no cluster of " +
-                           std::to_string(params.min_cluster_points) + " or more)"
-                     : "no object cluster of " + std::to_string(params.min_cluster_points) +
-                           " or more points");
+        result.plane
+            ? "no object above the support plane (" + std::to_string(candidates.size()) +
+                  " points above it, no " + toString(result.segmentation) + " segment of " +
+                  std::to_string(params.min_cluster_points) + " or more; " +
+                  std::to_string(result.dropped.size()) + " fragment(s) dropped)"
+            : "no object cluster of " + std::to_string(params.min_cluster_points) +
+                  " or more points");
     return result;
   }
   for (const auto& members : clusters) {
@@ -421,8 +427,11 @@ SceneResult parseScene(const PointCloud& cloud, const SceneParams& params,
     if (!taken[i] && cloud.points[i].allFinite()) other.push_back(static_cast<int>(i));
   }
   result.other_points = subset(cloud, other);
-  log().info("scene: {} candidate points, {} clusters (largest {}), {} selected", candidates.size(),
-             clusters.size(), clusters.front().size(), result.selected.size());
+  log().info(
+      "scene: {} candidate points, {} {} segments (largest {}), {} merged, {} dropped, {} "
+      "selected",
+      candidates.size(), clusters.size(), toString(result.segmentation), clusters.front().size(),
+      result.merged_fragments, result.dropped.size(), result.selected.size());
   return result;
 }
 

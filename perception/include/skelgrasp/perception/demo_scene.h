@@ -19,9 +19,18 @@ struct DemoScene {
   std::vector<Pose> cameras;             // camera-to-world of each view
 };
 
+// Moves one object of the demo scene: its bounding-box centre goes to (x, y) on the table (metres,
+// world frame), e.g. to push two objects into contact.
+struct DemoPlacement {
+  std::string name;  // "bottle", "mug", "box", "hammer" or "ball"
+  double x = 0, y = 0;
+};
+
 // A 1.2 x 0.8 m table with a bottle (with a neck), a mug (with a handle), a box, a hammer-like T
 // standing on its head and a ball, seen by `views` Primesense-like cameras from the front half (50
 // degrees elevation, 0.85 m from the table centre), with the sensor error model seeded by `seed`.
-DemoScene makeDemoScene(std::uint64_t seed = 1, int views = 3);
+// `moved` overrides the default positions (unknown names throw InvalidArgument).
+DemoScene makeDemoScene(std::uint64_t seed = 1, int views = 3,
+                        const std::vector<DemoPlacement>& moved = {});
 
 }  // namespace skelgrasp::perception

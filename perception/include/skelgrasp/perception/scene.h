@@ -1,7 +1,8 @@
 #pragma once
-// Table-top scene parsing: the dominant support plane (RANSAC), the objects above it (Euclidean
-// clusters inside the prism over the plane's convex hull), the chosen target(s) and the rest of
-// the scene. Lengths in metres, in the cloud's frame.
+// Table-top scene parsing: the dominant support plane (RANSAC), the objects above it (segments of
+// the points inside the prism over the plane's convex hull: supervoxels + LCCP, or Euclidean
+// clusters), the chosen target(s) and the rest of the scene. Lengths in metres, in the cloud's
+// frame.
 #include <optional>
 #include <string>
 #include <vector>
@@ -20,6 +21,51 @@ PlaneRequirement parsePlaneRequirement(const std::string& text);  // required | 
 const char* toString(PlaneRequirement requirement);
 
 enum class TargetMode { kLargest, kAll, kNearest };
+
+// How the points above the support are split into objects.
+enum class SegmentationMethod {
+  // Connected components at cluster_tolerance_m: fast, but touching objects stay one cluster.
+  kEuclidean,
+  // Supervoxels, then locally convex connected patches (LCCP, Stein et al., CVPR 2014): objects
+  // that touch meet at a concave edge and are cut there (stacked boxes, a can against a box).
+  kLccp,
+};
+SegmentationMethod parseSegmentationMethod(const std::string& text);  // lccp | euclidean
+const char* toString(SegmentationMethod method);
+
+// Supervoxel + LCCP parameters (PCL's SupervoxelClustering and LCCPSegmentation). The defaults
+// were chosen over the eight labelled mOSD scans with `skelgrasp bench segment` (one setting for
+// all scenes; docs/reconstruction.md has the sweep).
+struct LccpParams {
+  // Octree leaf of the supervoxels and the spacing of their seeds.
+  double voxel_resolution_m = 0.006;
+  double seed_resolution_m = 0.03;
+  // Weights of the supervoxel distance; colour counts only when the cloud has colours.
+  double color_importance = 0.2;
+  double spatial_importance = 0.4;
+  double normal_importance = 1.0;
+  // Two adjacent supervoxels join when their connection is convex or concave by less than this.
+  double concavity_tolerance_deg = 20.0;
+  // LCCP's sanity criterion (singular connections are not convex) and smoothness check (a step
+  // between supervoxels with parallel normals is a cut); threshold as in PCL (fudge factor).
+  bool sanity_check = true;
+  bool smoothness_check = true;
+  double smoothness_threshold = 0.1;
+  // Extended convexity: an edge is convex only when k of its neighbours' edges agree (0 = off).
+  int k_factor = 0;
+  // Segments with fewer points are fragments (an object's face cut off at a concave edge, a rim):
+  // merged into the adjacent segment they share most supervoxel edges with, dropped (and
+  // recorded) when nothing is adjacent.
+  std::size_t min_segment_points = 200;
+  // Parts: a segment whose lowest point is more than part_min_lift_m above the lowest object
+  // points (min_height_m) and that has fewer than part_max_fraction of the points of the
+  // neighbour it shares most edges with is merged into it (handles, necks, box tops cut off at a
+  // concave edge of noisy multi-view data). Off by default (0): at 0.35 it took the demo scene
+  // from 12 to 8 segments but merged objects lying on others in mOSD scenes 46 and 50 (precision
+  // 0.83 and 0.71).
+  double part_min_lift_m = 0.015;
+  double part_max_fraction = 0.0;
+};
 
 struct TargetSpec {
   TargetMode mode = TargetMode::kLargest;
@@ -59,12 +105,21 @@ struct SceneParams {
   // support (closer to the plane than this) are dropped. Lower than min_height_m so that flat
   // objects (a bag clip lying down) keep their points.
   double masked_min_height_m = 0.003;
+  // Segmentation of the points above the support (a mask or no plane: always Euclidean, the
+  // mask says what belongs together and without a support there is nothing to stand on).
+  // Euclidean stays the default: LCCP is far better on the real mOSD scans (precision 0.969 vs
+  // 0.665) but cuts the demo scene's noisy three-view objects into parts (12 segments for 5
+  // objects), which `run` would then plan on. docs/reconstruction.md has the measurements.
+  SegmentationMethod segmentation = SegmentationMethod::kEuclidean;
+  LccpParams lccp;
   // Euclidean clustering: points closer than the tolerance join a cluster. Over the mOSD scenes
   // 1 cm scored best (precision 0.665 vs 0.617 at 1.5 cm, recall 0.921 for both); below it objects
   // with dropouts fall apart. Touching objects stay merged whatever the tolerance.
   double cluster_tolerance_m = 0.01;
+  // Objects have at least this many points; smaller clusters are dropped (LCCP: see also
+  // lccp.min_segment_points). Every drop is recorded in SceneResult::dropped.
   std::size_t min_cluster_points = 50;
-  std::size_t max_cluster_points = 0;  // 0 = unlimited
+  std::size_t max_cluster_points = 0;  // 0 = unlimited (larger clusters are dropped, recorded)
   TargetSpec target;
 };
 
@@ -87,6 +142,13 @@ struct ClusterInfo {
 
 ClusterInfo describeCluster(const PointCloud& cluster, const std::optional<SupportPlane>& plane);
 
+// A group of points above the support that did not become an object, and why.
+struct DroppedFragment {
+  std::size_t points = 0;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  std::string reason;  // e.g. "below_min_points", "above_max_points", "isolated_fragment"
+};
+
 struct SceneResult {
   Status status;  // kNoResult: no plane (when required), no object above the plane
   std::optional<SupportPlane> plane;
@@ -97,7 +159,10 @@ struct SceneResult {
   // Everything that is neither a plane inlier nor in a selected cluster: other objects, clutter,
   // points below or beside the table (what a collision model of the scene needs besides the plane).
   PointCloud other_points;
-  std::size_t candidate_points = 0;  // points that were clustered
+  std::vector<DroppedFragment> dropped;  // candidate points that became no object, with reasons
+  std::size_t merged_fragments = 0;      // small LCCP segments merged into a neighbour
+  SegmentationMethod segmentation = SegmentationMethod::kEuclidean;  // the method that ran
+  std::size_t candidate_points = 0;                                  // points that were clustered
   double plane_time_s = 0;
   double cluster_time_s = 0;
 };

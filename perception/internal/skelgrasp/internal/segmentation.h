@@ -1,0 +1,30 @@
+#pragma once
+// Internal (not installed): the segmentations behind parseScene, each over cloud.points[candidates]
+// (the points above the support). PCL types stay in segmentation.cpp.
+#include <vector>
+
+#include "skelgrasp/common/point_cloud.h"
+#include "skelgrasp/perception/scene.h"
+
+namespace skelgrasp::internal {
+
+struct Segmentation {
+  std::vector<std::vector<int>> segments;  // indices into the cloud, largest first
+  std::vector<perception::DroppedFragment> dropped;
+  std::size_t merged = 0;  // small segments merged into a neighbour
+};
+
+// Connected components at params.cluster_tolerance_m; clusters outside [min, max] points are
+// dropped and recorded.
+Segmentation euclideanSegments(const PointCloud& cloud, const std::vector<int>& candidates,
+                               const perception::SceneParams& params);
+
+// Supervoxels + LCCP (params.lccp), colour where the cloud has it; segments below
+// params.lccp.min_segment_points merged into their most connected neighbour or dropped when
+// isolated. Parts (segments not reaching down to the support, much smaller than their neighbour)
+// are merged.
+Segmentation lccpSegments(const PointCloud& cloud, const std::vector<int>& candidates,
+                          const perception::SceneParams& params,
+                          const perception::SupportPlane& plane);
+
+}  // namespace skelgrasp::internal

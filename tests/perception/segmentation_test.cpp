@@ -1,0 +1,145 @@
+// Segmentation of the points above the support: touching objects (LCCP), fragments and bad input.
+#include <gtest/gtest.h>
+
+#include <random>
+#include <set>
+
+#include "perception/synthetic_scenes.h"
+#include "skelgrasp/perception/demo_scene.h"
+#include "skelgrasp/perception/filters.h"
+#include "skelgrasp/perception/ingest.h"
+#include "skelgrasp/perception/scene.h"
+
+namespace skelgrasp::perception {
+namespace {
+
+// The ball pushed against the bottle (bounding-box radii, 2 mm into each other along the line
+// between their default positions) so that the scan shows them as one connected blob.
+std::vector<DemoPlacement> ballAgainstBottle() {
+  const DemoScene base = makeDemoScene(1, 1);
+  auto index = [&](const std::string& name) {
+    return static_cast<std::size_t>(std::find(base.names.begin(), base.names.end(), name) -
+                                    base.names.begin());
+  };
+  const auto& bottle = base.meshes[index("bottle")];
+  const auto& ball = base.meshes[index("ball")];
+  const double bottle_radius = 0.5 * (bottle.bounds().max.x() - bottle.bounds().min.x());
+  const double ball_radius = 0.5 * (ball.bounds().max.x() - ball.bounds().min.x());
+  const Eigen::Vector2d from = base.centres[index("bottle")].head<2>();
+  const Eigen::Vector2d direction = (base.centres[index("ball")].head<2>() - from).normalized();
+  const Eigen::Vector2d at = from + (bottle_radius + ball_radius - 0.002) * direction;
+  return {{"ball", at.x(), at.y()}};
+}
+
+IngestResult ingestDemo(const DemoScene& scene, SegmentationMethod method) {
+  Scan scan;
+  scan.cloud = scene.cloud;
+  scan.per_view_normals = true;
+  IngestParams params;
+  params.scene.target = TargetSpec::parse("all");
+  params.scene.segmentation = method;
+  return ingestScan(scan, params);
+}
+
+// Open (issue 17): LCCP cuts the demo scene's fused three-view objects into parts (11 segments
+// here, 12 on the default scene: mug handle, bottle neck, box top), so this goal is not met yet.
+TEST(Segmentation, DISABLED_DemoSceneWithTwoObjectsInContactStillYieldsFiveObjects) {
+  const DemoScene scene = makeDemoScene(1, 3, ballAgainstBottle());
+  // The contact is real: Euclidean clustering welds the ball to the bottle.
+  const IngestResult euclidean = ingestDemo(scene, SegmentationMethod::kEuclidean);
+  ASSERT_TRUE(euclidean.status.ok()) << euclidean.status.message;
+  EXPECT_EQ(euclidean.scene.clusters.size(), 4u);
+
+  const IngestResult lccp = ingestDemo(scene, SegmentationMethod::kLccp);
+  ASSERT_TRUE(lccp.status.ok()) << lccp.status.message;
+  EXPECT_EQ(lccp.scene.segmentation, SegmentationMethod::kLccp);
+  ASSERT_EQ(lccp.scene.clusters.size(), 5u);
+  // Each object is the segment whose centroid is nearest to its true centre (on the table plane,
+  // the scan sees the objects' front halves), and no two objects share one.
+  std::set<std::size_t> used;
+  for (std::size_t k = 1; k < scene.meshes.size(); ++k) {
+    SCOPED_TRACE(scene.names[k]);
+    std::size_t best = 0;
+    double best_distance = 1e9;
+    for (std::size_t c = 0; c < lccp.scene.cluster_info.size(); ++c) {
+      const double d =
+          (lccp.scene.cluster_info[c].centroid.head<2>() - scene.centres[k].head<2>()).norm();
+      if (d < best_distance) {
+        best = c;
+        best_distance = d;
+      }
+    }
+    EXPECT_LT(best_distance, 0.04);
+    EXPECT_TRUE(used.insert(best).second);
+  }
+}
+
+TEST(Segmentation, DefaultDemoSceneYieldsFiveObjectsWithTheDefaultMethod) {
+  const DemoScene scene = makeDemoScene(1, 3);
+  for (const auto method : {SceneParams{}.segmentation}) {
+    SCOPED_TRACE(toString(method));
+    const IngestResult r = ingestDemo(scene, method);
+    ASSERT_TRUE(r.status.ok()) << r.status.message;
+    EXPECT_EQ(r.scene.clusters.size(), 5u);
+    for (const auto& c : r.scene.cluster_info) {
+      std::cout << "[ segment  ] " << c.points << " points at " << c.centroid.transpose()
+                << ", top " << c.height_above_plane_m << " m" << std::endl;
+    }
+  }
+}
+
+TEST(Segmentation, EmptyTableGivesNoObjectWithAReason) {
+  const auto empty_table = test::renderTableScene(24, {0.55, 0.05, 0.6}, false);
+  const FilterResult f = filterCloud(empty_table.cloud);
+  ASSERT_TRUE(f.status.ok());
+  SceneParams params;
+  params.segmentation = SegmentationMethod::kLccp;
+  const SceneResult r = parseScene(f.cloud, params);
+  EXPECT_EQ(r.status.code, StatusCode::kNoResult);
+  EXPECT_NE(r.status.message.find("no object above the support plane"), std::string::npos)
+      << r.status.message;
+  EXPECT_TRUE(r.clusters.empty());
+}
+
+TEST(Segmentation, NoiseAboveTheTableIsDroppedWithReasons) {
+  // A flat table of points and 40 lone points scattered 2-30 cm above it, each far from the
+  // others: nothing is an object, every dropped point is accounted for.
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> across(-0.3, 0.3), height(0.02, 0.3);
+  std::normal_distribution<double> noise(0, 0.001);
+  PointCloud cloud;
+  for (double x = -0.4; x <= 0.4; x += 0.005) {
+    for (double y = -0.4; y <= 0.4; y += 0.005) cloud.points.emplace_back(x, y, noise(rng));
+  }
+  for (int i = 0; i < 40; ++i) cloud.points.emplace_back(across(rng), across(rng), height(rng));
+  cloud.sensor_origin = {0.5, 0, 0.8};
+  for (const auto method : {SegmentationMethod::kLccp, SegmentationMethod::kEuclidean}) {
+    SCOPED_TRACE(toString(method));
+    SceneParams params;
+    params.segmentation = method;
+    const SceneResult r = parseScene(cloud, params);
+    EXPECT_EQ(r.status.code, StatusCode::kNoResult);
+    EXPECT_TRUE(r.clusters.empty());
+    EXPECT_FALSE(r.dropped.empty());
+    std::size_t dropped_points = 0;
+    for (const auto& d : r.dropped) {
+      EXPECT_FALSE(d.reason.empty());
+      dropped_points += d.points;
+    }
+    EXPECT_EQ(dropped_points, r.candidate_points);
+    EXPECT_GT(r.candidate_points, 0u);
+  }
+}
+
+TEST(Segmentation, MethodNamesRoundTrip) {
+  for (const auto method : {SegmentationMethod::kLccp, SegmentationMethod::kEuclidean}) {
+    EXPECT_EQ(parseSegmentationMethod(toString(method)), method);
+  }
+  EXPECT_THROW(parseSegmentationMethod("watershed"), InvalidArgument);
+  SceneParams bad;
+  bad.lccp.seed_resolution_m = bad.lccp.voxel_resolution_m / 2;
+  EXPECT_THROW(parseScene(test::renderTableScene(3).cloud, bad), InvalidArgument);
+}
+
+}  // namespace
+}  // namespace skelgrasp::perception
