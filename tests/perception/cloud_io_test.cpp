@@ -168,6 +168,11 @@ INSTANTIATE_TEST_SUITE_P(
                  "VERSION 0.7\nFIELDS x y z\nSIZE 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1\n"
                  "HEIGHT 1\nPOINTS 1\nDATA ascii\n0 0 0\n",
                  "SIZE has 2 entries for 3 FIELDS"},
+        // PCL allocates every declared point when SIZE and WIDTH are missing (fuzz/regressions/
+        // cloud_reader/pcd_points_without_size_or_width).
+        BadCloud{"points_without_size", "nosize.pcd",
+                 "VERSION 0.7\nFIELDS x\nPOINTS 5000000\nDATA ascii\n0 0 0\n",
+                 "declares 5000000 points"},
         BadCloud{"ply_without_z", "flat.ply",
                  "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
                  "end_header\n0 0\n1 1\n",
