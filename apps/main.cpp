@@ -62,26 +62,25 @@ int main(int argc, char** argv) {
                      ", half of this machine's; docs/limits.md)");
 
   cli::Action action;
-#ifdef SKELGRASP_MESH_COMMANDS_ONLY
+  // The mesh commands are in both programs, the rest only in skelgrasp-full; this order is the
+  // top-level help's.
   cli::registerSkeletonCommand(app, action);
   cli::registerShapeCommand(app, action);
-  cli::registerHandCommands(app, action);
-  cli::registerPlanCommand(app, action);
-  cli::registerEvaluateCommands(app, action);
-  cli::registerExportCommand(app, action);
-#else
-  cli::registerSkeletonCommand(app, action);
-  cli::registerShapeCommand(app, action);
+#ifndef SKELGRASP_MESH_COMMANDS_ONLY
   cli::registerBenchCommand(app, action);
   cli::registerDemoCommand(app, action);
+#endif
   cli::registerHandCommands(app, action);
   cli::registerPlanCommand(app, action);
   cli::registerEvaluateCommands(app, action);
+#ifndef SKELGRASP_MESH_COMMANDS_ONLY
   cli::registerRunCommand(app, action);
   cli::registerReconstructCommand(app, action);
   cli::registerIngestCommand(app, action);
   cli::registerDatasetsCommand(app, action);
+#endif
   cli::registerExportCommand(app, action);
+#ifndef SKELGRASP_MESH_COMMANDS_ONLY
   cli::registerBenchReconstructCommand(app, action);
   cli::registerBenchRunCommand(app, action);
   cli::registerBenchJudgeCommand(app, action);

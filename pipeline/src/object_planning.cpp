@@ -25,6 +25,18 @@ double observedContactRatio(const Grasp& grasp, const TriangleMesh& mesh,
 
 }  // namespace
 
+ReconstructionResult reconstructForRun(const perception::Scan& scan, const RunParams& params,
+                                       std::vector<StageTime>& stages) {
+  if (params.scene_check)
+    checkSceneOccupancyMemory(scan.cloud, scan.cloud.sensor_origin, params.occupancy);
+  ReconstructionResult reconstruction = reconstructScan(scan, params.reconstruction);
+  const auto& ingest = reconstruction.ingest;
+  stages.push_back({"filter", ingest.filter_time_s});
+  stages.push_back({"segment", ingest.scene_time_s});
+  stages.push_back({"normals", ingest.normals_time_s});
+  return reconstruction;
+}
+
 skeleton::SkeletonResult runSkeleton(const TriangleMesh& mesh, const RunParams& params) {
   skeleton::SkeletonResult result = skeleton::extractSkeleton(mesh, params.skeleton);
   if (result.status.code == StatusCode::kInvalidInput &&

@@ -1,9 +1,12 @@
 #pragma once
-// Pieces of grasps.json (schema skelgrasp.run/2, docs/pipeline.md) shared by the one-target and
-// the scene writers.
+// Pieces of the run outputs (grasps.json schema skelgrasp.run/2, docs/pipeline.md, and the scan
+// picture) shared by the one-target and the scene writers.
 #include <nlohmann/json.hpp>
 
+#include <memory>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "skelgrasp/pipeline/run_pipeline.h"
@@ -33,5 +36,20 @@ nlohmann::json objectJson(const ObjectEntry& entry);
 // `first_id` on.
 void appendGraspsJson(nlohmann::json& grasps, const std::vector<RankedGrasp>& ranked,
                       const grasping::HandModel& hand, std::size_t object_id, std::size_t first_id);
+
+// "scene": frame, support plane, sensor origin, obstacle points and the occupancy file.
+nlohmann::json sceneJson(const std::optional<Eigen::Vector4d>& plane, const perception::Scan& scan,
+                         std::size_t obstacle_points,
+                         const std::shared_ptr<grasping::SceneOccupancy>& occupancy);
+
+// "timing": seconds per stage and total_s.
+nlohmann::json timingJson(const std::vector<StageTime>& stages, double total_s);
+
+// The scan from the sensor's side (its own colours or a flat blue), the support grey and the
+// given clusters of `scene` in their colours, with a caption; nothing when no point is finite.
+void renderScanPng(const std::string& path, const perception::Scan& scan,
+                   const perception::SceneResult& scene,
+                   const std::vector<std::pair<std::size_t, Rgb>>& coloured_clusters,
+                   const std::string& caption);
 
 }  // namespace skelgrasp::pipeline::internal

@@ -20,8 +20,62 @@ namespace skelgrasp::pipeline {
 // The pipeline composes the grasping stage's types throughout.
 using namespace grasping;
 namespace {
-
 constexpr int kPanel = 480;
+}  // namespace
+
+namespace internal {
+
+nlohmann::json sceneJson(const std::optional<Eigen::Vector4d>& plane, const perception::Scan& scan,
+                         std::size_t obstacle_points,
+                         const std::shared_ptr<SceneOccupancy>& occupancy) {
+  return {
+      {"frame", "scan"},
+      {"plane", plane ? nlohmann::json({(*plane)[0], (*plane)[1], (*plane)[2], (*plane)[3]})
+                      : nlohmann::json(nullptr)},
+      {"sensor_origin", toJson(scan.cloud.sensor_origin)},
+      {"obstacle_points", obstacle_points},
+      {"occupancy", occupancy ? nlohmann::json({{"file", "scene.bt"},
+                                                {"resolution_m", occupancy->resolution()},
+                                                {"occupied_leaves", occupancy->occupiedLeaves()}})
+                              : nlohmann::json(nullptr)}};
+}
+
+nlohmann::json timingJson(const std::vector<StageTime>& stages, double total_s) {
+  nlohmann::json timing = nlohmann::json::object();
+  for (const auto& s : stages) timing[s.stage] = s.seconds;
+  timing["total_s"] = total_s;
+  return timing;
+}
+
+void renderScanPng(const std::string& path, const perception::Scan& scan,
+                   const perception::SceneResult& scene,
+                   const std::vector<std::pair<std::size_t, Rgb>>& coloured_clusters,
+                   const std::string& caption) {
+  AxisAlignedBox box;
+  for (const auto& p : scan.cloud.points) {
+    if (p.allFinite()) box.extend(p);
+  }
+  if (box.empty()) return;
+  const Eigen::Vector3d from = scan.cloud.sensor_origin - box.center();
+  render::Canvas canvas(render::Camera::framing(
+      box, from.norm() > 1e-6 ? from : Eigen::Vector3d(0, -1, 1), 2 * kPanel, kPanel));
+  const std::size_t stride = std::max<std::size_t>(1, scan.cloud.size() / 120000);
+  for (std::size_t i = 0; i < scan.cloud.size(); i += stride) {
+    const auto& p = scan.cloud.points[i];
+    if (!p.allFinite()) continue;
+    canvas.drawPoint(p, scan.cloud.hasColors() ? scan.cloud.colors[i] : Rgb{90, 110, 160}, 1);
+  }
+  for (const auto& p : scene.plane_points.points) canvas.drawPoint(p, {170, 170, 170}, 1);
+  for (const auto& [cluster, colour] : coloured_clusters) {
+    for (const auto& p : scene.clusters[cluster].points) canvas.drawPoint(p, colour, 1);
+  }
+  canvas.drawText(8, 4, caption);
+  canvas.savePng(path);
+}
+
+}  // namespace internal
+
+namespace {
 
 nlohmann::json runJson(const RunResult& r, const HandModel& hand, const perception::Scan& scan,
                        const std::string& name) {
@@ -76,22 +130,8 @@ nlohmann::json runJson(const RunResult& r, const HandModel& hand, const percepti
     objects.push_back(internal::objectJson(e));
   }
   j["objects"] = objects;
-  j["scene"] = {
-      {"frame", "scan"},
-      {"plane", r.plane
-                    ? nlohmann::json({(*r.plane)[0], (*r.plane)[1], (*r.plane)[2], (*r.plane)[3]})
-                    : nlohmann::json(nullptr)},
-      {"sensor_origin", toJson(scan.cloud.sensor_origin)},
-      {"obstacle_points", r.obstacles.size()},
-      {"occupancy", r.occupancy
-                        ? nlohmann::json({{"file", "scene.bt"},
-                                          {"resolution_m", r.occupancy->resolution()},
-                                          {"occupied_leaves", r.occupancy->occupiedLeaves()}})
-                        : nlohmann::json(nullptr)}};
-  nlohmann::json timing = nlohmann::json::object();
-  for (const auto& s : r.stages) timing[s.stage] = s.seconds;
-  timing["total_s"] = r.total_s;
-  j["timing"] = timing;
+  j["scene"] = internal::sceneJson(r.plane, scan, r.obstacles.size(), r.occupancy);
+  j["timing"] = internal::timingJson(r.stages, r.total_s);
   return j;
 }
 
@@ -99,27 +139,9 @@ nlohmann::json runJson(const RunResult& r, const HandModel& hand, const percepti
 // or height.
 void renderScan(const std::string& path, const RunResult& r, const perception::Scan& scan) {
   const auto& scene = r.reconstruction.ingest.scene;
-  AxisAlignedBox box;
-  for (const auto& p : scan.cloud.points) {
-    if (p.allFinite()) box.extend(p);
-  }
-  if (box.empty()) return;
-  const Eigen::Vector3d from = scan.cloud.sensor_origin - box.center();
-  render::Canvas canvas(render::Camera::framing(
-      box, from.norm() > 1e-6 ? from : Eigen::Vector3d(0, -1, 1), 2 * kPanel, kPanel));
-  const std::size_t stride = std::max<std::size_t>(1, scan.cloud.size() / 120000);
-  for (std::size_t i = 0; i < scan.cloud.size(); i += stride) {
-    const auto& p = scan.cloud.points[i];
-    if (!p.allFinite()) continue;
-    const Rgb c = scan.cloud.hasColors() ? scan.cloud.colors[i] : Rgb{90, 110, 160};
-    canvas.drawPoint(p, c, 1);
-  }
-  for (const auto& p : scene.plane_points.points) canvas.drawPoint(p, {170, 170, 170}, 1);
-  if (r.cluster < scene.clusters.size()) {
-    for (const auto& p : scene.clusters[r.cluster].points) canvas.drawPoint(p, {220, 30, 30}, 1);
-  }
-  canvas.drawText(8, 4, "scan: target red, support plane grey");
-  canvas.savePng(path);
+  std::vector<std::pair<std::size_t, Rgb>> target;
+  if (r.cluster < scene.clusters.size()) target.emplace_back(r.cluster, Rgb{220, 30, 30});
+  internal::renderScanPng(path, scan, scene, target, "scan: target red, support plane grey");
 }
 
 void renderSegments(const std::string& path, const RunResult& r) {

@@ -13,19 +13,12 @@ RunResult runPipeline(const perception::Scan& scan, const HandModel& hand,
   if (params.reconstruction.ingest.scene.target.mode == perception::TargetMode::kAll) {
     throw InvalidArgument("runPipeline plans for one object: use runScene for every object");
   }
-  // Fail fast, before reconstruction: the obstacles are a part of the scan, so the whole scan
-  // bounds the occupancy's memory (the constructor checks again with the obstacles themselves).
-  if (params.scene_check)
-    checkSceneOccupancyMemory(scan.cloud, scan.cloud.sensor_origin, params.occupancy);
   Stopwatch total;
   RunResult out;
   auto stage = [&](const char* name, double seconds) { out.stages.push_back({name, seconds}); };
 
-  out.reconstruction = pipeline::reconstructScan(scan, params.reconstruction);
+  out.reconstruction = internal::reconstructForRun(scan, params, out.stages);
   const auto& ingest = out.reconstruction.ingest;
-  stage("filter", ingest.filter_time_s);
-  stage("segment", ingest.scene_time_s);
-  stage("normals", ingest.normals_time_s);
   if (!out.reconstruction.status.ok() || out.reconstruction.objects.empty()) {
     out.status = out.reconstruction.status.ok()
                      ? Status::Make(StatusCode::kNoResult, "no object selected")

@@ -61,18 +61,12 @@ void planSceneObject(SceneObjectRun& object, const HandModel& hand, const SceneO
 
 SceneRunResult runScene(const perception::Scan& scan, const HandModel& hand,
                         const RunParams& params) {
-  // Fail fast, before reconstruction: the scene's map holds at most the whole scan.
-  if (params.scene_check)
-    checkSceneOccupancyMemory(scan.cloud, scan.cloud.sensor_origin, params.occupancy);
   Stopwatch total;
   SceneRunResult out;
   auto stage = [&](const char* name, double seconds) { out.stages.push_back({name, seconds}); };
 
-  out.reconstruction = pipeline::reconstructScan(scan, params.reconstruction);
+  out.reconstruction = internal::reconstructForRun(scan, params, out.stages);
   const auto& ingest = out.reconstruction.ingest;
-  stage("filter", ingest.filter_time_s);
-  stage("segment", ingest.scene_time_s);
-  stage("normals", ingest.normals_time_s);
   if (!ingest.status.ok() || out.reconstruction.objects.empty()) {
     out.status = ingest.status.ok() ? Status::Make(StatusCode::kNoResult, "no object selected")
                                     : ingest.status;

@@ -61,7 +61,6 @@ void appendGraspsJson(nlohmann::json& grasps, const std::vector<RankedGrasp>& ra
 
 namespace {
 
-constexpr int kPanel = 480;
 // Object colours of the scan picture, cycled; the support plane is grey.
 const std::array<Rgb, 8> kObjectColours = {{{220, 30, 30},
                                             {30, 130, 220},
@@ -109,50 +108,18 @@ nlohmann::json sceneRunJson(const SceneRunResult& r, const HandModel& hand,
   j["objects"] = objects;
   j["target"] = nullptr;  // every object is a target: see "objects"
   j["grasps"] = grasps;
-  j["scene"] = {
-      {"frame", "scan"},
-      {"plane", r.plane
-                    ? nlohmann::json({(*r.plane)[0], (*r.plane)[1], (*r.plane)[2], (*r.plane)[3]})
-                    : nlohmann::json(nullptr)},
-      {"sensor_origin", toJson(scan.cloud.sensor_origin)},
-      {"obstacle_points", r.obstacle_points},
-      {"occupancy", r.occupancy
-                        ? nlohmann::json({{"file", "scene.bt"},
-                                          {"resolution_m", r.occupancy->resolution()},
-                                          {"occupied_leaves", r.occupancy->occupiedLeaves()}})
-                        : nlohmann::json(nullptr)}};
-  nlohmann::json timing = nlohmann::json::object();
-  for (const auto& s : r.stages) timing[s.stage] = s.seconds;
-  timing["total_s"] = r.total_s;
-  j["timing"] = timing;
+  j["scene"] = internal::sceneJson(r.plane, scan, r.obstacle_points, r.occupancy);
+  j["timing"] = internal::timingJson(r.stages, r.total_s);
   return j;
 }
 
 // The scan from the sensor's side, each object in its colour, the support grey.
 void renderSceneScan(const std::string& path, const SceneRunResult& r,
                      const perception::Scan& scan) {
-  const auto& scene = r.reconstruction.ingest.scene;
-  AxisAlignedBox box;
-  for (const auto& p : scan.cloud.points) {
-    if (p.allFinite()) box.extend(p);
-  }
-  if (box.empty()) return;
-  const Eigen::Vector3d from = scan.cloud.sensor_origin - box.center();
-  render::Canvas canvas(render::Camera::framing(
-      box, from.norm() > 1e-6 ? from : Eigen::Vector3d(0, -1, 1), 2 * kPanel, kPanel));
-  const std::size_t stride = std::max<std::size_t>(1, scan.cloud.size() / 120000);
-  for (std::size_t i = 0; i < scan.cloud.size(); i += stride) {
-    const auto& p = scan.cloud.points[i];
-    if (!p.allFinite()) continue;
-    canvas.drawPoint(p, scan.cloud.hasColors() ? scan.cloud.colors[i] : Rgb{90, 110, 160}, 1);
-  }
-  for (const auto& p : scene.plane_points.points) canvas.drawPoint(p, {170, 170, 170}, 1);
-  for (const auto& o : r.objects) {
-    for (const auto& p : scene.clusters[o.cluster].points)
-      canvas.drawPoint(p, objectColour(o.id), 1);
-  }
-  canvas.drawText(8, 4, "scan: objects by colour (see the table), support plane grey");
-  canvas.savePng(path);
+  std::vector<std::pair<std::size_t, Rgb>> objects;
+  for (const auto& o : r.objects) objects.emplace_back(o.cluster, objectColour(o.id));
+  internal::renderScanPng(path, scan, r.reconstruction.ingest.scene, objects,
+                          "scan: objects by colour (see the table), support plane grey");
 }
 
 void addObjectTable(HtmlReport& report, const SceneRunResult& r) {
