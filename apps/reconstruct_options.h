@@ -55,7 +55,7 @@ struct ReconstructOptions {
   }
 
   void addIngestOptions(CLI::App& cmd) {
-    cmd.add_option("--object", object, "Target: largest, all or nearest:x,y,z (metres)")
+    cmd.add_option("--object", object, "Target: largest, all, nearest:x,y,z (metres) or index:k (0 = largest)")
         ->capture_default_str();
     cmd.add_option("--plane", plane,
                    "Support plane: required (scenes), optional, none (single-object clouds)")

@@ -181,6 +181,10 @@ std::vector<std::size_t> selectTargets(const std::vector<ClusterInfo>& info,
       selected.push_back(best);
       break;
     }
+    case TargetMode::kIndex:
+      // Out of range selects nothing; parseScene reports it as the scene's status.
+      if (target.index < info.size()) selected.push_back(target.index);
+      break;
   }
   return selected;
 }
@@ -260,7 +264,21 @@ TargetSpec TargetSpec::parse(const std::string& text) {
       return spec;
     }
   }
-  throw InvalidArgument("bad object selection '" + text + "' (use largest, all or nearest:x,y,z)");
+  const std::string index_prefix = "index:";
+  if (text.rfind(index_prefix, 0) == 0) {
+    const std::string digits = text.substr(index_prefix.size());
+    // Digits only (no sign, no spaces) and few enough of them that the value fits: an object
+    // index is a small count.
+    constexpr std::size_t kMaxIndexDigits = 9;
+    if (!digits.empty() && digits.size() <= kMaxIndexDigits &&
+        std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+      spec.mode = TargetMode::kIndex;
+      spec.index = std::stoul(digits);
+      return spec;
+    }
+  }
+  throw InvalidArgument("bad object selection '" + text +
+                        "' (use largest, all, nearest:x,y,z or index:k)");
 }
 
 std::string TargetSpec::toString() const {
@@ -274,6 +292,8 @@ std::string TargetSpec::toString() const {
       out << "nearest:" << point.x() << "," << point.y() << "," << point.z();
       return out.str();
     }
+    case TargetMode::kIndex:
+      return "index:" + std::to_string(index);
   }
   return "?";
 }
@@ -416,6 +436,14 @@ SceneResult parseScene(const PointCloud& cloud, const SceneParams& params,
     result.cluster_info.push_back(describeCluster(result.clusters.back(), result.plane));
   }
   result.selected = selectTargets(result.cluster_info, params.target);
+  if (result.selected.empty()) {
+    result.status =
+        Status::Make(StatusCode::kNoResult,
+                     "object " + params.target.toString() + " asked, the scene has " +
+                         std::to_string(clusters.size()) + " object(s) (index:0 to index:" +
+                         std::to_string(clusters.size() - 1) + ", largest first)");
+    return result;
+  }
   std::vector<char> taken(cloud.size(), 0);
   for (int i : plane_inliers) taken[i] = 1;
   for (std::size_t s : result.selected) {

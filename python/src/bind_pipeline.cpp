@@ -29,7 +29,7 @@ struct Run {
   std::string name;
 };
 
-// "largest" | "all" | "nearest:x,y,z", or a point (x, y, z): the object nearest to it.
+// "largest" | "all" | "nearest:x,y,z" | "index:k", or a point (x, y, z): the object nearest to it.
 perception::TargetSpec targetOf(const py::object& objects) {
   if (py::isinstance<py::str>(objects))
     return perception::TargetSpec::parse(objects.cast<std::string>());

@@ -78,6 +78,31 @@ TEST(Scene, SelectsTheLargestOrTheNearestCluster) {
   EXPECT_THROW(TargetSpec::parse("biggest"), InvalidArgument);
 }
 
+TEST(Scene, SelectsAnObjectByIndexLargestFirst) {
+  const PointCloud cloud = filtered(test::renderTableScene(22).cloud);
+  SceneParams p;
+  p.target = TargetSpec::parse("all");
+  const SceneResult all = parseScene(cloud, p);
+  ASSERT_EQ(all.clusters.size(), 2u);
+  for (std::size_t k = 0; k < all.clusters.size(); ++k) {
+    p.target = TargetSpec::parse("index:" + std::to_string(k));
+    const SceneResult one = parseScene(cloud, p);
+    ASSERT_TRUE(one.status.ok()) << one.status.message;
+    ASSERT_EQ(one.selected, std::vector<std::size_t>{k});
+    EXPECT_EQ(majority(one.clusters[k]).first, majority(all.clusters[k]).first);
+  }
+  EXPECT_GE(all.clusters[0].size(), all.clusters[1].size());  // index 0 is the largest
+  // Past the last object: a data failure that names the count, not an exception.
+  p.target = TargetSpec::parse("index:2");
+  const SceneResult past = parseScene(cloud, p);
+  EXPECT_EQ(past.status.code, StatusCode::kNoResult);
+  EXPECT_NE(past.status.message.find("has 2 object(s)"), std::string::npos) << past.status.message;
+  EXPECT_EQ(TargetSpec::parse("index:12").toString(), "index:12");
+  for (const char* bad :
+       {"index:", "index:-1", "index:1.5", "index: 1", "index:1x", "index:99999999999999999999"})
+    EXPECT_THROW(TargetSpec::parse(bad), InvalidArgument) << bad;
+}
+
 TEST(Scene, PrefersTheTableOverTheFloorBehindIt) {
   // A floor 75 cm below fills more of the image than the table; the table is nearer the camera.
   auto scene = test::renderTableScene(23, {1.1, 0.0, 0.7});

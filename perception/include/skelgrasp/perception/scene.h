@@ -20,7 +20,7 @@ enum class PlaneRequirement {
 PlaneRequirement parsePlaneRequirement(const std::string& text);  // required | optional | none
 const char* toString(PlaneRequirement requirement);
 
-enum class TargetMode { kLargest, kAll, kNearest };
+enum class TargetMode { kLargest, kAll, kNearest, kIndex };
 
 // How the points above the support are split into objects.
 enum class SegmentationMethod {
@@ -70,8 +70,12 @@ struct LccpParams {
 struct TargetSpec {
   TargetMode mode = TargetMode::kLargest;
   Eigen::Vector3d point = Eigen::Vector3d::Zero();  // kNearest: cluster centroid nearest to this
+  // kIndex: the object with this index in the scene's object list (sorted by point count, largest
+  // first: index 0 is "largest"), the numbering `run --object all` and the reports use.
+  std::size_t index = 0;
 
-  // "largest" | "all" | "nearest:x,y,z" (metres, cloud frame). Throws InvalidArgument.
+  // "largest" | "all" | "nearest:x,y,z" (metres, cloud frame) | "index:k" (k >= 0). Throws
+  // InvalidArgument.
   static TargetSpec parse(const std::string& text);
   std::string toString() const;
 };
