@@ -133,11 +133,16 @@ void addObjectTable(HtmlReport& report, const SceneRunResult& r) {
                     o.reason.empty() ? "ok" : o.reason + ": " + o.status.message});
   }
   report.table({"object (colour)", "points", "grasps", "best score", "seconds", "status"}, rows);
+  std::string links = "<p>Sections:";
+  for (const auto& o : r.objects)
+    links += fmt::format(" <a href=\"#object-{0}\">object {0}</a>", o.id);
+  report.rawHtml(links + "</p>\n");
 }
 
 void addObjectSection(HtmlReport& report, OutputTransaction& outputs, const std::string& dir,
                       const SceneObjectRun& o, const HandModel& hand) {
-  report.heading(fmt::format("Object {}", o.id));
+  // The id is the anchor the overview's links (and the demo's index) point to.
+  report.rawHtml(fmt::format("<h2 id=\"object-{0}\">Object {0}</h2>\n", o.id));
   report.paragraph(fmt::format(
       "{} points, centroid ({:.3f}, {:.3f}, {:.3f}) m; {} ranked grasps in {:.2f} s{}.",
       o.info.points, o.info.centroid.x(), o.info.centroid.y(), o.info.centroid.z(), o.ranked.size(),

@@ -10,6 +10,7 @@
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/perception/cloud_io.h"
+#include "skelgrasp/perception/demo_scene.h"
 #include "test_support.h"
 
 namespace skelgrasp {
@@ -143,14 +144,33 @@ TEST(DemoCli, EveryObjectOfTheGeneratedSceneGetsGraspsAndAReport) {
   const auto cloud = perception::loadPointCloud(dir + "/demo/scene.pcd");
   EXPECT_GT(cloud.size(), 100000u);
   EXPECT_GT(cloud.sensor_origin.norm(), 0.5);
-  EXPECT_TRUE(std::filesystem::exists(dir + "/demo/index.html"));
-  for (const char* object : {"bottle", "mug", "box", "hammer", "ball"}) {
-    const std::string sub = dir + "/demo/" + object;
-    const auto j = readJsonFile(sub + "/grasps.json");
-    EXPECT_GE(j["grasps"].size(), 1u) << object;
-    EXPECT_TRUE(std::filesystem::exists(sub + "/report.html")) << object;
+  // One `run --object all`: one report, one grasps.json with every object, and the index naming
+  // the objects the scene was made of with a link to each one's section.
+  for (const char* file : {"index.html", "report.html", "scene.bt", "scan.png"})
+    EXPECT_TRUE(std::filesystem::exists(dir + "/demo/" + file)) << file;
+  const auto j = readJsonFile(dir + "/demo/grasps.json");
+  ASSERT_GE(j["objects"].size(), 5u);
+  std::ifstream index_file(dir + "/demo/index.html");
+  const std::string index((std::istreambuf_iterator<char>(index_file)), {});
+  const auto demo = perception::makeDemoScene(1, 3);
+  for (std::size_t k = 1; k < demo.meshes.size(); ++k) {
+    const std::string& object = demo.names[k];
     EXPECT_TRUE(std::filesystem::exists(dir + "/demo/truth_" + object + ".ply")) << object;
+    EXPECT_NE(index.find("<td>" + object + "</td>"), std::string::npos) << object;
+    // The run's object nearest to what was made has grasps.
+    double best = 1e9;
+    std::size_t grasps = 0;
+    for (const auto& o : j["objects"]) {
+      const Eigen::Vector3d c(o["centroid"][0], o["centroid"][1], o["centroid"][2]);
+      if ((c - demo.centres[k]).norm() < best) {
+        best = (c - demo.centres[k]).norm();
+        grasps = o["grasps"].get<std::size_t>();
+      }
+    }
+    EXPECT_LT(best, 0.05) << object;
+    EXPECT_GE(grasps, 1u) << object;
   }
+  EXPECT_NE(index.find("report.html#object-"), std::string::npos);
 }
 
 TEST(BenchRunCli, ReportsEveryStageOfEveryInput) {
