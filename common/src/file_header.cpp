@@ -170,8 +170,10 @@ PlyHeader readPlyHeader(const std::string& path) {
         property.is_list = true;
         property.count_bytes = plyTypeBytes(path, count_type);
         property.value_bytes = plyTypeBytes(path, item_type);
+        property.type = item_type;
       } else {
         property.value_bytes = plyTypeBytes(path, type);
+        property.type = type;
       }
       if (!(tokens >> property.name)) throw IoError(path, where + ": property without a name");
       header.elements.back().properties.push_back(property);
@@ -196,6 +198,12 @@ void requirePlyVertexXyz(const std::string& path, const PlyHeader& header) {
     if (p->is_list) {
       throw IoError(path,
                     std::string("PLY vertex property '") + axis + "' is a list, not a number");
+    }
+    // CGAL's PLY reader reads coordinates only as float or double: an integer coordinate makes
+    // it call through a null pointer (found by fuzzing: `property uint8 z`).
+    if (p->type != "float" && p->type != "float32" && p->type != "double" && p->type != "float64") {
+      throw IoError(path, std::string("PLY vertex property '") + axis + "' is of type " + p->type +
+                              ", expected float or double");
     }
   }
 }

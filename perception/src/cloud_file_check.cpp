@@ -32,6 +32,27 @@ std::uint32_t readUint32Le(const unsigned char* b) {
   return b[0] | (b[1] << 8) | (b[2] << 16) | (static_cast<std::uint32_t>(b[3]) << 24);
 }
 
+// SIZE and TYPE of each field must be a size PCL copies by: F 4 or 8 bytes, I and U 1, 2, 4 or 8.
+// PCL converts fields by their type's size whatever SIZE says, so `SIZE 4 0 0` made it copy
+// 12 bytes out of a 4-byte point (a heap overflow; found by fuzzing).
+void checkPcdFieldTypes(const std::string& path, const std::vector<std::string>& sizes,
+                        const std::vector<std::string>& types) {
+  for (std::size_t i = 0; i < sizes.size(); ++i) {
+    const std::string& size = sizes[i];
+    const bool integer_size = size == "1" || size == "2" || size == "4" || size == "8";
+    const bool float_size = size == "4" || size == "8";
+    // Without TYPE only the sizes are checked.
+    const std::string type = i < types.size() ? types[i] : "?";
+    const bool ok = (type == "F" && float_size) || ((type == "I" || type == "U") && integer_size) ||
+                    (type == "?" && integer_size);
+    if (!ok) {
+      throw IoError(path, "PCD header: field " + std::to_string(i + 1) + " has SIZE " + size +
+                              " and TYPE " + type +
+                              " (F takes 4 or 8 bytes, I and U take 1, 2, 4 or 8)");
+    }
+  }
+}
+
 }  // namespace
 
 DeclaredCloud checkPcdDeclaredSize(const std::string& path) {
@@ -75,6 +96,7 @@ DeclaredCloud checkPcdDeclaredSize(const std::string& path) {
                               std::to_string(fields) + " FIELDS");
     }
   }
+  checkPcdFieldTypes(path, keys["SIZE"], keys["TYPE"]);
   if (data_type.empty()) return {};  // no DATA line: PCL rejects the header before reading data
   const auto& sizes = keys["SIZE"];
   const auto& counts = keys["COUNT"];
@@ -90,9 +112,8 @@ DeclaredCloud checkPcdDeclaredSize(const std::string& path) {
     }
     const std::uint64_t width = parseHeaderCount(path, "PCD header: WIDTH", keys["WIDTH"][0]);
     const std::uint64_t height =
-        keys["HEIGHT"].size() == 1
-            ? parseHeaderCount(path, "PCD header: HEIGHT", keys["HEIGHT"][0])
-            : 1;
+        keys["HEIGHT"].size() == 1 ? parseHeaderCount(path, "PCD header: HEIGHT", keys["HEIGHT"][0])
+                                   : 1;
     declared.points = mulSaturating(width, height);
   } else if (keys["POINTS"].size() == 1) {
     // Without SIZE or WIDTH PCL fills in what it can (the width from POINTS) and allocates every

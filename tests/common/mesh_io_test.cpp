@@ -155,6 +155,13 @@ INSTANTIATE_TEST_SUITE_P(
                  "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
                  "0 0\n1 0\n0 1\n3 0 1 2\n",
                  "PLY vertex element has no 'z' property"},
+        // CGAL reads coordinates only as float or double (fuzz/regressions/mesh_reader/
+        // ply_integer_coordinate).
+        BadInput{"ply_integer_coordinate", "int_z.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                 "property uint8 z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                 "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+                 "PLY vertex property 'z' is of type uint8, expected float or double"},
         BadInput{"ply_without_face_indices", "faces.ply",
                  "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                  "property float z\nelement face 1\nproperty uchar flags\nend_header\n"

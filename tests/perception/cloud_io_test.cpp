@@ -173,6 +173,16 @@ INSTANTIATE_TEST_SUITE_P(
         BadCloud{"points_without_size", "nosize.pcd",
                  "VERSION 0.7\nFIELDS x\nPOINTS 5000000\nDATA ascii\n0 0 0\n",
                  "declares 5000000 points"},
+        // PCL copies each field by its type's size whatever SIZE says (fuzz/regressions/
+        // cloud_reader/pcd_field_size_zero_overflow).
+        BadCloud{"field_size_zero", "size0.pcd",
+                 "VERSION 0.7\nFIELDS x y z\nSIZE 4 0 0\nPOINTS 3\nDATA ascii\n0 0 0\n0.1 0 0\n"
+                 "0 0.1 0\n",
+                 "field 2 has SIZE 0"},
+        BadCloud{"float_field_of_two_bytes", "f2.pcd",
+                 "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 2\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1\n"
+                 "HEIGHT 1\nPOINTS 1\nDATA ascii\n0 0 0\n",
+                 "field 3 has SIZE 2 and TYPE F"},
         BadCloud{"ply_without_z", "flat.ply",
                  "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
                  "end_header\n0 0\n1 1\n",

@@ -39,6 +39,7 @@ struct PlyProperty {
   bool is_list = false;
   std::uint64_t value_bytes = 0;  // scalar: its size; list: the size of one item
   std::uint64_t count_bytes = 0;  // list only: the size of its length prefix
+  std::string type;               // as written: scalar type, or a list's item type
 };
 
 struct PlyElement {
