@@ -11,15 +11,15 @@
 #include "skelgrasp/common/error.h"
 
 namespace skelgrasp {
-namespace {
 
-// At most a few characters of `text` for an error line, non-printable bytes as '?'.
 std::string printableText(const std::string& text) {
   constexpr std::size_t kMaxShownChars = 16;
   std::string out;
   for (char c : text.substr(0, kMaxShownChars)) out += (c >= ' ' && c <= '~') ? c : '?';
   return text.size() > kMaxShownChars ? out + "..." : out;
 }
+
+namespace {
 
 // A PLY header is a few hundred bytes; a file without "end_header" in its first MiB is not PLY,
 // and stopping there keeps a binary file without newlines from being read whole as one line.

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 #include "skelgrasp/common/atomic_file.h"
@@ -101,38 +102,71 @@ std::string faceIndexProblem(const std::string& ext, std::size_t face, std::int6
          " vertices (index out of range; indices count from 0)";
 }
 
-// CGAL's OFF reader stops at a face index it cannot use without saying which: find it in the
-// text (faces follow the header line and one line per vertex; blank and '#' lines skipped).
+// One whitespace-separated token of an OFF file; '#' starts a comment to the end of its line.
+bool nextOffToken(std::istream& in, std::string& token) {
+  while (in >> token) {
+    if (token[0] != '#') return true;
+    in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+  }
+  return false;
+}
+
+// A face's vertex index as the file writes it: an integer of at most 18 digits (so it fits
+// std::int64_t), else nullopt.
+std::optional<std::int64_t> offIndexValue(const std::string& token) {
+  constexpr std::size_t kMaxIndexDigits = 18;
+  const std::size_t sign = token[0] == '-' || token[0] == '+';
+  const std::size_t digits = token.size() - sign;
+  if (digits == 0 || digits > kMaxIndexDigits ||
+      !std::all_of(token.begin() + sign, token.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    return std::nullopt;
+  return std::stoll(token);
+}
+
+// CGAL's OFF reader reads face indices as floating-point numbers and converts them to
+// std::size_t: an index that is not an integer in range is undefined behaviour there (1e62 was
+// found by fuzzing), and otherwise it stops without saying which. This walks the file as CGAL
+// does (header counts, then per vertex three coordinates and the rest of its line, per face a
+// corner count and that many indices and the rest of its line) and names the first bad index.
 std::string findOffFaceIndexProblem(const std::string& path) {
   std::ifstream in(path);
-  std::int64_t vertices = -1, faces = -1;
-  std::int64_t line_index = 0, face = 0;
-  for (std::string line; std::getline(in, line);) {
-    const auto hash = line.find('#');
-    if (hash != std::string::npos) line.erase(hash);
-    std::istringstream tokens(line);
-    if (vertices < 0) {
-      std::string magic;
-      if (!(tokens >> magic)) continue;
-      if (magic.find("OFF") == std::string::npos) return {};
-      if (!(tokens >> vertices >> faces)) {
-        if (!(in >> vertices >> faces)) return {};
-        in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
-      }
-      continue;
+  std::string magic, token;
+  if (!nextOffToken(in, magic) || magic.find("OFF") == std::string::npos) return {};
+  std::int64_t counts[3] = {0, 0, 0};
+  for (auto& count : counts) {
+    if (!nextOffToken(in, token)) return {};
+    const auto value = offIndexValue(token);
+    if (!value || *value < 0) return {};  // the header check has named a bad count
+    count = *value;
+  }
+  const std::int64_t vertices = counts[0], faces = counts[1];
+  constexpr int kCoordinatesPerVertex = 3;
+  for (std::int64_t v = 0; v < vertices; ++v) {
+    for (int k = 0; k < kCoordinatesPerVertex; ++k) {
+      if (!nextOffToken(in, token)) return {};  // too short: CGAL says so
     }
-    std::string first;
-    if (!(tokens >> first)) continue;
-    if (line_index++ < vertices) continue;
-    if (face >= faces) break;
-    const std::int64_t corners = std::atoll(first.c_str());
-    for (std::int64_t k = 0, index = 0; k < corners && tokens >> index; ++k) {
-      if (index < 0 || index >= vertices) {
-        return faceIndexProblem("off", static_cast<std::size_t>(face), index,
+    in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+  }
+  for (std::int64_t face = 0; face < faces; ++face) {
+    if (!nextOffToken(in, token)) return {};
+    const auto corners = offIndexValue(token);
+    if (!corners || *corners < 0) {
+      return "face " + std::to_string(face) + " has a corner count that is not a count ('" +
+             printableText(token) + "')";
+    }
+    for (std::int64_t k = 0; k < *corners; ++k) {
+      if (!nextOffToken(in, token)) return {};
+      const auto index = offIndexValue(token);
+      if (!index) {
+        return "face " + std::to_string(face) + " has a vertex index that is not an integer ('" +
+               printableText(token) + "')";
+      }
+      if (*index < 0 || *index >= vertices) {
+        return faceIndexProblem("off", static_cast<std::size_t>(face), *index,
                                 static_cast<std::size_t>(vertices));
       }
     }
-    ++face;
+    in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
   }
   return {};
 }
@@ -203,6 +237,10 @@ TriangleMesh loadMesh(const std::string& path, const MeshLoadOptions& options, M
   }
   // Before CGAL allocates what the header declares and silently defaults missing coordinates.
   checkMeshFileHeader(path, ext);
+  if (ext == "off") {
+    const std::string problem = findOffFaceIndexProblem(path);
+    if (!problem.empty()) throw IoError(path, problem);
+  }
 
   std::vector<CgalPoint> points;
   std::vector<std::vector<std::size_t>> polygons;

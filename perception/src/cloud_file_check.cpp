@@ -96,6 +96,13 @@ DeclaredCloud checkPcdDeclaredSize(const std::string& path) {
                               std::to_string(fields) + " FIELDS");
     }
   }
+  // PCL converts each field by its TYPE; SIZE without TYPE (or TYPE without SIZE) leaves one of
+  // them to PCL's defaults, and `SIZE 8 1 1` without TYPE overflowed like `SIZE 4 0 0` (found by
+  // fuzzing).
+  if (keys.count("SIZE") != keys.count("TYPE")) {
+    throw IoError(path, std::string("PCD header: ") + (keys.count("SIZE") ? "SIZE" : "TYPE") +
+                            " without " + (keys.count("SIZE") ? "TYPE" : "SIZE"));
+  }
   checkPcdFieldTypes(path, keys["SIZE"], keys["TYPE"]);
   if (data_type.empty()) return {};  // no DATA line: PCL rejects the header before reading data
   const auto& sizes = keys["SIZE"];

@@ -172,6 +172,16 @@ INSTANTIATE_TEST_SUITE_P(
                  "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
                  "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 -7\n",
                  "face 0 has a negative vertex index (-7)"},
+        // CGAL converts OFF indices from floating point (fuzz/regressions/mesh_reader/
+        // off_face_index_1e62); faces may start on the header's line.
+        BadInput{"off_index_beyond_integers", "huge.off",
+                 "OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 99999999999999999999999999\n",
+                 "face 0 has a vertex index that is not an integer"},
+        BadInput{"off_fractional_index", "fraction.off",
+                 "OFF 3 1 0 0 0 0\n1 0 0\n0 1 0\n3 0 1 1.5\n",
+                 "face 0 has a vertex index that is not an integer ('1.5')"},
+        BadInput{"off_face_on_header_line", "inline.off", "OFF 0 1 0 3 7 1 2\n",
+                 "face 0 references vertex 7"},
         BadInput{"off_negative_index", "negative.off",
                  "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 -7 1\n", "negative vertex index (-7)"},
         BadInput{"obj_relative_index_before_first", "relative.obj",

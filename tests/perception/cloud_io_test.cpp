@@ -176,9 +176,15 @@ INSTANTIATE_TEST_SUITE_P(
         // PCL copies each field by its type's size whatever SIZE says (fuzz/regressions/
         // cloud_reader/pcd_field_size_zero_overflow).
         BadCloud{"field_size_zero", "size0.pcd",
-                 "VERSION 0.7\nFIELDS x y z\nSIZE 4 0 0\nPOINTS 3\nDATA ascii\n0 0 0\n0.1 0 0\n"
-                 "0 0.1 0\n",
+                 "VERSION 0.7\nFIELDS x y z\nSIZE 4 0 0\nTYPE F F F\nPOINTS 3\nDATA ascii\n0 0 0\n"
+                 "0.1 0 0\n0 0.1 0\n",
                  "field 2 has SIZE 0"},
+        // Without TYPE PCL picks the type itself (fuzz/regressions/cloud_reader/
+        // pcd_size_without_type_overflow).
+        BadCloud{"size_without_type", "notype.pcd",
+                 "VERSION 0.7\nFIELDS x y z\nSIZE 8 1 1\nWIDTH 3\nHEIGHT 1\nPOINTS 3\n"
+                 "DATA ascii\n0 0 0\n0.1 0 0\n0 0.1 0\n",
+                 "PCD header: SIZE without TYPE"},
         BadCloud{"float_field_of_two_bytes", "f2.pcd",
                  "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 2\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1\n"
                  "HEIGHT 1\nPOINTS 1\nDATA ascii\n0 0 0\n",

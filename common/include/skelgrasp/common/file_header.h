@@ -34,6 +34,9 @@ inline constexpr std::uint64_t kMinAsciiBytesPerValue = 2;
 std::uint64_t parseHeaderCount(const std::string& path, const std::string& what,
                                const std::string& token);
 
+// At most a few characters of `text` for an error line, non-printable bytes as '?'.
+std::string printableText(const std::string& text);
+
 struct PlyProperty {
   std::string name;
   bool is_list = false;
