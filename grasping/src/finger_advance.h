@@ -1,0 +1,219 @@
+#pragma once
+// The finger advance of GraspSimulator::close as a class shared by its two translation units:
+// finger_advance.cpp (geometry, collision tests, the stepwise closing) and finger_advance_fast.cpp
+// (the fast closing's jumps and the gap bounds behind them).
+#include <map>
+#include <utility>
+#include <vector>
+
+#include "simulator_internal.h"
+
+namespace skelgrasp::grasping::internal {
+
+// A joint move smaller than this (radians or metres) is no move: the joints are at their limits.
+constexpr double kNoJointMove = 1e-12;
+// Slack (in steps) so that a room that is a whole number of steps up to rounding is not one more.
+constexpr double kStepCountSlack = 1e-9;
+
+// A lower bound of the distance between two placed shapes from their covering spheres.
+double sphereCoverGap(const ShapeInstance& a, const ShapeInstance& b);
+
+enum class Blocker { kNone, kObject, kFinger, kPalm };
+
+// One closing: the configuration, the links the object blocked, and the moves that keep the
+// configuration collision-free.
+class FingerAdvance {
+ public:
+  FingerAdvance(const HandModel& hand, HandGeometry& geometry, const GraspObject& object,
+                const Pose& hand_pose, const AllowedPairs& allowed, const Eigen::VectorXd& start,
+                std::size_t& queries)
+      : hand_(hand),
+        geometry_(geometry),
+        grasp_object_(object),
+        object_(*object.collisionData().object),
+        hand_pose_(hand_pose),
+        allowed_(allowed),
+        queries_(queries),
+        q_(start),
+        touched_(hand.links().size(), 0),
+        moved_(hand.links().size(), 0.0) {}
+
+  // What blocks finger `finger` at its current placement (object contacts are noted).
+  // `check_object` false: the object is known to be out of reach (fast closing's budget).
+  Blocker blocked(int finger, bool check_object = true) {
+    auto& shapes = geometry_.shapes;
+    for (int l : geometry_.links_of_finger[finger]) {
+      if (check_object && linkHitsObject(shapes[l], object_, queries_)) {
+        touched_[l] = 1;
+        return Blocker::kObject;
+      }
+      for (int other : geometry_.finger_links) {
+        if (hand_.fingerOfLink(other) != finger && !allowed_.allowed(l, other) &&
+            linksCollide(shapes[l], shapes[other], queries_)) {
+          return Blocker::kFinger;
+        }
+      }
+      if (hand_.modeOfLink(l) == CollisionMode::kAll) {
+        for (int s : geometry_.static_links) {
+          if (!allowed_.allowed(l, s) && linksCollide(shapes[l], shapes[s], queries_))
+            return Blocker::kPalm;
+        }
+      }
+    }
+    return Blocker::kNone;
+  }
+
+  // Only the moving finger's links change pose (a drive moves joints of its own finger).
+  void placeFinger(int finger, const Eigen::VectorXd& config) {
+    const auto poses = hand_.linkPoses(config);
+    for (int l : geometry_.links_of_finger[finger])
+      placeLink(hand_pose_ * poses[l], geometry_.shapes[l]);
+  }
+
+  // Tries q + the given (joint, amount) moves; keeps it if collision-free.
+  bool tryMove(int finger, const std::vector<std::pair<int, double>>& moves,
+               bool check_object = true) {
+    Eigen::VectorXd candidate = q_;
+    for (const auto& [joint, amount] : moves) candidate[joint] += amount;
+    hand_.normalise(candidate);
+    if ((candidate - q_).cwiseAbs().maxCoeff() < kNoJointMove) return false;  // at the limits
+    placeFinger(finger, candidate);
+    if (blocked(finger, check_object) != Blocker::kNone) {
+      placeFinger(finger, q_);
+      return false;
+    }
+    noteMove(finger, candidate);
+    q_ = candidate;
+    return true;
+  }
+
+  // One step of a drive: the drive joint with its followers; when that is blocked, a tendon keeps
+  // pulling whichever phalanx is still free.
+  bool stepDrive(int finger, const FingerDrive& drive, double step, bool check_object = true) {
+    std::vector<std::pair<int, double>> all{{drive.joint, step}};
+    for (const auto& [joint, ratio] : drive.followers) all.emplace_back(joint, ratio * step);
+    bool moved = tryMove(finger, all, check_object);
+    for (std::size_t k = 0; !moved && all.size() > 1 && k < all.size(); ++k) {
+      moved = tryMove(finger, {all[k]}, check_object);
+    }
+    return moved;
+  }
+
+  AdvanceResult run(const AdvanceSettings& settings) {
+    return settings.method == ClosingMethod::kFast ? runFast(settings) : runStepwise(settings);
+  }
+
+  // Fast closing: the stepwise closing's steps, but steps that provably keep every link clear of
+  // everything it may hit are taken at once (conservative advancement: the exact gap against the
+  // displacement bound of one step). Fingers that may meet each other within their remaining
+  // travel form a group that moves in lockstep, as in the stepwise closing, so the finger that
+  // blocks the other is the same; groups that cannot meet move independently.
+  AdvanceResult runFast(const AdvanceSettings& settings);
+
+  AdvanceResult runStepwise(const AdvanceSettings& settings) {
+    AdvanceResult result;
+    const auto& fingers = hand_.fingers();
+    for (int pass = 0; pass < settings.max_passes; ++pass) {
+      std::vector<std::vector<char>> active(fingers.size());
+      for (std::size_t f = 0; f < fingers.size(); ++f)
+        active[f].assign(fingers[f].drives.size(), 1);
+      int iterations = 0;
+      bool any_active = true;
+      while (any_active && iterations < settings.max_iterations_per_pass) {
+        any_active = false;
+        for (std::size_t f = 0; f < fingers.size(); ++f) {
+          for (std::size_t d = 0; d < fingers[f].drives.size(); ++d) {
+            if (!active[f][d]) continue;
+            const auto& drive = fingers[f].drives[d];
+            const double step = drive.direction * stepOf(drive.joint, settings);
+            if (stepDrive(static_cast<int>(f), drive, step)) {
+              any_active = true;
+            } else {
+              active[f][d] = 0;
+            }
+          }
+        }
+        ++iterations;
+      }
+      result.iterations += iterations;
+      result.passes = pass + 1;
+      if (iterations <= 2) break;
+    }
+    result.joints = q_;
+    result.touched = touched_;
+    return result;
+  }
+
+ private:
+  struct Drive {
+    int finger;
+    const FingerDrive* drive;
+    std::vector<std::pair<int, double>> moves;  // (joint, amount) of one step
+    int steps;
+    bool stopped;
+  };
+
+  // Joint change of `count` steps of the moves from the current configuration (limits, mimics).
+  Eigen::VectorXd changeOf(const std::vector<std::pair<int, double>>& moves, double count) const;
+
+  // Steps until every joint a drive moves is at its limit.
+  double stepsToLimits(const std::vector<std::pair<int, double>>& moves) const;
+
+  // Links that may block each other: fingers other than `finger`, not allowed in the preshape.
+  bool mayBlock(int link, int other_finger_link) const;
+
+  // A lower bound of the distance between two links: their AABBs when that already reaches
+  // `needed`, else the exact FCL distance.
+  double linkPairGap(int a, int b, double needed);
+
+  double computeLinkPairGap(int a, int b, double needed);
+
+  // A lower bound of the distance from a link to the object (the object's distance field).
+  double objectGap(int link, double needed);
+
+  // Adds the displacement bound of the move to `config` to every link of `finger` (called before
+  // q_ becomes `config`): the cached gaps stay lower bounds.
+  void noteMove(int finger, const Eigen::VectorXd& config);
+
+  // Per finger, the group it moves in lockstep with: fingers whose links may come within reach
+  // of each other before all their drives reach the limits (the bound of the whole remaining
+  // travel of both against their gap) share a group.
+  std::vector<int> lockstepGroups(const std::vector<Drive>& drives);
+
+  // Moves every drive of a lockstep group by the same number of steps, as many as provably keep
+  // each link clear of the object, the palm and the group's other fingers. Returns the steps
+  // taken, or 0 when fewer than two are safe (stepDrive then takes one checked step per drive).
+  int jumpGroup(std::vector<Drive*>& members, int max_steps, double& object_safe);
+
+  double stepOf(int joint, const AdvanceSettings& settings) const {
+    return hand_.joints()[joint].type == JointType::kPrismatic ? settings.step_m
+                                                               : settings.step_rad;
+  }
+
+  const HandModel& hand_;
+  HandGeometry& geometry_;
+  const GraspObject& grasp_object_;
+  const fcl::CollisionObjectd& object_;
+  const Pose hand_pose_;
+  const AllowedPairs& allowed_;
+  std::size_t& queries_;
+  Eigen::VectorXd q_;
+  std::vector<char> touched_;
+
+  // Gap lower bounds kept valid while links move: a gap found once, less the displacement bounds
+  // (motion_bounds.cpp) both links have moved since. A jump attempt recomputes a gap only when its
+  // bound would limit the jump, so far from contact the distance queries run once per closing
+  // instead of once per attempt.
+  struct GapBound {
+    double gap;
+    double moved_a, moved_b;  // moved_ of the two links when `gap` was found
+    double current(double now_a, double now_b) const {
+      return gap - (now_a - moved_a) - (now_b - moved_b);
+    }
+  };
+  std::vector<double> moved_;  // per link: summed displacement bounds of its moves so far
+  std::map<std::pair<int, int>, GapBound> pair_gaps_;
+  std::map<int, GapBound> object_gaps_;
+};
+
+}  // namespace skelgrasp::grasping::internal

@@ -1,0 +1,265 @@
+// The fast closing (docs/hands.md, "Closing: fast or stepwise"): the stepwise closing's steps,
+// but those that provably keep every link clear are taken at once, bounded by gaps that stay
+// valid while the links move.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include "finger_advance.h"
+
+namespace skelgrasp::grasping::internal {
+namespace {
+
+// Kept between a link and an obstacle after a jump: covers the tolerance of FCL's distances.
+constexpr double kClearanceMarginM = 1e-5;
+// Longest pause (iterations) between jump attempts of a lockstep group that could not jump.
+constexpr int kMaxBackoffIterations = 16;
+
+}  // namespace
+
+// Fast closing: the stepwise closing's steps, but steps that provably keep every link clear of
+// everything it may hit are taken at once (conservative advancement: the exact gap against the
+// displacement bound of one step). Fingers that may meet each other within their remaining
+// travel form a group that moves in lockstep, as in the stepwise closing, so the finger that
+// blocks the other is the same; groups that cannot meet move independently.
+AdvanceResult FingerAdvance::runFast(const AdvanceSettings& settings) {
+  AdvanceResult result;
+  const auto& fingers = hand_.fingers();
+  for (int pass = 0; pass < settings.max_passes; ++pass) {
+    std::vector<Drive> drives;
+    for (std::size_t f = 0; f < fingers.size(); ++f) {
+      for (const auto& drive : fingers[f].drives) {
+        Drive d{static_cast<int>(f), &drive, {}, 0, false};
+        const double step = drive.direction * stepOf(drive.joint, settings);
+        d.moves.emplace_back(drive.joint, step);
+        for (const auto& [joint, ratio] : drive.followers)
+          d.moves.emplace_back(joint, ratio * step);
+        drives.push_back(std::move(d));
+      }
+    }
+    const std::vector<int> group = lockstepGroups(drives);
+    // Per group: iterations still provably clear of the object (no object tests needed).
+    std::vector<int> object_budget(fingers.size(), 0);
+    std::vector<int> retry_in(fingers.size(), 0), backoff(fingers.size(), 1);
+    int iterations = 0, most_steps = 0;
+    bool any_active = true;
+    while (any_active) {
+      any_active = false;
+      for (int g = 0; g < static_cast<int>(fingers.size()); ++g) {
+        std::vector<Drive*> members;
+        for (auto& d : drives) {
+          if (group[d.finger] == g && !d.stopped && d.steps < settings.max_iterations_per_pass)
+            members.push_back(&d);
+        }
+        if (members.empty()) continue;
+        int moved = 0;
+        if (object_budget[g] <= 0 && --retry_in[g] <= 0) {
+          double object_safe = 0;
+          moved = jumpGroup(members, settings.max_iterations_per_pass, object_safe);
+          // Blocked only by the hand itself: steps without object tests while provably clear.
+          if (moved == 0) object_budget[g] = static_cast<int>(object_safe);
+          // Near contact the bounds rarely allow a jump: retry after growing pauses, so the
+          // crawl costs no more distance queries than steps.
+          backoff[g] = moved > 0 ? 1 : std::min(2 * backoff[g], kMaxBackoffIterations);
+          retry_in[g] = backoff[g];
+        }
+        if (moved == 0) {
+          // Near an obstacle: one checked step per drive, exactly the stepwise iteration.
+          const bool check_object = object_budget[g] <= 0;
+          object_budget[g] = std::max(0, object_budget[g] - 1);
+          for (Drive* d : members) {
+            if (stepDrive(d->finger, *d->drive, d->moves.front().second, check_object)) {
+              d->steps += 1;
+              moved = 1;
+            } else {
+              d->stopped = true;
+            }
+          }
+        }
+        for (Drive* d : members) most_steps = std::max(most_steps, d->steps);
+        any_active = any_active || moved > 0;
+      }
+      ++iterations;
+    }
+    result.iterations += iterations;
+    result.passes = pass + 1;
+    // The stepwise rule (a pass of at most two iterations): no drive moved more than one step.
+    if (most_steps <= 1) break;
+  }
+  result.joints = q_;
+  result.touched = touched_;
+  return result;
+}
+
+Eigen::VectorXd FingerAdvance::changeOf(const std::vector<std::pair<int, double>>& moves,
+                                        double count) const {
+  Eigen::VectorXd moved = q_;
+  for (const auto& [joint, amount] : moves) moved[joint] += count * amount;
+  hand_.normalise(moved);
+  return moved - q_;
+}
+
+double FingerAdvance::stepsToLimits(const std::vector<std::pair<int, double>>& moves) const {
+  double steps = 0;
+  for (const auto& [joint, amount] : moves) {
+    const auto& j = hand_.joints()[joint];
+    const double room = amount > 0 ? j.upper - q_[joint] : q_[joint] - j.lower;
+    steps = std::max(steps, std::ceil(room / std::abs(amount) - kStepCountSlack));
+  }
+  return steps;
+}
+
+bool FingerAdvance::mayBlock(int link, int other_finger_link) const {
+  return hand_.fingerOfLink(other_finger_link) != hand_.fingerOfLink(link) &&
+         !allowed_.allowed(link, other_finger_link);
+}
+
+double FingerAdvance::linkPairGap(int a, int b, double needed) {
+  const std::pair<int, int> key = std::minmax(a, b);
+  const auto cached = pair_gaps_.find(key);
+  if (cached != pair_gaps_.end()) {
+    const double bound = cached->second.current(moved_[key.first], moved_[key.second]);
+    if (bound >= needed) return bound;
+  }
+  const double gap = computeLinkPairGap(a, b, needed);
+  pair_gaps_[key] = {gap, moved_[key.first], moved_[key.second]};
+  return gap;
+}
+
+double FingerAdvance::computeLinkPairGap(int a, int b, double needed) {
+  double gap = std::numeric_limits<double>::infinity();
+  fcl::DistanceRequestd request;
+  for (const auto& sa : geometry_.shapes[a]) {
+    for (const auto& sb : geometry_.shapes[b]) {
+      double bound = sa.object->getAABB().distance(sb.object->getAABB());
+      if (bound < needed) bound = std::max(bound, sphereCoverGap(sa, sb));
+      if (bound >= needed) {
+        gap = std::min(gap, bound);
+        continue;
+      }
+      fcl::DistanceResultd distance;
+      ++queries_;
+      fcl::distance(sa.object.get(), sb.object.get(), request, distance);
+      gap = std::min(gap, distance.min_distance);
+    }
+  }
+  return gap;
+}
+
+double FingerAdvance::objectGap(int link, double needed) {
+  const auto cached = object_gaps_.find(link);
+  if (cached != object_gaps_.end()) {
+    const double bound = cached->second.current(moved_[link], 0.0);
+    if (bound >= needed) return bound;
+  }
+  const double gap = linkObjectGap(geometry_.shapes[link], grasp_object_.distanceField(), needed);
+  object_gaps_[link] = {gap, moved_[link], 0.0};
+  return gap;
+}
+
+void FingerAdvance::noteMove(int finger, const Eigen::VectorXd& config) {
+  const Eigen::VectorXd change = config - q_;
+  for (int l : geometry_.links_of_finger[finger])
+    moved_[l] += geometry_.motion.displacement(l, change);
+}
+
+std::vector<int> FingerAdvance::lockstepGroups(const std::vector<Drive>& drives) {
+  const int fingers = static_cast<int>(hand_.fingers().size());
+  std::vector<double> travel(hand_.links().size(), 0);
+  for (const auto& d : drives) {
+    const Eigen::VectorXd change = changeOf(d.moves, stepsToLimits(d.moves));
+    for (int l : geometry_.links_of_finger[d.finger])
+      travel[l] += geometry_.motion.displacement(l, change);
+  }
+  std::vector<int> group(fingers);
+  std::iota(group.begin(), group.end(), 0);
+  const auto root = [&](int f) {
+    while (group[f] != f) f = group[f];
+    return f;
+  };
+  for (int a : geometry_.finger_links) {
+    for (int b : geometry_.finger_links) {
+      const int fa = hand_.fingerOfLink(a), fb = hand_.fingerOfLink(b);
+      if (fa >= fb || !mayBlock(a, b) || root(fa) == root(fb)) continue;
+      const double reach = travel[a] + travel[b];
+      if (linkPairGap(a, b, reach + kClearanceMarginM) <= reach + kClearanceMarginM)
+        group[root(fb)] = root(fa);
+    }
+  }
+  for (int f = 0; f < fingers; ++f) group[f] = root(f);
+  return group;
+}
+
+int FingerAdvance::jumpGroup(std::vector<Drive*>& members, int max_steps, double& object_safe) {
+  object_safe = 0;
+  std::vector<Eigen::VectorXd> changes;
+  double cap = 0;
+  for (Drive* d : members) {
+    changes.push_back(changeOf(d->moves, 1));
+    cap = std::max(cap, std::min<double>(stepsToLimits(d->moves), max_steps - d->steps));
+  }
+  if (cap < 2) return 0;
+  // Displacement bound of one lockstep iteration, per link of the group.
+  std::map<int, double> per_step;
+  for (std::size_t i = 0; i < members.size(); ++i) {
+    for (int l : geometry_.links_of_finger[members[i]->finger])
+      per_step[l] += geometry_.motion.displacement(l, changes[i]);
+  }
+  double steps = cap;
+  const auto limit = [&](double gap, double rate) {
+    if (rate > 0) steps = std::min(steps, std::floor((gap - kClearanceMarginM) / rate));
+  };
+  for (const auto& [l, rate] : per_step) {
+    if (rate > 0) limit(objectGap(l, rate * steps + kClearanceMarginM), rate);
+  }
+  object_safe = steps;
+  if (steps < 2) return 0;
+  for (const auto& [l, rate] : per_step) {
+    if (rate <= 0) continue;
+    if (hand_.modeOfLink(l) == CollisionMode::kAll) {
+      for (int s : geometry_.static_links) {
+        if (!allowed_.allowed(l, s))
+          limit(linkPairGap(l, s, rate * steps + kClearanceMarginM), rate);
+      }
+    }
+    // Other fingers: moving ones of the group (each pair once) and standing ones.
+    for (int other : geometry_.finger_links) {
+      if (!mayBlock(l, other)) continue;
+      const auto moving = per_step.find(other);
+      if (moving != per_step.end() && other < l) continue;
+      const double both = rate + (moving != per_step.end() ? moving->second : 0.0);
+      limit(linkPairGap(l, other, both * steps + kClearanceMarginM), both);
+    }
+    if (steps < 2) return 0;
+  }
+  // Only the group's fingers move; fingers outside the group cannot be reached (lockstepGroups).
+  Eigen::VectorXd candidate = q_;
+  for (Drive* d : members) {
+    for (const auto& [joint, amount] : d->moves) candidate[joint] += steps * amount;
+  }
+  hand_.normalise(candidate);
+  std::vector<int> noted;
+  for (Drive* d : members) {
+    if (std::find(noted.begin(), noted.end(), d->finger) != noted.end()) continue;
+    noteMove(d->finger, candidate);
+    noted.push_back(d->finger);
+  }
+  q_ = candidate;
+  std::vector<int> placed;
+  for (std::size_t i = 0; i < members.size(); ++i) {
+    Drive* d = members[i];
+    if (changes[i].cwiseAbs().maxCoeff() < kNoJointMove) {
+      d->stopped = true;  // at its limits, as the stepwise closing's first failed step
+    } else {
+      d->steps += static_cast<int>(steps);
+    }
+    if (std::find(placed.begin(), placed.end(), d->finger) == placed.end()) {
+      placeFinger(d->finger, q_);
+      placed.push_back(d->finger);
+    }
+  }
+  return static_cast<int>(steps);
+}
+
+}  // namespace skelgrasp::grasping::internal
