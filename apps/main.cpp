@@ -80,6 +80,7 @@ int main(int argc, char** argv) {
   cli::registerDatasetsCommand(app, action);
 #endif
   cli::registerExportCommand(app, action);
+  cli::registerScoreCommand(app, action);
 #ifndef SKELGRASP_MESH_COMMANDS_ONLY
   cli::registerBenchReconstructCommand(app, action);
   cli::registerBenchRunCommand(app, action);

@@ -7,27 +7,12 @@
 
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/json.h"
+#include "skelgrasp/grasping/grasps_file.h"
 
 namespace skelgrasp::grasping {
 namespace {
 
 constexpr double kNanosecondsPerSecond = 1e9;
-
-// The field `key` of `j`, or a clear error saying which grasp lacks it.
-const nlohmann::json& field(const nlohmann::json& j, const char* key, const std::string& where) {
-  if (!j.is_object() || !j.contains(key)) {
-    throw InvalidArgument(fmt::format("{} has no \"{}\"", where, key));
-  }
-  return j.at(key);
-}
-
-double number(const nlohmann::json& j, const char* key, const std::string& where) {
-  const auto& v = field(j, key, where);
-  if (!v.is_number() || !std::isfinite(v.get<double>())) {
-    throw InvalidArgument(fmt::format("{}: \"{}\" is not a finite number", where, key));
-  }
-  return v.get<double>();
-}
 
 // Movable joints named in a grasp's "joints", in the hand's joint order (the order a URDF lists
 // them, which is also what MoveIt's JointTrajectory expects to be stable across grasps).
@@ -106,21 +91,14 @@ struct GraspFields {
 GraspFields readGrasp(const nlohmann::json& g, std::size_t index, const HandModel& hand) {
   GraspFields f;
   f.where = fmt::format("grasp {}", index);
-  f.id = static_cast<int>(number(g, "id", f.where));
-  try {
-    f.hand_pose = poseFromJson(field(g, "hand_pose", f.where));
-  } catch (const nlohmann::json::exception&) {
-    throw InvalidArgument(f.where + ": \"hand_pose\" is not a pose");
-  }
-  const auto& preshape = field(g, "preshape", f.where);
-  if (!preshape.is_string()) throw InvalidArgument(f.where + ": \"preshape\" is not a string");
-  f.preshape = preshape.get<std::string>();
-  hand.preshape(f.preshape);  // throws naming the hand's preshapes
-  f.retreat_m = number(g, "retreat_m", f.where);
+  f.id = static_cast<int>(finiteNumberField(g, "id", f.where));
+  f.hand_pose = handPoseField(g, f.where);
+  f.preshape = preshapeField(g, hand, f.where, true);
+  f.retreat_m = finiteNumberField(g, "retreat_m", f.where);
   // The ranking score where the run wrote one, else the grasp quality ε.
-  f.quality =
-      g.contains("rank_score") ? number(g, "rank_score", f.where) : number(g, "epsilon", f.where);
-  const auto& joints = field(g, "joints", f.where);
+  f.quality = g.contains("rank_score") ? finiteNumberField(g, "rank_score", f.where)
+                                       : finiteNumberField(g, "epsilon", f.where);
+  const auto& joints = requiredField(g, "joints", f.where);
   f.joints = exportedJoints(joints, hand, f.where);
   for (int j : f.joints) f.closed.push_back(joints.at(hand.joints()[j].name).get<double>());
   return f;
@@ -232,9 +210,9 @@ std::string exportGrasps(const nlohmann::json& grasps_json, const HandModel& han
     throw InvalidArgument(
         "export parameters must be finite, non-negative and retreat >= min retreat");
   }
-  const auto& list = field(grasps_json, "grasps", "grasps file");
+  const auto& list = requiredField(grasps_json, "grasps", "grasps file");
   if (!list.is_array()) throw InvalidArgument("grasps file: \"grasps\" is not a list");
-  const auto& file_hand = field(grasps_json, "hand", "grasps file");
+  const auto& file_hand = requiredField(grasps_json, "hand", "grasps file");
   if (!file_hand.is_string() || file_hand.get<std::string>() != hand.name()) {
     throw InvalidArgument(
         fmt::format("grasps file was planned with hand {}, not {}", file_hand.dump(), hand.name()));

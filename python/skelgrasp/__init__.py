@@ -33,6 +33,7 @@ from ._skelgrasp import (  # noqa: F401
     render_plan,
     run,
     score,
+    score_grasps,
     set_log_level,
     skeleton,
 )

@@ -7,6 +7,7 @@
 #include "convert.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/evaluation/robustness.h"
+#include "skelgrasp/evaluation/score.h"
 #include "skelgrasp/grasping/hand_render.h"
 #include "skelgrasp/grasping/plan_output.h"
 #include "skelgrasp/grasping/planners.h"
@@ -213,6 +214,39 @@ py::list score(const Mesh& mesh, const HandPtr& hand, const py::object& grasps, 
     out.append(d);
   }
   return out;
+}
+
+// `skelgrasp score` on a grasps.json given as a path or as the parsed document (a dict).
+py::object scoreGraspsFile(const Mesh& mesh, const HandPtr& hand, const py::object& grasps,
+                           const std::vector<double>& mu, int robustness_samples,
+                           const std::string& robustness_variant, std::uint64_t seed,
+                           const std::string& closing, const std::optional<long long>& object) {
+  nlohmann::json file;
+  std::string source = "grasps";
+  if (py::isinstance<py::str>(grasps)) {
+    source = grasps.cast<std::string>();
+    file = readJsonFile(source);
+  } else {
+    const std::string text = py::module_::import("json").attr("dumps")(grasps).cast<std::string>();
+    file = nlohmann::json::parse(text);
+  }
+  evaluation::ScoreParams params;
+  params.frictions = mu;
+  params.compute_robustness = robustness_samples > 0;
+  if (robustness_samples < 0) throw InvalidArgument("robustness_samples: must be >= 0");
+  if (params.compute_robustness) params.robustness.samples = robustness_samples;
+  params.robustness.variant = evaluation::parseRobustnessVariant(robustness_variant);
+  params.robustness.seed = seed;
+  params.closing.method = grasping::parseClosingMethod(closing);
+  const auto placements = grasping::readGraspPlacements(file, *hand, object);
+  nlohmann::json out;
+  {
+    py::gil_scoped_release release;
+    const grasping::GraspObject target(mesh.mesh);
+    const auto result = evaluation::scoreGrasps(*hand, target, placements, params);
+    out = evaluation::scoreToJson(result, params, *hand, mesh.name, source);
+  }
+  return fromJson(out);
 }
 
 }  // namespace
@@ -422,6 +456,20 @@ force closure, epsilon, closure margin and volume of their contacts with these q
 parameters, and the robustness r (paper Sec. V-B: the share of ``robustness_samples`` perturbed
 hand poses that still close to force closure, with its 95 % Wilson interval; 0 samples skips
 it). Returns one dict per grasp.)doc");
+
+  const evaluation::ScoreParams score_params;
+  m.def("score_grasps", &scoreGraspsFile, py::arg("mesh"), py::arg("hand"), py::arg("grasps"),
+        py::kw_only(), py::arg("mu") = score_params.frictions,
+        py::arg("robustness_samples") = robustness.samples,
+        py::arg("robustness_variant") = std::string(evaluation::toString(robustness.variant)),
+        py::arg("seed") = robustness.seed,
+        py::arg("closing") = std::string(toString(score_params.closing.method)),
+        py::arg("object") = py::none(), R"doc(
+``skelgrasp score``: re-scores the grasps of a grasps.json (a path, or the parsed dict; schema
+skelgrasp.grasps/N or skelgrasp.run/N, ``object`` selecting one object of a run file) by placing
+``hand`` at each grasp's hand_pose, closing it on ``mesh`` and judging the contacts at every
+friction in ``mu``: force closure, LP margin, epsilon and robustness r with its 95 % Wilson
+interval (0 samples skips it). Returns the skelgrasp.score/1 document (docs/evaluation.md).)doc");
 
   m.def(
       "render_plan",

@@ -59,8 +59,8 @@ TEST(Launcher, MeshCommandsRunWithoutTheFullProgram) {
     const int status = std::system(command.c_str());
     return std::make_pair(WEXITSTATUS(status), readFile(dir + "/err.txt"));
   };
-  for (const char* command :
-       {"plan", "skeleton", "shape", "hands", "close", "quality", "evaluate", "merge", "export"}) {
+  for (const char* command : {"plan", "skeleton", "shape", "hands", "close", "quality", "evaluate",
+                              "merge", "export", "score"}) {
     EXPECT_EQ(run(std::string(command) + " --help").first, 0) << command;
   }
   EXPECT_EQ(run("-q --memory-limit 4G plan --help").first, 0);

@@ -118,6 +118,22 @@ def test_score_recomputes_quality_and_robustness(capsule, sdh, capsule_plan):
                                                            mu=0.8, robustness_samples=0))
 
 
+def test_score_grasps_closes_again_at_each_mu(capsule, sdh, capsule_plan):
+    doc = skelgrasp.score_grasps(capsule, sdh, capsule_plan.to_dict(), mu=[0.35, 0.5],
+                                 robustness_samples=4, seed=3)
+    assert doc["schema"] == "skelgrasp.score/1"
+    assert len(doc["grasps"]) == len(capsule_plan.grasps)
+    for s in doc["grasps"]:
+        assert [c["mu"] for c in s["closure"]] == [0.35, 0.5]
+        if s["closure"][0]["force_closure"]:
+            assert s["closure"][1]["force_closure"]
+        for c in s["closure"]:
+            r = c["robustness"]
+            assert r["ci95"][0] <= r["r"] <= r["ci95"][1]
+    with pytest.raises(ValueError, match="schema"):
+        skelgrasp.score_grasps(capsule, sdh, {"schema": "other/1", "grasps": []})
+
+
 def test_other_hand_grasps_are_refused(capsule, capsule_plan):
     with pytest.raises(ValueError, match="planned for hand 'sdh'"):
         skelgrasp.score(capsule, skelgrasp.hand("armar3"), capsule_plan, robustness_samples=0)
