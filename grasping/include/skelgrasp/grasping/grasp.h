@@ -17,7 +17,7 @@ const char* toString(GraspType type);
 struct Grasp {
   int id = -1;
   GraspType type = GraspType::kPower;
-  std::string strategy;  // "1a" "1b" "2a" "2b" "3" "4" or "surface"
+  std::string strategy;  // "1a" "1b" "2a" "2b" "3" "4", "surface", fallback: "sphere" "rim" "axes"
   int segment = -1;      // skeleton segment (-1: none)
   int skeleton_vertex = -1;
   std::string preshape;
