@@ -31,6 +31,7 @@ struct PlannerOptions {
   double vertex_distance_m = grasping::SkeletonPlannerParams{}.vertex_distance_m;
   std::optional<double> round_ratio;  // unset: the hand's
   bool reference_compat = false;
+  bool no_fallback = false;  // skeleton planner: the skeleton strategies only
   std::string fc_test = defaultForceClosureTest();
   std::string closing = defaultClosingMethod();
 
@@ -74,6 +75,9 @@ struct PlannerOptions {
         ->check(finiteIn(0, kMaxRatio));
     cmd.add_flag("--reference-compat", reference_compat,
                  "Quality as the reference code (docs/hands.md)");
+    cmd.add_flag("--no-fallback", no_fallback,
+                 "Skeleton planner: no fallback strategies for objects whose skeleton gives few "
+                 "grasps (docs/planning.md)");
     addForceClosureTestOption(cmd, fc_test);
     addClosingMethodOption(cmd, closing);
   }
@@ -95,6 +99,7 @@ struct PlannerOptions {
     p.seed = seed;
     p.vertex_distance_m = vertex_distance_m;
     p.round_ratio = round_ratio;
+    p.fallback = !no_fallback;
     p.hypothesis = hypothesis();
     return p;
   }

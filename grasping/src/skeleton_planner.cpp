@@ -6,6 +6,8 @@
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/grasping/planners.h"
 
+#include "fallback_trigger.h"
+
 namespace skelgrasp::grasping {
 namespace {
 
@@ -195,6 +197,7 @@ PlanResult planSkeletonGrasps(const HandModel& hand, const GraspObject& object,
       }
     }
   }
+  internal::addFallbackGrasps(hand, object, params, watch.seconds(), result);
   finishPlan(result, watch.seconds());
   log().info(
       "skeleton planner ({}): {} hypotheses, {} generated, {} force closure ({:.0f}%), {} kept, "

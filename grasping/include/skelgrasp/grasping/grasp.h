@@ -17,7 +17,7 @@ const char* toString(GraspType type);
 struct Grasp {
   int id = -1;
   GraspType type = GraspType::kPower;
-  std::string strategy;  // "1a" "1b" "2a" "2b" "3" "4" or "surface"
+  std::string strategy;  // "1a" "1b" "2a" "2b" "3" "4", "surface", fallback: "sphere" "rim" "axes"
   int segment = -1;      // skeleton segment (-1: none)
   int skeleton_vertex = -1;
   std::string preshape;
@@ -45,6 +45,9 @@ inline constexpr const char* kStartCollision = "start_collision";
 inline constexpr const char* kTooFewContacts = "too_few_contacts";
 inline constexpr const char* kNotForceClosure = "not_force_closure";
 inline constexpr const char* kEpsilonBelowMinimum = "epsilon_below_minimum";
+// Object-level: why the fallback strategies ran (fallback_planner.h), counted once per plan.
+inline constexpr const char* kFallbackNoSegment = "fallback_no_segment";
+inline constexpr const char* kFallbackFewGrasps = "fallback_few_grasps";
 }  // namespace reason
 
 struct PlanSummary {

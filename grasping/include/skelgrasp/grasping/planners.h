@@ -4,6 +4,7 @@
 // is not kept has a reason code (grasp.h), so a result without grasps explains itself.
 #include <cstdint>
 
+#include "skelgrasp/grasping/fallback_planner.h"
 #include "skelgrasp/grasping/grasp.h"
 #include "skelgrasp/grasping/grasp_object.h"
 #include "skelgrasp/grasping/hand_model.h"
@@ -27,6 +28,12 @@ struct SkeletonPlannerParams {
   bool power = true;                     // strategies 2a, 2b, 4
   int round_connecting_directions = 16;  // approach directions around a round section
   int round_endpoint_rolls = 8;          // hand rolls about the axis at a round end
+  // Objects whose skeleton says little (fallback_planner.h): when the skeleton strategies try no
+  // hand pose, or keep fewer than fallback_min_grasps grasps, the fallback strategies add theirs
+  // (within the time and grasp count left). false: the skeleton strategies only, as the paper.
+  bool fallback = true;
+  std::size_t fallback_min_grasps = 5;
+  FallbackStrategyParams fallback_strategies;
   // Retreat, closing, quality (mu, contact model), min epsilon. extra_retreat_m is the hand's
   // power retreat for power grasps, 0 for precision grasps.
   HypothesisParams hypothesis;

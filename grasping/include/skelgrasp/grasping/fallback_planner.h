@@ -1,0 +1,67 @@
+#pragma once
+// Grasps for objects whose skeleton says little: balls, discs, lids, short boxes. Their skeleton
+// collapses to a few vertices whose grasping intervals are too short, so the skeleton strategies
+// (paper Table II) yield few or no hand poses. These strategies place the hand about the object's
+// centre and principal axes instead, and judge every pose with the skeleton planner's own
+// hypothesis evaluation (back off until collision-free, close, contacts, force closure, epsilon,
+// scene check), so their grasps are judged exactly as skeleton grasps (docs/planning.md,
+// "Fallback strategies").
+//
+// Strategy names (Grasp::strategy; Grasp::segment and skeleton_vertex are -1):
+//   "sphere"  approaches from Fibonacci directions on a sphere about the centre, pointing at it,
+//             each with several hand rolls;
+//   "rim"     disc-like objects only: approaches in the disc plane closing across the thickness
+//             (a pinch on the rim), and approaches along the thin axis closing across the disc;
+//   "axes"    approaches along +-each principal axis, the fingers spreading along the other axes.
+// Every pose is tried with the precision and the power preshape where the hand does such grasps.
+#include <cstdint>
+
+#include "skelgrasp/grasping/grasp.h"
+#include "skelgrasp/grasping/grasp_object.h"
+#include "skelgrasp/grasping/hand_model.h"
+#include "skelgrasp/grasping/hypothesis.h"
+
+namespace skelgrasp::grasping {
+
+// Which strategies run and how densely they sample (a ball: 32 x 4 sphere poses + 24 axis poses,
+// each with up to two preshapes).
+struct FallbackStrategyParams {
+  bool sphere = true;
+  bool rim = true;
+  bool axes = true;
+  int sphere_directions = 32;  // Fibonacci directions on the sphere about the centre
+  int sphere_rolls = 4;        // hand rolls about each sphere approach (evenly over a turn)
+  int rim_directions = 16;     // approach directions in the disc plane (two rolls each)
+  int rim_across_rolls = 4;    // rolls of each approach along the thin axis (between the axes')
+  // The object is a disc ("rim" applies) when the standard deviation of its surface along the
+  // thinnest principal axis is below this fraction of that along the middle axis (a sphere: 1;
+  // a disc 90 mm across and 15 mm thick: about 0.4).
+  double disc_ratio = 0.6;
+};
+
+struct FallbackPlannerParams {
+  double timeout_s = 0;        // 0: no limit
+  std::size_t max_grasps = 0;  // 0: no limit
+  // Order in which the poses of all strategies are tried (so an early stop samples every
+  // strategy); results are deterministic for a seed.
+  std::uint64_t seed = 1;
+  FallbackStrategyParams strategies;
+  // extra_retreat_m is the hand's power retreat for power grasps, 0 for precision grasps (as the
+  // skeleton planner).
+  HypothesisParams hypothesis;
+};
+
+// Principal axes of the object's surface (area-weighted, about the surface centroid): columns
+// sorted by decreasing standard deviation; `sd` holds those standard deviations in metres.
+struct PrincipalAxes {
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d sd = Eigen::Vector3d::Zero();
+};
+PrincipalAxes surfacePrincipalAxes(const TriangleMesh& mesh);
+
+// The fallback strategies alone, about the object's centre of mass. Result as the other planners
+// (planner "fallback"; rejections by reason, grasps sorted by epsilon).
+PlanResult planFallbackGrasps(const HandModel& hand, const GraspObject& object,
+                              const FallbackPlannerParams& params);
+
+}  // namespace skelgrasp::grasping

@@ -1,0 +1,262 @@
+#include "skelgrasp/grasping/fallback_planner.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include <Eigen/Eigenvalues>
+
+#include "fallback_trigger.h"
+#include "skelgrasp/common/constants.h"
+#include "skelgrasp/common/logging.h"
+
+namespace skelgrasp::grasping {
+namespace {
+
+// The golden angle (radians): successive Fibonacci directions turn by it about the polar axis,
+// which spreads any number of them evenly over the sphere.
+const double kGoldenAngleRad = kPi * (3.0 - std::sqrt(5.0));
+
+struct FallbackPose {
+  Pose gcp;
+  const char* strategy;
+};
+
+// Grasp centre point frame: z = approach, y = finger spread (the fingers close along x).
+Pose gcpFrame(const Eigen::Vector3d& position, const Eigen::Vector3d& approach,
+              const Eigen::Vector3d& spread) {
+  Pose pose = Pose::Identity();
+  pose.linear() = frameFromZY(approach, spread);
+  pose.translation() = position;
+  return pose;
+}
+
+// n unit vectors spread evenly over the sphere (Fibonacci lattice).
+std::vector<Eigen::Vector3d> fibonacciDirections(int n) {
+  std::vector<Eigen::Vector3d> directions;
+  for (int k = 0; k < n; ++k) {
+    const double z = 1.0 - (2.0 * k + 1.0) / n;
+    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+    const double phi = kGoldenAngleRad * k;
+    directions.emplace_back(r * std::cos(phi), r * std::sin(phi), z);
+  }
+  return directions;
+}
+
+void addSpherePoses(const Eigen::Vector3d& centre, const FallbackStrategyParams& p,
+                    std::vector<FallbackPose>& poses) {
+  const auto directions = fibonacciDirections(p.sphere_directions);
+  for (std::size_t k = 0; k < directions.size(); ++k) {
+    const Eigen::Vector3d approach = -directions[k];  // from outside towards the centre
+    const Eigen::Vector3d u = anyPerpendicular(approach), w = approach.cross(u);
+    // A per-direction phase so neighbouring directions do not all share the same rolls.
+    const double phase = kGoldenAngleRad * static_cast<double>(k);
+    for (int r = 0; r < p.sphere_rolls; ++r) {
+      const double a = phase + kTwoPi * r / p.sphere_rolls;
+      poses.push_back({gcpFrame(centre, approach, std::cos(a) * u + std::sin(a) * w), "sphere"});
+    }
+  }
+}
+
+void addRimPoses(const Eigen::Vector3d& centre, const PrincipalAxes& pa,
+                 const FallbackStrategyParams& p, std::vector<FallbackPose>& poses) {
+  const Eigen::Vector3d e1 = pa.axes.col(0), e2 = pa.axes.col(1), thin = pa.axes.col(2);
+  // In the disc plane: the fingers close along x = thin (spread y = approach x thin), a pinch
+  // across the thickness at the rim, with both thumb sides.
+  for (int k = 0; k < p.rim_directions; ++k) {
+    const double a = kTwoPi * k / p.rim_directions;
+    const Eigen::Vector3d approach = -(std::cos(a) * e1 + std::sin(a) * e2);
+    const Eigen::Vector3d spread = approach.cross(thin);
+    poses.push_back({gcpFrame(centre, approach, spread), "rim"});
+    poses.push_back({gcpFrame(centre, approach, -spread), "rim"});
+  }
+  // Across: along the thin axis (from both faces), rolls half-way between the axis-aligned rolls
+  // of the "axes" strategy so the two do not repeat each other.
+  for (const Eigen::Vector3d& approach : {Eigen::Vector3d(thin), Eigen::Vector3d(-thin)}) {
+    for (int r = 0; r < p.rim_across_rolls; ++r) {
+      const double a = kPi / 4 + kTwoPi * r / p.rim_across_rolls;
+      poses.push_back({gcpFrame(centre, approach, std::cos(a) * e1 + std::sin(a) * e2), "rim"});
+    }
+  }
+}
+
+void addAxisPoses(const Eigen::Vector3d& centre, const PrincipalAxes& pa,
+                  std::vector<FallbackPose>& poses) {
+  for (int i = 0; i < 3; ++i) {
+    for (double sign : {1.0, -1.0}) {
+      const Eigen::Vector3d approach = sign * pa.axes.col(i);
+      for (int j = 0; j < 3; ++j) {
+        if (j == i) continue;
+        poses.push_back({gcpFrame(centre, approach, pa.axes.col(j)), "axes"});
+        poses.push_back({gcpFrame(centre, approach, -pa.axes.col(j)), "axes"});
+      }
+    }
+  }
+}
+
+void validate(const FallbackStrategyParams& p) {
+  if (p.sphere_directions < 1 || p.sphere_rolls < 1 || p.rim_directions < 1 ||
+      p.rim_across_rolls < 1 || !(p.disc_ratio >= 0)) {
+    throw InvalidArgument(
+        "fallback strategies: direction and roll counts must be >= 1, disc_ratio >= 0");
+  }
+}
+
+// Counts and grasps of `from` added to `into` (a plan in progress; finishPlan sorts later).
+void appendPlan(PlanResult& into, PlanResult&& from) {
+  auto& s = into.summary;
+  const auto& f = from.summary;
+  s.hypotheses += f.hypotheses;
+  s.poses += f.poses;
+  s.generated += f.generated;
+  s.force_closure += f.force_closure;
+  for (const auto& [why, count] : f.rejections) s.rejections[why] += count;
+  for (const auto& [link, count] : f.scene_collision_links) s.scene_collision_links[link] += count;
+  s.precision += f.precision;
+  s.power += f.power;
+  s.timed_out = s.timed_out || f.timed_out;
+  s.max_grasps_reached = s.max_grasps_reached || f.max_grasps_reached;
+  for (auto& g : from.grasps) into.grasps.push_back(std::move(g));
+}
+
+}  // namespace
+
+PrincipalAxes surfacePrincipalAxes(const TriangleMesh& mesh) {
+  // Exact moments of uniformly dense triangles: E[x] = (a+b+c)/3 and
+  // E[x x^T] = (a a^T + b b^T + c c^T + s s^T) / 12 with s = a+b+c. Area weights make the axes
+  // independent of how finely each part is meshed (vertex moments are not).
+  double area = 0;
+  Eigen::Vector3d first = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
+  for (std::size_t f = 0; f < mesh.numFaces(); ++f) {
+    const double w = mesh.faceArea(f);
+    const auto& t = mesh.faces[f];
+    const Eigen::Vector3d &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]],
+                          &c = mesh.vertices[t[2]];
+    const Eigen::Vector3d s = a + b + c;
+    area += w;
+    first += w * s / 3.0;
+    second +=
+        w / 12.0 * (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose());
+  }
+  PrincipalAxes out;
+  if (!(area > 0)) return out;
+  const Eigen::Vector3d mean = first / area;
+  const Eigen::Matrix3d covariance = second / area - mean * mean.transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
+  // Eigen sorts eigenvalues increasingly: reverse so column 0 is the longest axis.
+  for (int i = 0; i < 3; ++i) {
+    out.axes.col(i) = solver.eigenvectors().col(2 - i);
+    out.sd(i) = std::sqrt(std::max(0.0, solver.eigenvalues()(2 - i)));
+  }
+  if (out.axes.determinant() < 0) out.axes.col(2) = -out.axes.col(2);
+  return out;
+}
+
+PlanResult planFallbackGrasps(const HandModel& hand, const GraspObject& object,
+                              const FallbackPlannerParams& params) {
+  const FallbackStrategyParams& sp = params.strategies;
+  validate(sp);
+  Stopwatch watch;
+  PlanResult result;
+  result.planner = "fallback";
+  auto& summary = result.summary;
+
+  const Eigen::Vector3d centre = object.centerOfMass();
+  const PrincipalAxes pa = surfacePrincipalAxes(object.mesh());
+  const bool disc = pa.sd(1) > 0 && pa.sd(2) < sp.disc_ratio * pa.sd(1);
+  std::vector<FallbackPose> poses;
+  if (sp.sphere) addSpherePoses(centre, sp, poses);
+  if (sp.rim && disc) addRimPoses(centre, pa, sp, poses);
+  if (sp.axes) addAxisPoses(centre, pa, poses);
+
+  struct Trial {
+    std::size_t pose;
+    GraspType type;
+  };
+  std::vector<Trial> trials;
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    // The grasp types the hand does (its thresholds say which), as the skeleton planner.
+    if (hand.thresholds().precision) trials.push_back({i, GraspType::kPrecision});
+    if (hand.thresholds().power) trials.push_back({i, GraspType::kPower});
+  }
+  std::shuffle(trials.begin(), trials.end(), std::mt19937_64(params.seed));
+
+  GraspSimulator simulator(hand, object);
+  HypothesisParams hp = params.hypothesis;
+  // The hand's contact model unless the caller chose one (0 = point contacts).
+  if (!hp.quality.torsional_friction_m)
+    hp.quality.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
+
+  ProgressReporter progress("fallback planner", trials.size(), 5.0);
+  for (const Trial& trial : trials) {
+    if (params.timeout_s > 0 && watch.seconds() > params.timeout_s) {
+      summary.timed_out = true;
+      break;
+    }
+    if (params.max_grasps > 0 && result.grasps.size() >= params.max_grasps) {
+      summary.max_grasps_reached = true;
+      break;
+    }
+    const bool precision = trial.type == GraspType::kPrecision;
+    const Preshape& preshape = hand.preshape(precision ? "precision" : "power");
+    hp.extra_retreat_m = precision ? 0.0 : hand.thresholds().power_retreat_m;
+    ++summary.hypotheses;
+    ++summary.poses;
+    progress.step(summary.hypotheses);
+    const FallbackPose& pose = poses[trial.pose];
+    auto kept = countOutcome(evaluateHypothesis(simulator, pose.gcp, preshape, hp), summary);
+    if (!kept) continue;
+    Grasp grasp = std::move(*kept);
+    grasp.type = trial.type;
+    grasp.strategy = pose.strategy;
+    grasp.segment = -1;
+    grasp.skeleton_vertex = -1;
+    (precision ? summary.precision : summary.power) += 1;
+    result.grasps.push_back(std::move(grasp));
+  }
+  finishPlan(result, watch.seconds());
+  log().info("fallback planner ({}): {} poses{}, {} generated, {} force closure, {:.2f} s",
+             hand.name(), summary.poses, disc ? " (disc)" : "", summary.generated,
+             summary.force_closure, summary.planning_s);
+  return result;
+}
+
+namespace internal {
+
+void addFallbackGrasps(const HandModel& hand, const GraspObject& object,
+                       const SkeletonPlannerParams& params, double elapsed_s, PlanResult& result) {
+  auto& summary = result.summary;
+  if (!params.fallback || summary.timed_out || summary.max_grasps_reached) return;
+  if (params.max_grasps > 0 && result.grasps.size() >= params.max_grasps) return;
+  const char* why = nullptr;
+  if (summary.poses == 0) {
+    why = reason::kFallbackNoSegment;
+  } else if (result.grasps.size() < params.fallback_min_grasps) {
+    why = reason::kFallbackFewGrasps;
+  }
+  if (!why) return;
+  // The trigger is recorded as one more rejected hypothesis (the skeleton strategies as a whole),
+  // so the rejection counts still add up to the hypotheses that were not kept.
+  ++summary.hypotheses;
+  ++summary.rejections[why];
+  FallbackPlannerParams fp;
+  fp.seed = params.seed;
+  fp.strategies = params.fallback_strategies;
+  fp.hypothesis = params.hypothesis;
+  if (params.timeout_s > 0) {
+    const double left_s = params.timeout_s - elapsed_s;
+    if (left_s <= 0) {
+      summary.timed_out = true;
+      return;
+    }
+    fp.timeout_s = left_s;
+  }
+  if (params.max_grasps > 0) fp.max_grasps = params.max_grasps - result.grasps.size();
+  log().info("skeleton planner ({}): {} grasps from the skeleton, running the fallback ({})",
+             hand.name(), result.grasps.size(), why);
+  appendPlan(result, planFallbackGrasps(hand, object, fp));
+}
+
+}  // namespace internal
+}  // namespace skelgrasp::grasping

@@ -1,0 +1,171 @@
+// The fallback strategies for objects whose skeleton says little (balls, discs): they fill in when
+// the skeleton strategies give few grasps, judge their poses as the skeleton planner does, and
+// stay out of the way on objects the skeleton serves well.
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/grasping/planners.h"
+#include "skelgrasp/skeleton/extraction.h"
+
+namespace skelgrasp::grasping {
+namespace {
+
+constexpr double kBallRadiusM = 0.035;
+constexpr double kDiscRadiusM = 0.045;
+constexpr double kDiscThicknessM = 0.015;
+constexpr std::size_t kWantedGrasps = 5;  // issue 16: >= 5 force-closure grasps per hand
+
+TriangleMesh ball() {
+  return primitives::makeSphere(kBallRadiusM, 48, 24);
+}
+TriangleMesh disc() {
+  return primitives::makeCylinder(kDiscRadiusM, kDiscThicknessM, 64, 3);
+}
+
+struct Planned {
+  std::unique_ptr<GraspObject> object;
+  skeleton::SkeletonResult skeleton;
+  PlanResult result;
+};
+
+Planned planOn(const TriangleMesh& mesh, const HandModel& hand, SkeletonPlannerParams params = {}) {
+  Planned p;
+  p.object = std::make_unique<GraspObject>(mesh);
+  p.skeleton = skeleton::extractSkeleton(mesh);
+  EXPECT_TRUE(p.skeleton.status.ok()) << p.skeleton.status.message;
+  p.result = planSkeletonGrasps(hand, *p.object, p.skeleton.skeleton, params);
+  return p;
+}
+
+bool isFallbackStrategy(const std::string& strategy) {
+  return strategy == "sphere" || strategy == "rim" || strategy == "axes";
+}
+
+std::size_t fallbackReasons(const PlanSummary& s) {
+  std::size_t n = 0;
+  for (const char* why : {reason::kFallbackNoSegment, reason::kFallbackFewGrasps})
+    n += s.rejections.count(why) ? s.rejections.at(why) : 0;
+  return n;
+}
+
+// Every kept grasp holds and is collision-free open and closed; fallback grasps name no skeleton
+// part; the rejection counts account for every hypothesis not kept.
+void expectSound(const PlanResult& r, const HandModel& hand, const GraspObject& object) {
+  GraspSimulator sim(hand, object);
+  for (const auto& g : r.grasps) {
+    EXPECT_TRUE(g.force_closure) << g.strategy;
+    EXPECT_GT(g.epsilon, 0);
+    EXPECT_GE(g.contacts.size(), 2u);
+    EXPECT_FALSE(sim.inCollision(g.hand_pose, hand.preshape(g.preshape).joints)) << g.strategy;
+    EXPECT_FALSE(sim.inCollision(g.hand_pose, g.joints)) << g.strategy << " closed";
+    if (isFallbackStrategy(g.strategy)) {
+      EXPECT_EQ(g.segment, -1);
+      EXPECT_EQ(g.skeleton_vertex, -1);
+    }
+  }
+  std::size_t rejected = 0;
+  for (const auto& [why, count] : r.summary.rejections) rejected += count;
+  EXPECT_EQ(rejected, r.summary.hypotheses - r.grasps.size());
+  EXPECT_EQ(r.summary.force_closure, r.grasps.size());
+  EXPECT_EQ(r.summary.power + r.summary.precision, r.grasps.size());
+}
+
+class PaperHand : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(PaperHand, BallGetsFiveForceClosureGrasps) {
+  const HandModel hand = loadBuiltinHand(GetParam());
+  const auto p = planOn(ball(), hand);
+  EXPECT_GE(p.result.grasps.size(), kWantedGrasps) << GetParam();
+  // A clean generated ball may give the ARMAR-III and the SDH enough skeleton grasps already;
+  // the fallback runs at most once.
+  EXPECT_LE(fallbackReasons(p.result.summary), 1u);
+  expectSound(p.result, hand, *p.object);
+}
+
+TEST_P(PaperHand, DiscGetsFiveForceClosureGrasps) {
+  const HandModel hand = loadBuiltinHand(GetParam());
+  const auto p = planOn(disc(), hand);
+  EXPECT_GE(p.result.grasps.size(), kWantedGrasps) << GetParam();
+  expectSound(p.result, hand, *p.object);
+}
+
+INSTANTIATE_TEST_SUITE_P(FallbackPlanner, PaperHand, ::testing::Values("armar3", "sdh", "shadow"),
+                         [](const auto& info) { return info.param; });
+
+TEST(FallbackPlanner, CapsuleServedByTheSkeletonIsLeftAlone) {
+  const HandModel hand = loadBuiltinHand("armar3");
+  const TriangleMesh capsule = primitives::makeCapsule(0.03, 0.14, 48);
+  SkeletonPlannerParams off;
+  off.fallback = false;
+  const auto with = planOn(capsule, hand), without = planOn(capsule, hand, off);
+  ASSERT_GE(without.result.grasps.size(), SkeletonPlannerParams{}.fallback_min_grasps);
+  EXPECT_EQ(fallbackReasons(with.result.summary), 0u);
+  ASSERT_EQ(with.result.grasps.size(), without.result.grasps.size());
+  EXPECT_EQ(with.result.summary.hypotheses, without.result.summary.hypotheses);
+  for (std::size_t i = 0; i < with.result.grasps.size(); ++i) {
+    EXPECT_FALSE(isFallbackStrategy(with.result.grasps[i].strategy));
+    EXPECT_TRUE(
+        with.result.grasps[i].hand_pose.isApprox(without.result.grasps[i].hand_pose, 1e-12));
+    EXPECT_EQ(with.result.grasps[i].epsilon, without.result.grasps[i].epsilon);
+  }
+}
+
+TEST(FallbackPlanner, SwitchedOffLeavesTheBallToTheSkeleton) {
+  const HandModel hand = loadBuiltinHand("armar3");
+  SkeletonPlannerParams off;
+  off.fallback = false;
+  const auto p = planOn(ball(), hand, off);
+  EXPECT_EQ(fallbackReasons(p.result.summary), 0u);
+  for (const auto& g : p.result.grasps) EXPECT_FALSE(isFallbackStrategy(g.strategy));
+}
+
+TEST(FallbackPlanner, DiscIsRecognisedAndPinchedAtTheRim) {
+  const TriangleMesh mesh = disc();
+  const PrincipalAxes pa = surfacePrincipalAxes(mesh);
+  EXPECT_NEAR(std::abs(pa.axes.col(2).z()), 1.0, 1e-6);  // the thin axis is the cylinder's
+  EXPECT_LT(pa.sd(2), FallbackStrategyParams{}.disc_ratio * pa.sd(1));
+  EXPECT_NEAR(pa.sd(0), pa.sd(1), 1e-3);
+
+  const HandModel hand = loadBuiltinHand("sdh");
+  const GraspObject object(mesh);
+  const PlanResult r = planFallbackGrasps(hand, object, {});
+  expectSound(r, hand, object);
+  std::set<std::string> strategies;
+  for (const auto& g : r.grasps) strategies.insert(g.strategy);
+  EXPECT_TRUE(strategies.count("rim")) << "no rim grasp among " << r.grasps.size();
+}
+
+TEST(FallbackPlanner, BallIsNoDiscAndResultsAreDeterministicForASeed) {
+  const TriangleMesh mesh = ball();
+  const PrincipalAxes pa = surfacePrincipalAxes(mesh);
+  EXPECT_GT(pa.sd(2), FallbackStrategyParams{}.disc_ratio * pa.sd(1));
+
+  const HandModel hand = loadBuiltinHand("sdh");
+  const GraspObject object(mesh);
+  FallbackPlannerParams params;
+  params.seed = 3;
+  params.max_grasps = 6;
+  const PlanResult a = planFallbackGrasps(hand, object, params);
+  const PlanResult b = planFallbackGrasps(hand, object, params);
+  EXPECT_TRUE(a.summary.max_grasps_reached);
+  ASSERT_EQ(a.grasps.size(), b.grasps.size());
+  EXPECT_LE(a.grasps.size(), 6u);
+  for (std::size_t i = 0; i < a.grasps.size(); ++i) {
+    EXPECT_NE(a.grasps[i].strategy, "rim");
+    EXPECT_TRUE(a.grasps[i].hand_pose.isApprox(b.grasps[i].hand_pose, 1e-12));
+    EXPECT_EQ(a.grasps[i].epsilon, b.grasps[i].epsilon);
+  }
+}
+
+TEST(FallbackPlanner, RejectsEmptySampling) {
+  const HandModel hand = loadBuiltinHand("sdh");
+  const GraspObject object(ball());
+  FallbackPlannerParams params;
+  params.strategies.sphere_rolls = 0;
+  EXPECT_THROW(planFallbackGrasps(hand, object, params), InvalidArgument);
+}
+
+}  // namespace
+}  // namespace skelgrasp::grasping
