@@ -132,12 +132,18 @@ std::string findOffFaceIndexProblem(const std::string& path) {
   std::ifstream in(path);
   std::string magic, token;
   if (!nextOffToken(in, magic) || magic.find("OFF") == std::string::npos) return {};
+  // CGAL reads the counts as numbers, not words: "00-10" is an edge count of 0 followed by a
+  // corner count of -10 (found by fuzzing), so each count must be a whole word of digits.
   std::int64_t counts[3] = {0, 0, 0};
-  for (auto& count : counts) {
+  const char* count_names[3] = {"vertex", "face", "edge"};
+  for (int k = 0; k < 3; ++k) {
     if (!nextOffToken(in, token)) return {};
     const auto value = offIndexValue(token);
-    if (!value || *value < 0) return {};  // the header check has named a bad count
-    count = *value;
+    if (!value || *value < 0) {
+      return std::string("OFF header: the ") + count_names[k] + " count is not a whole number ('" +
+             printableText(token) + "')";
+    }
+    counts[k] = *value;
   }
   const std::int64_t vertices = counts[0], faces = counts[1];
   constexpr int kCoordinatesPerVertex = 3;
