@@ -79,8 +79,9 @@ TEST(RobustRanking, ScoresTheTopKAndRanksThemFirstByR) {
     // Non-increasing in the documented score within each group; ties by epsilon.
     if (i > 0 && result.grasps[i - 1].robustness.has_value() == g.robustness.has_value()) {
       EXPECT_GE(result.scores[i - 1], result.scores[i]);
-      if (result.scores[i - 1] == result.scores[i])
+      if (result.scores[i - 1] == result.scores[i]) {
         EXPECT_GE(result.grasps[i - 1].epsilon, g.epsilon);
+      }
     }
   }
   // The scored grasps are the three best by epsilon.
@@ -155,7 +156,9 @@ TEST(RobustRanking, TrustScalesTheScoreAndMustMatchTheGrasps) {
   for (std::size_t i = 0; i < n; ++i) {
     ASSERT_TRUE(result.grasps[i].robustness);
     EXPECT_DOUBLE_EQ(result.scores[i], result.grasps[i].robustness->r * trust[result.order[i]]);
-    if (i > 0) EXPECT_GE(result.scores[i - 1], result.scores[i]);
+    if (i > 0) {
+      EXPECT_GE(result.scores[i - 1], result.scores[i]);
+    }
   }
   trust.pop_back();
   EXPECT_THROW(rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis,
