@@ -47,9 +47,9 @@ int runPlan(const PlanArgs& args) {
     result = grasping::planSurfaceGrasps(hand, object, args.planner.surfaceParams());
   }
   // Robust ranking: the best grasps scored by r and re-ranked (docs/planning.md).
-  auto ranked =
-      evaluation::rankByRobustness(hand, object, std::move(result.grasps),
-                                   args.planner.hypothesis(), args.robustness.params(args.planner.seed));
+  auto ranked = evaluation::rankByRobustness(hand, object, std::move(result.grasps),
+                                             args.planner.hypothesis(),
+                                             args.robustness.params(args.planner.seed));
   result.grasps = std::move(ranked.grasps);
   OutputTransaction outputs;
   if (!args.render.empty()) {

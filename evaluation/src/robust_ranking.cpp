@@ -82,8 +82,7 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
     out.grasps.back().id = static_cast<int>(out.grasps.size() - 1);
   }
   out.time_s = watch.seconds();
-  log().debug("robust ranking: {} of {} grasps scored in {:.2f} s", out.scored, n,
-                      out.time_s);
+  log().debug("robust ranking: {} of {} grasps scored in {:.2f} s", out.scored, n, out.time_s);
   return out;
 }
 

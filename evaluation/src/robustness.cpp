@@ -39,15 +39,15 @@ constexpr double kReferenceOrientationSigmaDeg = 2.5;
 }  // namespace
 
 double positionSigmaM(const RobustnessParams& params) {
-  return params.position_sigma_m.value_or(
-      params.variant == RobustnessVariant::kPaper ? kPaperPositionSigmaM : kReferencePositionSigmaM);
+  return params.position_sigma_m.value_or(params.variant == RobustnessVariant::kPaper
+                                              ? kPaperPositionSigmaM
+                                              : kReferencePositionSigmaM);
 }
 
 double orientationSigmaRad(const RobustnessParams& params) {
-  return params.orientation_sigma_rad.value_or(
-      radiansFromDegrees(params.variant == RobustnessVariant::kPaper
-                             ? kPaperOrientationSigmaDeg
-                             : kReferenceOrientationSigmaDeg));
+  return params.orientation_sigma_rad.value_or(radiansFromDegrees(
+      params.variant == RobustnessVariant::kPaper ? kPaperOrientationSigmaDeg
+                                                  : kReferenceOrientationSigmaDeg));
 }
 
 RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,

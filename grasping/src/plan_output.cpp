@@ -23,21 +23,22 @@ nlohmann::json graspToJson(const Grasp& g, const HandModel& hand) {
                         {"link", c.link},
                         {"palm", c.palm}});
   }
-  nlohmann::json out = {{"id", g.id},
-          {"type", toString(g.type)},
-          {"strategy", g.strategy},
-          {"segment", g.segment >= 0 ? nlohmann::json(g.segment) : nlohmann::json(nullptr)},
-          {"skeleton_vertex",
-           g.skeleton_vertex >= 0 ? nlohmann::json(g.skeleton_vertex) : nlohmann::json(nullptr)},
-          {"preshape", g.preshape},
-          {"gcp_pose", poseToJson(g.gcp_pose)},
-          {"hand_pose", poseToJson(g.hand_pose)},
-          {"retreat_m", g.retreat_m},
-          {"joints", joints},
-          {"contacts", contacts},
-          {"force_closure", g.force_closure},
-          {"epsilon", g.epsilon},
-          {"volume", g.volume}};
+  nlohmann::json out = {
+      {"id", g.id},
+      {"type", toString(g.type)},
+      {"strategy", g.strategy},
+      {"segment", g.segment >= 0 ? nlohmann::json(g.segment) : nlohmann::json(nullptr)},
+      {"skeleton_vertex",
+       g.skeleton_vertex >= 0 ? nlohmann::json(g.skeleton_vertex) : nlohmann::json(nullptr)},
+      {"preshape", g.preshape},
+      {"gcp_pose", poseToJson(g.gcp_pose)},
+      {"hand_pose", poseToJson(g.hand_pose)},
+      {"retreat_m", g.retreat_m},
+      {"joints", joints},
+      {"contacts", contacts},
+      {"force_closure", g.force_closure},
+      {"epsilon", g.epsilon},
+      {"volume", g.volume}};
   if (g.robustness) {
     const GraspRobustness& r = *g.robustness;
     out["robustness"] = {{"r", r.r},

@@ -75,9 +75,9 @@ RankedPlan planAndRank(const HandModel& hand, const TriangleMesh& mesh,
     ratios.push_back(observedContactRatio(g, mesh, observed, query));
     trust.push_back(1 - params.observed_weight + params.observed_weight * ratios.back());
   }
-  auto ranking = evaluation::rankByRobustness(hand, target, std::move(out.plan.grasps),
-                                              params.planner.hypothesis, params.robust_ranking,
-                                              trust);
+  auto ranking =
+      evaluation::rankByRobustness(hand, target, std::move(out.plan.grasps),
+                                   params.planner.hypothesis, params.robust_ranking, trust);
   out.plan.grasps.clear();
   out.robustness_scored = ranking.scored;
   for (std::size_t i = 0; i < ranking.grasps.size(); ++i) {

@@ -26,7 +26,7 @@ struct RankedPlan {
   grasping::PlanResult plan;        // summary; grasps moved into `ranked`
   std::vector<RankedGrasp> ranked;  // best first, ids 0..n-1
   double plan_s = 0;
-  double rank_s = 0;             // observed contacts and robust ranking
+  double rank_s = 0;                  // observed contacts and robust ranking
   std::size_t robustness_scored = 0;  // grasps scored for robustness
 };
 

@@ -17,10 +17,10 @@ void addGraspTable(HtmlReport& report, const std::vector<RankedGrasp>& ranked) {
   std::vector<std::vector<std::string>> rows;
   for (std::size_t k = 0; k < ranked.size(); ++k) {
     const auto& g = ranked[k].grasp;
-    const std::string r =
-        g.robustness ? fmt::format("{:.2f} [{:.2f}, {:.2f}]", g.robustness->r,
-                                   g.robustness->ci95_low, g.robustness->ci95_high)
-                     : "-";
+    const std::string r = g.robustness
+                              ? fmt::format("{:.2f} [{:.2f}, {:.2f}]", g.robustness->r,
+                                            g.robustness->ci95_low, g.robustness->ci95_high)
+                              : "-";
     rows.push_back({std::to_string(k), toString(g.type), g.strategy,
                     fmt::format("{:.4f}", g.epsilon),
                     fmt::format("{:.0f}%", 100 * ranked[k].observed_contact_ratio), r,
@@ -54,9 +54,10 @@ std::string robustnessHistogramSvg(const std::vector<std::size_t>& counts) {
                          x + bar_w / 2, base - h - 3, counts[b]);
     }
   }
-  svg += fmt::format("<line x1=\"{0}\" y1=\"{1:.1f}\" x2=\"{2:.1f}\" y2=\"{1:.1f}\" "
-                     "stroke=\"black\"/>\n",
-                     kMarginPx, base, kMarginPx + plot_w);
+  svg += fmt::format(
+      "<line x1=\"{0}\" y1=\"{1:.1f}\" x2=\"{2:.1f}\" y2=\"{1:.1f}\" "
+      "stroke=\"black\"/>\n",
+      kMarginPx, base, kMarginPx + plot_w);
   for (int tick = 0; tick <= 10; tick += 2) {
     svg += fmt::format("<text x=\"{:.1f}\" y=\"{:.1f}\" text-anchor=\"middle\">{:.1f}</text>\n",
                        kMarginPx + plot_w * tick / 10.0, base + 14, tick / 10.0);

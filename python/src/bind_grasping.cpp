@@ -134,9 +134,9 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
     out.result = grasping::planSurfaceGrasps(*hand, object, p);
   }
   // As `skelgrasp plan`: the best grasps scored by r and re-ranked (docs/planning.md).
-  out.result.grasps = evaluation::rankByRobustness(*hand, object, std::move(out.result.grasps),
-                                                   hypothesis, ranking)
-                          .grasps;
+  out.result.grasps =
+      evaluation::rankByRobustness(*hand, object, std::move(out.result.grasps), hypothesis, ranking)
+          .grasps;
   return out;
 }
 
@@ -368,26 +368,27 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
   const grasping::SurfacePlannerParams surface;
   const skeleton::SkeletonParams skel;
   const evaluation::RobustRankingParams ranking;
-  m.def("plan", &plan, py::arg("mesh"), py::arg("hand"), py::arg("planner") = "skeleton",
-        py::arg("seed") = planner.seed, py::kw_only(), py::arg("timeout_s") = planner.timeout_s,
-        py::arg("max_grasps") = planner.max_grasps,
-        py::arg("min_epsilon") = planner.hypothesis.min_epsilon,
-        py::arg("mu") = planner.hypothesis.quality.friction,
-        py::arg("vertex_distance_m") = planner.vertex_distance_m,
-        py::arg("round_ratio") = planner.round_ratio,
-        py::arg("reference_compat") = planner.hypothesis.quality.reference_compat,
-        py::arg("fc_test") = std::string(toString(planner.hypothesis.quality.fc_test)),
-        py::arg("closing") = std::string(toString(planner.hypothesis.closing.method)),
-        py::arg("max_hypotheses") = surface.max_hypotheses,
-        py::arg("regularisation") = std::string(toString(skel.regularisation.method)),
-        py::arg("alpha_divisor") = skel.regularisation.alpha_divisor,
-        py::arg("offset_divisor") = skel.regularisation.offset_divisor,
-        py::arg("spur_radius_factor") = skel.spur_radius_factor,
-        py::arg("robustness") = ranking.enabled,
-        py::arg("robustness_samples") = ranking.robustness.samples,
-        py::arg("robustness_variant") = std::string(evaluation::toString(ranking.robustness.variant)),
-        py::arg("robustness_top_k") = ranking.top_k, py::arg("robustness_mu") = ranking.friction,
-        R"doc(
+  m.def(
+      "plan", &plan, py::arg("mesh"), py::arg("hand"), py::arg("planner") = "skeleton",
+      py::arg("seed") = planner.seed, py::kw_only(), py::arg("timeout_s") = planner.timeout_s,
+      py::arg("max_grasps") = planner.max_grasps,
+      py::arg("min_epsilon") = planner.hypothesis.min_epsilon,
+      py::arg("mu") = planner.hypothesis.quality.friction,
+      py::arg("vertex_distance_m") = planner.vertex_distance_m,
+      py::arg("round_ratio") = planner.round_ratio,
+      py::arg("reference_compat") = planner.hypothesis.quality.reference_compat,
+      py::arg("fc_test") = std::string(toString(planner.hypothesis.quality.fc_test)),
+      py::arg("closing") = std::string(toString(planner.hypothesis.closing.method)),
+      py::arg("max_hypotheses") = surface.max_hypotheses,
+      py::arg("regularisation") = std::string(toString(skel.regularisation.method)),
+      py::arg("alpha_divisor") = skel.regularisation.alpha_divisor,
+      py::arg("offset_divisor") = skel.regularisation.offset_divisor,
+      py::arg("spur_radius_factor") = skel.spur_radius_factor,
+      py::arg("robustness") = ranking.enabled,
+      py::arg("robustness_samples") = ranking.robustness.samples,
+      py::arg("robustness_variant") = std::string(evaluation::toString(ranking.robustness.variant)),
+      py::arg("robustness_top_k") = ranking.top_k, py::arg("robustness_mu") = ranking.friction,
+      R"doc(
 Plans grasps for ``mesh`` with ``hand`` (``skelgrasp plan``): planner 'skeleton' (paper Alg. 1)
 or 'surface' (surface-normal baseline). Deterministic for a seed. The defaults are the library's
 SkeletonPlannerParams / SurfacePlannerParams (no time limit: ``timeout_s=0``; the command line

@@ -4,8 +4,8 @@
 #include <array>
 #include <cstdio>
 #include <filesystem>
-#include <set>
 #include <fstream>
+#include <set>
 
 #include "cli_support.h"
 #include "skelgrasp/common/json.h"
@@ -165,8 +165,9 @@ TEST(Cli, PlanScoresAndRanksByRobustness) {
   const std::string dir = test::tempDir("cli_plan_robust");
   saveMesh(dir + "/bottle.ply", primitives::makeNamedShape("bottle"));
   const std::string plan = "plan " + dir + "/bottle.ply --hand sdh --max-grasps 6 --seed 3 --out ";
-  const CliRun run = runCli(plan + dir + "/robust.json --robustness-samples 12 --robustness-top-k 4 "
-                                       "--robustness-variant reference --robustness-mu 0.5",
+  const CliRun run = runCli(plan + dir +
+                                "/robust.json --robustness-samples 12 --robustness-top-k 4 "
+                                "--robustness-variant reference --robustness-mu 0.5",
                             dir);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_NE(run.out.find("best r "), std::string::npos) << run.out;

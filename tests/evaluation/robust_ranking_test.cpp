@@ -36,8 +36,7 @@ Planned planOn(const std::string& hand, TriangleMesh mesh, std::size_t max_grasp
 }
 
 const Planned& cylinder() {
-  static const Planned planned =
-      planOn("armar3", primitives::makeCylinder(0.035, 0.2, 48, 10), 8);
+  static const Planned planned = planOn("armar3", primitives::makeCylinder(0.035, 0.2, 48, 10), 8);
   return planned;
 }
 
@@ -52,8 +51,8 @@ TEST(RobustRanking, ScoresTheTopKAndRanksThemFirstByR) {
   const Planned& p = cylinder();
   ASSERT_GE(p.plan.grasps.size(), 4u);
   const auto params = fewSamples(16, 3);
-  const auto result = rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis,
-                                       params);
+  const auto result =
+      rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params);
   EXPECT_TRUE(result.status.ok());
   ASSERT_EQ(result.grasps.size(), p.plan.grasps.size());
   EXPECT_EQ(result.scored, 3u);
@@ -85,16 +84,15 @@ TEST(RobustRanking, ScoresTheTopKAndRanksThemFirstByR) {
     }
   }
   // The scored grasps are the three best by epsilon.
-  for (std::size_t i = 0; i < 3; ++i)
-    EXPECT_LT(result.order[i], 3u);
+  for (std::size_t i = 0; i < 3; ++i) EXPECT_LT(result.order[i], 3u);
 }
 
 TEST(RobustRanking, DisabledKeepsTheEpsilonOrderWithoutRobustness) {
   const Planned& p = cylinder();
   RobustRankingParams params;
   params.enabled = false;
-  const auto result = rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis,
-                                       params);
+  const auto result =
+      rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params);
   EXPECT_EQ(result.scored, 0u);
   ASSERT_EQ(result.grasps.size(), p.plan.grasps.size());
   for (std::size_t i = 0; i < result.grasps.size(); ++i) {
@@ -111,8 +109,8 @@ TEST(RobustRanking, UsesCommonRandomNumbersAndTheGivenFriction) {
   auto params = fewSamples(12, 2);
   params.robustness.seed = 7;
   params.friction = 0.5;
-  const auto result = rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis,
-                                       params);
+  const auto result =
+      rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params);
   grasping::GraspSimulator sim(p.hand, *p.object);
   RobustnessParams rp = params.robustness;
   rp.quality = p.params.hypothesis.quality;

@@ -190,9 +190,9 @@ TEST_F(DemoScenePipeline, WithoutRobustnessTheRankingIsEpsilonTimesTrust) {
   for (std::size_t r = 0; r < run.ranked.size(); ++r) {
     const auto& ranked = run.ranked[r];
     EXPECT_FALSE(ranked.grasp.robustness.has_value());
-    EXPECT_DOUBLE_EQ(ranked.score,
-                     ranked.grasp.epsilon * (1 - params.observed_weight +
-                                             params.observed_weight * ranked.observed_contact_ratio));
+    EXPECT_DOUBLE_EQ(ranked.score, ranked.grasp.epsilon *
+                                       (1 - params.observed_weight +
+                                        params.observed_weight * ranked.observed_contact_ratio));
     if (r > 0) {
       EXPECT_LE(ranked.score, run.ranked[r - 1].score);
     }
