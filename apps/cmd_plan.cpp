@@ -1,4 +1,6 @@
 // skelgrasp plan MESH --hand H [--planner skeleton|surface]: grasps for one object.
+#include <fmt/format.h>
+
 #include <filesystem>
 #include <iostream>
 
@@ -7,6 +9,7 @@
 #include "hand_options.h"
 #include "output_paths.h"
 #include "planner_options.h"
+#include "robustness_options.h"
 #include "skeleton_options.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/grasping/plan_output.h"
@@ -20,6 +23,7 @@ struct PlanArgs {
   std::string render;
   HandOptions hand;
   PlannerOptions planner;
+  RobustnessOptions robustness;
   SkeletonOptions skeleton;
   ExportOptions exports;
 };
@@ -42,6 +46,11 @@ int runPlan(const PlanArgs& args) {
   } else {
     result = grasping::planSurfaceGrasps(hand, object, args.planner.surfaceParams());
   }
+  // Robust ranking: the best grasps scored by r and re-ranked (docs/planning.md).
+  auto ranked = evaluation::rankByRobustness(hand, object, std::move(result.grasps),
+                                             args.planner.hypothesis(),
+                                             args.robustness.params(args.planner.seed));
+  result.grasps = std::move(ranked.grasps);
   OutputTransaction outputs;
   if (!args.render.empty()) {
     grasping::renderPlanPng(outputs.stage(args.render), mesh, skel ? &skel->skeleton : nullptr,
@@ -50,7 +59,13 @@ int runPlan(const PlanArgs& args) {
   writeJsonFile(outputs.stage(args.out), grasping::planToJson(result, hand, name));
   outputs.commit();
   args.exports.write(args.out, hand);
-  std::cout << grasping::planSummaryLine(result, hand.name(), name) << std::endl;
+  std::cout << grasping::planSummaryLine(result, hand.name(), name);
+  if (ranked.scored > 0) {
+    std::cout << fmt::format("; best r {:.2f} ({} of {} grasps scored, {:.2f} s)",
+                             result.grasps.front().robustness->r, ranked.scored,
+                             result.grasps.size(), ranked.time_s);
+  }
+  std::cout << std::endl;
   return kExitOk;
 }
 
@@ -63,6 +78,7 @@ void registerPlanCommand(CLI::App& app, Action& action) {
   cmd->add_option("MESH", args->mesh, "Object mesh (.ply .obj .off .stl)")->required();
   args->hand.addTo(*cmd);
   args->planner.addTo(*cmd);
+  args->robustness.addTo(*cmd);
   cmd->add_option("--out", args->out, "Output grasps JSON (docs/planning.md)")
       ->capture_default_str();
   cmd->add_option("--render", args->render,

@@ -27,6 +27,7 @@ pipeline::RunParams RunOptions::params() const {
       unknown == "occupied" ? grasping::UnknownSpace::kOccupied : grasping::UnknownSpace::kFree;
   p.approach.pregrasp_distance_m = pregrasp_m;
   p.observed_weight = observed_weight;
+  p.robust_ranking = robustness.params(planner.seed);
   return p;
 }
 
@@ -36,6 +37,7 @@ void RunOptions::addTo(CLI::App& cmd) {
   planner.timeout_s = pipeline::RunParams{}.planner.timeout_s;
   planner.max_grasps = pipeline::RunParams{}.planner.max_grasps;
   planner.addTo(cmd, false);
+  robustness.addTo(cmd);
   reconstruction.addInputOptions(cmd);
   reconstruction.addIngestOptions(cmd);
   reconstruction.addMeshingOptions(cmd);

@@ -6,6 +6,7 @@
 #include "hand_options.h"
 #include "planner_options.h"
 #include "reconstruct_options.h"
+#include "robustness_options.h"
 #include "skelgrasp/pipeline/run_pipeline.h"
 
 namespace skelgrasp::cli {
@@ -13,6 +14,7 @@ namespace skelgrasp::cli {
 struct RunOptions {
   HandOptions hand;
   PlannerOptions planner;
+  RobustnessOptions robustness;
   ReconstructOptions reconstruction;
   double octree_resolution_m = grasping::SceneOccupancyParams{}.resolution_m;
   std::string unknown = "free";

@@ -38,6 +38,18 @@ constexpr double kReferencePositionSigmaM = 0.005;
 constexpr double kReferenceOrientationSigmaDeg = 2.5;
 }  // namespace
 
+double positionSigmaM(const RobustnessParams& params) {
+  return params.position_sigma_m.value_or(params.variant == RobustnessVariant::kPaper
+                                              ? kPaperPositionSigmaM
+                                              : kReferencePositionSigmaM);
+}
+
+double orientationSigmaRad(const RobustnessParams& params) {
+  return params.orientation_sigma_rad.value_or(radiansFromDegrees(
+      params.variant == RobustnessVariant::kPaper ? kPaperOrientationSigmaDeg
+                                                  : kReferenceOrientationSigmaDeg));
+}
+
 RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
                                     const grasping::Grasp& grasp, const RobustnessParams& params,
                                     std::uint64_t grasp_index) {
@@ -49,10 +61,8 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
       (params.orientation_sigma_rad && !(*params.orientation_sigma_rad >= 0))) {
     throw InvalidArgument("robustness: pose error sigmas must be >= 0");
   }
-  const double sigma_p =
-      params.position_sigma_m.value_or(paper ? kPaperPositionSigmaM : kReferencePositionSigmaM);
-  const double sigma_r = params.orientation_sigma_rad.value_or(
-      radiansFromDegrees(paper ? kPaperOrientationSigmaDeg : kReferenceOrientationSigmaDeg));
+  const double sigma_p = positionSigmaM(params);
+  const double sigma_r = orientationSigmaRad(params);
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   for (const auto& c : grasp.contacts)
     centre += c.point / static_cast<double>(grasp.contacts.size());

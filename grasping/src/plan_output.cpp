@@ -23,28 +23,40 @@ nlohmann::json graspToJson(const Grasp& g, const HandModel& hand) {
                         {"link", c.link},
                         {"palm", c.palm}});
   }
-  return {{"id", g.id},
-          {"type", toString(g.type)},
-          {"strategy", g.strategy},
-          {"segment", g.segment >= 0 ? nlohmann::json(g.segment) : nlohmann::json(nullptr)},
-          {"skeleton_vertex",
-           g.skeleton_vertex >= 0 ? nlohmann::json(g.skeleton_vertex) : nlohmann::json(nullptr)},
-          {"preshape", g.preshape},
-          {"gcp_pose", poseToJson(g.gcp_pose)},
-          {"hand_pose", poseToJson(g.hand_pose)},
-          {"retreat_m", g.retreat_m},
-          {"joints", joints},
-          {"contacts", contacts},
-          {"force_closure", g.force_closure},
-          {"epsilon", g.epsilon},
-          {"volume", g.volume}};
+  nlohmann::json out = {
+      {"id", g.id},
+      {"type", toString(g.type)},
+      {"strategy", g.strategy},
+      {"segment", g.segment >= 0 ? nlohmann::json(g.segment) : nlohmann::json(nullptr)},
+      {"skeleton_vertex",
+       g.skeleton_vertex >= 0 ? nlohmann::json(g.skeleton_vertex) : nlohmann::json(nullptr)},
+      {"preshape", g.preshape},
+      {"gcp_pose", poseToJson(g.gcp_pose)},
+      {"hand_pose", poseToJson(g.hand_pose)},
+      {"retreat_m", g.retreat_m},
+      {"joints", joints},
+      {"contacts", contacts},
+      {"force_closure", g.force_closure},
+      {"epsilon", g.epsilon},
+      {"volume", g.volume}};
+  if (g.robustness) {
+    const GraspRobustness& r = *g.robustness;
+    out["robustness"] = {{"r", r.r},
+                         {"ci95", {r.ci95_low, r.ci95_high}},
+                         {"samples", r.samples},
+                         {"mu", r.mu},
+                         {"sigma_m", r.sigma_m},
+                         {"sigma_rad", r.sigma_rad},
+                         {"variant", r.variant}};
+  }
+  return out;
 }
 
 nlohmann::json planToJson(const PlanResult& r, const HandModel& hand, const std::string& object) {
   const auto& s = r.summary;
   nlohmann::json grasps = nlohmann::json::array();
   for (const auto& g : r.grasps) grasps.push_back(graspToJson(g, hand));
-  return {{"schema", "skelgrasp.grasps/1"},
+  return {{"schema", "skelgrasp.grasps/2"},
           {"object", object},
           {"hand", hand.name()},
           {"planner", r.planner},

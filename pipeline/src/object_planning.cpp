@@ -70,18 +70,24 @@ RankedPlan planAndRank(const HandModel& hand, const TriangleMesh& mesh,
   watch.restart();
   // The planner's object already holds a query tree over this mesh (same faces).
   const auto& query = target.surfaceQuery();
-  for (auto& g : out.plan.grasps) {
+  std::vector<double> ratios, trust;
+  for (const auto& g : out.plan.grasps) {
+    ratios.push_back(observedContactRatio(g, mesh, observed, query));
+    trust.push_back(1 - params.observed_weight + params.observed_weight * ratios.back());
+  }
+  auto ranking =
+      evaluation::rankByRobustness(hand, target, std::move(out.plan.grasps),
+                                   params.planner.hypothesis, params.robust_ranking, trust);
+  out.plan.grasps.clear();
+  out.robustness_scored = ranking.scored;
+  for (std::size_t i = 0; i < ranking.grasps.size(); ++i) {
     RankedGrasp r;
-    r.observed_contact_ratio = observedContactRatio(g, mesh, observed, query);
-    r.score = g.epsilon *
-              (1 - params.observed_weight + params.observed_weight * r.observed_contact_ratio);
-    r.grasp = std::move(g);
+    r.observed_contact_ratio = ratios[ranking.order[i]];
+    r.score = ranking.scores[i];
+    r.grasp = std::move(ranking.grasps[i]);
+    r.grasp.id = static_cast<int>(i);
     out.ranked.push_back(std::move(r));
   }
-  out.plan.grasps.clear();
-  std::stable_sort(out.ranked.begin(), out.ranked.end(),
-                   [](const auto& a, const auto& b) { return a.score > b.score; });
-  for (std::size_t i = 0; i < out.ranked.size(); ++i) out.ranked[i].grasp.id = static_cast<int>(i);
   out.rank_s = watch.seconds();
   return out;
 }

@@ -26,11 +26,12 @@ struct RankedPlan {
   grasping::PlanResult plan;        // summary; grasps moved into `ranked`
   std::vector<RankedGrasp> ranked;  // best first, ids 0..n-1
   double plan_s = 0;
-  double rank_s = 0;
+  double rank_s = 0;                  // observed contacts and robust ranking
+  std::size_t robustness_scored = 0;  // grasps scored for robustness
 };
 
-// Plans on `mesh` (scene check by `checker` when not null) and ranks the grasps by
-// epsilon x (1 - w + w x observed contact ratio).
+// Plans on `mesh` (scene check by `checker` when not null) and ranks the grasps by robustness
+// (params.robust_ranking) with the trust 1 - w + w x observed contact ratio (RunParams).
 RankedPlan planAndRank(const grasping::HandModel& hand, const TriangleMesh& mesh,
                        const std::vector<std::uint8_t>& observed,
                        const skeleton::Skeleton& skeleton, const grasping::SceneChecker* checker,

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "run_json.h"
+#include "run_report_grasps.h"
 #include "run_scene_view.h"
 #include "skelgrasp/common/atomic_file.h"
 #include "skelgrasp/common/html_report.h"
@@ -180,8 +181,9 @@ void renderBestGrasp(const std::string& path, const RunResult& r, const HandMode
   drawContacts(canvas, g.contacts, 0.02);
   canvas.drawText(
       8, 4,
-      fmt::format("#{} {} {} eps {:.3f} observed {:.0f}% score {:.3f}", g.id, toString(g.type),
-                  g.strategy, g.epsilon, 100 * ranked.observed_contact_ratio, ranked.score));
+      fmt::format("#{} {} {} eps {:.3f} observed {:.0f}% {}score {:.3f}", g.id, toString(g.type),
+                  g.strategy, g.epsilon, 100 * ranked.observed_contact_ratio,
+                  g.robustness ? fmt::format("r {:.2f} ", g.robustness->r) : "", ranked.score));
   canvas.savePng(path);
 }
 
@@ -239,6 +241,10 @@ void writeRunOutputs(const std::string& dir, const RunResult& r, const HandModel
     renderPlanPng(staged("grasps.png"), r.mesh, &r.skeleton->skeleton, shown, hand);
     report.image("grasps.png", "Approach directions of all grasps; the best grasp closed");
   }
+  report.heading("Grasps");
+  internal::addGraspTable(report, r.ranked);
+  report.heading("Robustness");
+  internal::addRobustnessHistogram(report, r.ranked);
   report.heading("Best grasps");
   for (std::size_t k = 0; k < std::min<std::size_t>(3, r.ranked.size()); ++k) {
     const std::string file = fmt::format("best_{}.png", k);

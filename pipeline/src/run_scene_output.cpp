@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "run_json.h"
+#include "run_report_grasps.h"
 #include "run_scene_view.h"
 #include "skelgrasp/common/atomic_file.h"
 #include "skelgrasp/common/html_report.h"
@@ -154,6 +155,8 @@ void addObjectSection(HtmlReport& report, OutputTransaction& outputs, const std:
   const std::string file = fmt::format("grasps_{}.png", o.id);
   renderPlanPng(outputs.stage(dir + "/" + file), o.mesh, &o.skeleton->skeleton, shown, hand);
   report.image(file, fmt::format("Object {}: approach directions; the best grasp closed", o.id));
+  internal::addGraspTable(report, o.ranked);
+  internal::addRobustnessHistogram(report, o.ranked);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include "bindings.h"
 #include "convert.h"
 #include "skelgrasp/common/json.h"
+#include "skelgrasp/evaluation/robust_ranking.h"
 #include "skelgrasp/evaluation/robustness.h"
 #include "skelgrasp/evaluation/score.h"
 #include "skelgrasp/grasping/hand_render.h"
@@ -91,7 +92,9 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
           double vertex_distance_m, std::optional<double> round_ratio, bool reference_compat,
           const std::string& fc_test, const std::string& closing, std::size_t max_hypotheses,
           const std::string& regularisation, double alpha_divisor, double offset_divisor,
-          double spur_radius_factor) {
+          double spur_radius_factor, bool robustness, int robustness_samples,
+          const std::string& robustness_variant, std::size_t robustness_top_k,
+          std::optional<double> robustness_mu) {
   if (planner != "skeleton" && planner != "surface")
     throw InvalidArgument("planner: '" + planner + "' is not skeleton or surface");
   grasping::HypothesisParams hypothesis;
@@ -104,6 +107,8 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
   skeleton_params.regularisation.offset_divisor = offset_divisor;
   skeleton_params.spur_radius_factor = spur_radius_factor;
 
+  const auto ranking = robustRankingParams(robustness, robustness_samples, robustness_variant,
+                                           robustness_top_k, robustness_mu, seed);
   Plan out{{}, hand, mesh.name, std::nullopt};
   py::gil_scoped_release release;
   const grasping::GraspObject object(mesh.mesh);
@@ -129,6 +134,10 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
     p.hypothesis = hypothesis;
     out.result = grasping::planSurfaceGrasps(*hand, object, p);
   }
+  // As `skelgrasp plan`: the best grasps scored by r and re-ranked (docs/planning.md).
+  out.result.grasps =
+      evaluation::rankByRobustness(*hand, object, std::move(out.result.grasps), hypothesis, ranking)
+          .grasps;
   return out;
 }
 
@@ -313,6 +322,14 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
       .def_property_readonly(
           "volume", [](const Grasp& g) { return g.grasp.volume; }, "Grasp wrench space volume.")
       .def_property_readonly(
+          "robustness",
+          [](const Grasp& g) -> py::object {
+            if (!g.grasp.robustness) return py::none();
+            return fromJson(grasping::graspToJson(g.grasp, *g.hand)["robustness"]);
+          },
+          "{r, ci95, samples, mu, sigma_m, sigma_rad, variant} when the robust ranking scored "
+          "the grasp, else None.")
+      .def_property_readonly(
           "type", [](const Grasp& g) { return std::string(toString(g.grasp.type)); },
           "'power' or 'precision'.")
       .def_property_readonly(
@@ -352,7 +369,7 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
             for (const auto& g : p.result.grasps) out.push_back({g, p.hand});
             return out;
           },
-          "Kept grasps, best (highest epsilon) first.")
+          "Kept grasps, best first (the robust ranking's order; by epsilon without it).")
       .def_property_readonly(
           "summary",
           [](const Plan& p) {
@@ -374,7 +391,7 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
       .def(
           "to_dict",
           [](const Plan& p) { return fromJson(grasping::planToJson(p.result, *p.hand, p.object)); },
-          "grasps.json as ``skelgrasp plan`` writes it (schema skelgrasp.grasps/1).")
+          "grasps.json as ``skelgrasp plan`` writes it (schema skelgrasp.grasps/2).")
       .def("__len__", [](const Plan& p) { return p.result.grasps.size(); })
       .def("__repr__", [](const Plan& p) {
         return "<skelgrasp.PlanResult: " +
@@ -384,26 +401,37 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
   const grasping::SkeletonPlannerParams planner;
   const grasping::SurfacePlannerParams surface;
   const skeleton::SkeletonParams skel;
-  m.def("plan", &plan, py::arg("mesh"), py::arg("hand"), py::arg("planner") = "skeleton",
-        py::arg("seed") = planner.seed, py::kw_only(), py::arg("timeout_s") = planner.timeout_s,
-        py::arg("max_grasps") = planner.max_grasps,
-        py::arg("min_epsilon") = planner.hypothesis.min_epsilon,
-        py::arg("mu") = planner.hypothesis.quality.friction,
-        py::arg("vertex_distance_m") = planner.vertex_distance_m,
-        py::arg("round_ratio") = planner.round_ratio,
-        py::arg("reference_compat") = planner.hypothesis.quality.reference_compat,
-        py::arg("fc_test") = std::string(toString(planner.hypothesis.quality.fc_test)),
-        py::arg("closing") = std::string(toString(planner.hypothesis.closing.method)),
-        py::arg("max_hypotheses") = surface.max_hypotheses,
-        py::arg("regularisation") = std::string(toString(skel.regularisation.method)),
-        py::arg("alpha_divisor") = skel.regularisation.alpha_divisor,
-        py::arg("offset_divisor") = skel.regularisation.offset_divisor,
-        py::arg("spur_radius_factor") = skel.spur_radius_factor, R"doc(
+  const evaluation::RobustRankingParams ranking;
+  m.def(
+      "plan", &plan, py::arg("mesh"), py::arg("hand"), py::arg("planner") = "skeleton",
+      py::arg("seed") = planner.seed, py::kw_only(), py::arg("timeout_s") = planner.timeout_s,
+      py::arg("max_grasps") = planner.max_grasps,
+      py::arg("min_epsilon") = planner.hypothesis.min_epsilon,
+      py::arg("mu") = planner.hypothesis.quality.friction,
+      py::arg("vertex_distance_m") = planner.vertex_distance_m,
+      py::arg("round_ratio") = planner.round_ratio,
+      py::arg("reference_compat") = planner.hypothesis.quality.reference_compat,
+      py::arg("fc_test") = std::string(toString(planner.hypothesis.quality.fc_test)),
+      py::arg("closing") = std::string(toString(planner.hypothesis.closing.method)),
+      py::arg("max_hypotheses") = surface.max_hypotheses,
+      py::arg("regularisation") = std::string(toString(skel.regularisation.method)),
+      py::arg("alpha_divisor") = skel.regularisation.alpha_divisor,
+      py::arg("offset_divisor") = skel.regularisation.offset_divisor,
+      py::arg("spur_radius_factor") = skel.spur_radius_factor,
+      py::arg("robustness") = ranking.enabled,
+      py::arg("robustness_samples") = ranking.robustness.samples,
+      py::arg("robustness_variant") = std::string(evaluation::toString(ranking.robustness.variant)),
+      py::arg("robustness_top_k") = ranking.top_k, py::arg("robustness_mu") = ranking.friction,
+      R"doc(
 Plans grasps for ``mesh`` with ``hand`` (``skelgrasp plan``): planner 'skeleton' (paper Alg. 1)
 or 'surface' (surface-normal baseline). Deterministic for a seed. The defaults are the library's
 SkeletonPlannerParams / SurfacePlannerParams (no time limit: ``timeout_s=0``; the command line
-sets 30 s). ``max_hypotheses`` is the surface planner's. A mesh the skeleton stage cannot process
-raises ValueError.)doc");
+sets 30 s) and RobustRankingParams. ``max_hypotheses`` is the surface planner's. Robust ranking
+(docs/planning.md): the best ``robustness_top_k`` grasps by epsilon (0: all) get a robustness r
+from ``robustness_samples`` perturbed executions (``robustness_variant`` 'paper' or 'reference',
+friction ``robustness_mu`` or ``mu``, samples seeded by ``seed``) and are ranked first by r;
+``robustness=False`` keeps the epsilon order. A mesh the skeleton stage cannot process raises
+ValueError.)doc");
 
   py::class_<Closing>(m, "CloseResult", "A hand closed at a pose, from :func:`close`.")
       .def_property_readonly(

@@ -91,8 +91,12 @@ Run run(const Cloud& cloud, const HandPtr& hand, const py::object& objects, bool
         double timeout_s, std::size_t max_grasps, std::uint64_t seed, double mu,
         double observed_weight, double octree_resolution_m, const std::string& unknown_space,
         double pregrasp_distance_m, const std::string& plane, double voxel_leaf_m,
-        int poisson_depth) {
+        int poisson_depth, bool robustness, int robustness_samples,
+        const std::string& robustness_variant, std::size_t robustness_top_k,
+        std::optional<double> robustness_mu) {
   pipeline::RunParams p;
+  p.robust_ranking = robustRankingParams(robustness, robustness_samples, robustness_variant,
+                                         robustness_top_k, robustness_mu, seed);
   p.reconstruction.ingest.filters.voxel_leaf_m = voxel_leaf_m;
   p.reconstruction.ingest.scene.plane = perception::parsePlaneRequirement(plane);
   p.reconstruction.ingest.scene.target = targetOf(objects);
@@ -202,7 +206,7 @@ ValueError with the command line's message.)doc");
           [](const Run& r) {
             return fromJson(pipeline::runToJson(r.result, *r.hand, r.scan, r.name));
           },
-          "grasps.json as ``skelgrasp run`` writes it (schema skelgrasp.run/1).")
+          "grasps.json as ``skelgrasp run`` writes it (schema skelgrasp.run/3).")
       .def("__len__", [](const Run& r) { return r.result.ranked.size(); });
 
   const pipeline::RunParams run_defaults;
@@ -221,10 +225,16 @@ ValueError with the command line's message.)doc");
         py::arg("pregrasp_distance_m") = run_defaults.approach.pregrasp_distance_m,
         py::arg("plane") = std::string(toString(run_defaults.reconstruction.ingest.scene.plane)),
         py::arg("voxel_leaf_m") = run_defaults.reconstruction.ingest.filters.voxel_leaf_m,
-        py::arg("poisson_depth") = run_defaults.reconstruction.meshing.poisson.depth, R"doc(
+        py::arg("poisson_depth") = run_defaults.reconstruction.meshing.poisson.depth,
+        py::arg("robustness") = run_defaults.robust_ranking.enabled,
+        py::arg("robustness_samples") = run_defaults.robust_ranking.robustness.samples,
+        py::arg("robustness_variant") =
+            std::string(evaluation::toString(run_defaults.robust_ranking.robustness.variant)),
+        py::arg("robustness_top_k") = run_defaults.robust_ranking.top_k,
+        py::arg("robustness_mu") = run_defaults.robust_ranking.friction, R"doc(
 The main job (``skelgrasp run``): a scan of a table scene to ranked, collision-free grasps on one
 object (``objects``: 'largest', 'nearest:x,y,z' or a point). Defaults are the library's RunParams
-(docs/pipeline.md). A scan without a plane or object raises ValueError; no grasp is a result with
+(docs/pipeline.md); the robustness keywords are :func:`plan`'s. A scan without a plane or object raises ValueError; no grasp is a result with
 status 'no_result'.)doc");
 }
 

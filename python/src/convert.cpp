@@ -153,4 +153,20 @@ py::dict jointsDict(const grasping::HandModel& hand, const Eigen::VectorXd& q) {
   return joints;
 }
 
+evaluation::RobustRankingParams robustRankingParams(bool robustness, int samples,
+                                                    const std::string& variant, std::size_t top_k,
+                                                    std::optional<double> mu, std::uint64_t seed) {
+  if (samples < 1) throw InvalidArgument("robustness_samples: must be >= 1");
+  if (mu && !(std::isfinite(*mu) && *mu >= 0))
+    throw InvalidArgument("robustness_mu: must be finite and >= 0");
+  evaluation::RobustRankingParams p;
+  p.enabled = robustness;
+  p.robustness.samples = samples;
+  p.robustness.variant = evaluation::parseRobustnessVariant(variant);
+  p.robustness.seed = seed;
+  p.top_k = top_k;
+  p.friction = mu;
+  return p;
+}
+
 }  // namespace skelgrasp::python

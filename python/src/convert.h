@@ -8,12 +8,14 @@
 
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/common/point_cloud.h"
 #include "skelgrasp/common/pose.h"
+#include "skelgrasp/evaluation/robust_ranking.h"
 #include "skelgrasp/grasping/grasp.h"
 #include "skelgrasp/grasping/hand_model.h"
 #include "skelgrasp/perception/scan.h"
@@ -74,6 +76,14 @@ Matrix fromPose(const Pose& pose);
 
 // nlohmann::json -> Python objects (dict, list, float, int, str, bool, None).
 py::object fromJson(const nlohmann::json& j);
+
+// The robust ranking of plan() and run() from their keyword arguments (as the CLI's
+// --no-robustness,
+// --robustness-samples, --robustness-variant, --robustness-top-k, --robustness-mu); `seed` also
+// seeds the robustness samples. Throws InvalidArgument for samples < 1 or an unknown variant.
+evaluation::RobustRankingParams robustRankingParams(bool robustness, int samples,
+                                                    const std::string& variant, std::size_t top_k,
+                                                    std::optional<double> mu, std::uint64_t seed);
 
 // {joint name: value} for the movable joints of `hand` in configuration `q`.
 py::dict jointsDict(const grasping::HandModel& hand, const Eigen::VectorXd& q);

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 #include "cli_support.h"
 #include "skelgrasp/common/json.h"
@@ -131,7 +132,7 @@ TEST(Cli, PlanWritesTheDocumentedGraspsJson) {
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_EQ(countLines(run.out), 1);
   const auto j = readJsonFile(dir + "/grasps.json");
-  EXPECT_EQ(j["schema"], "skelgrasp.grasps/1");
+  EXPECT_EQ(j["schema"], "skelgrasp.grasps/2");
   EXPECT_EQ(j["planner"], "skeleton");
   EXPECT_EQ(j["hand"], "sdh");
   EXPECT_EQ(j["units"], "m");
@@ -157,6 +158,68 @@ TEST(Cli, PlanWritesTheDocumentedGraspsJson) {
              dir);
   ASSERT_EQ(surface.exit_code, 0) << surface.err;
   EXPECT_EQ(readJsonFile(dir + "/surface.json")["summary"]["hypotheses"], 20);
+}
+
+// Robust ranking (docs/planning.md): the best K grasps by epsilon get r and come first, by r.
+TEST(Cli, PlanScoresAndRanksByRobustness) {
+  const std::string dir = test::tempDir("cli_plan_robust");
+  saveMesh(dir + "/bottle.ply", primitives::makeNamedShape("bottle"));
+  const std::string plan = "plan " + dir + "/bottle.ply --hand sdh --max-grasps 6 --seed 3 --out ";
+  const CliRun run = runCli(plan + dir +
+                                "/robust.json --robustness-samples 12 --robustness-top-k 4 "
+                                "--robustness-variant reference --robustness-mu 0.5",
+                            dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("best r "), std::string::npos) << run.out;
+  const auto robust = readJsonFile(dir + "/robust.json");
+  ASSERT_EQ(robust["grasps"].size(), 6u);
+  double previous_r = 2, previous_epsilon = 1e9;
+  for (std::size_t i = 0; i < robust["grasps"].size(); ++i) {
+    const auto& g = robust["grasps"][i];
+    EXPECT_EQ(g["id"], i);
+    ASSERT_EQ(g.contains("robustness"), i < 4) << i;
+    if (i < 4) {
+      const auto& r = g["robustness"];
+      const double value = r["r"], low = r["ci95"][0], high = r["ci95"][1];
+      EXPECT_LE(0.0, low);
+      EXPECT_LE(low, value);
+      EXPECT_LE(value, high);
+      EXPECT_LE(high, 1.0);
+      EXPECT_EQ(r["samples"], 12);
+      EXPECT_EQ(r["variant"], "reference");
+      EXPECT_DOUBLE_EQ(r["mu"].get<double>(), 0.5);
+      EXPECT_DOUBLE_EQ(r["sigma_m"].get<double>(), 0.005);
+      EXPECT_LE(value, previous_r);  // non-increasing in r, ties by epsilon
+      if (value == previous_r) {
+        EXPECT_LE(g["epsilon"].get<double>(), previous_epsilon);
+      }
+      previous_r = value;
+      previous_epsilon = g["epsilon"];
+    }
+  }
+
+  // --no-robustness: the planner's epsilon order and no robustness field.
+  const CliRun plain = runCli(plan + dir + "/plain.json --no-robustness", dir);
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_EQ(plain.out.find("best r "), std::string::npos);
+  const auto doc = readJsonFile(dir + "/plain.json");
+  ASSERT_EQ(doc["grasps"].size(), 6u);
+  for (std::size_t i = 0; i < doc["grasps"].size(); ++i) {
+    EXPECT_FALSE(doc["grasps"][i].contains("robustness"));
+    if (i > 0) {
+      EXPECT_LE(doc["grasps"][i]["epsilon"].get<double>(),
+                doc["grasps"][i - 1]["epsilon"].get<double>());
+    }
+  }
+  // The same grasps, re-ranked: the scored four are the four best by epsilon.
+  std::multiset<double> best4, scored;
+  for (std::size_t i = 0; i < 4; ++i) {
+    best4.insert(doc["grasps"][i]["epsilon"].get<double>());
+    scored.insert(robust["grasps"][i]["epsilon"].get<double>());
+  }
+  EXPECT_EQ(best4, scored);
+  EXPECT_EQ(runCli(plan + dir + "/x.json --robustness-samples 0", dir).exit_code, 2);
+  EXPECT_EQ(runCli(plan + dir + "/x.json --robustness-variant weird", dir).exit_code, 2);
 }
 
 TEST(Cli, EveryCommandHasHelp) {

@@ -79,7 +79,19 @@ TEST_F(DemoScenePipeline, EveryObjectGetsCollisionFreeForceClosureGraspsOnItself
       const auto& g = run.ranked[r].grasp;
       EXPECT_TRUE(g.force_closure);
       EXPECT_GT(g.epsilon, 0);
-      if (r > 0) EXPECT_LE(run.ranked[r].score, run.ranked[r - 1].score);
+      // Robust ranking (RunParams): the scored grasps first, then the others, each group by score.
+      if (r > 0 && run.ranked[r - 1].grasp.robustness.has_value() == g.robustness.has_value()) {
+        EXPECT_LE(run.ranked[r].score, run.ranked[r - 1].score);
+      }
+      if (r > 0 && g.robustness) {
+        EXPECT_TRUE(run.ranked[r - 1].grasp.robustness.has_value());
+      }
+      if (g.robustness) {
+        EXPECT_LE(0.0, g.robustness->ci95_low);
+        EXPECT_LE(g.robustness->ci95_low, g.robustness->r);
+        EXPECT_LE(g.robustness->r, g.robustness->ci95_high);
+        EXPECT_LE(g.robustness->ci95_high, 1.0);
+      }
       EXPECT_GE(run.ranked[r].observed_contact_ratio, 0);
       EXPECT_LE(run.ranked[r].observed_contact_ratio, 1);
       // Contacts, in the scan frame, are on this object: nearer to its true surface than to any
@@ -146,15 +158,44 @@ TEST_F(DemoScenePipeline, WritesTheReportWithItsPictures) {
 
   std::ifstream json_file(dir + "/grasps.json");
   const auto doc = nlohmann::json::parse(json_file);
-  EXPECT_EQ(doc.at("schema"), "skelgrasp.run/2");
+  EXPECT_EQ(doc.at("schema"), "skelgrasp.run/3");
+  // r with its interval per grasp and the histogram of r (inline SVG).
+  EXPECT_NE(html.find("r [95% interval]"), std::string::npos);
+  EXPECT_NE(html.find("robustness-histogram"), std::string::npos);
   ASSERT_EQ(doc.at("objects").size(), 1u);
   EXPECT_EQ(doc.at("objects")[0].at("grasps"), run.ranked.size());
   EXPECT_EQ(doc.at("objects")[0].at("mesh"), "object.ply");
   ASSERT_EQ(doc.at("scene").at("plane").size(), 4u);
   EXPECT_EQ(doc.at("grasps").size(), run.ranked.size());
+  const std::size_t top_k = RunParams{}.robust_ranking.top_k;
   for (const auto& g : doc.at("grasps")) {
     EXPECT_TRUE(g.contains("observed_contact_ratio"));
     EXPECT_TRUE(g.contains("rank_score"));
+    // The mug's few grasps are all within the robust ranking's top K.
+    if (doc.at("grasps").size() <= top_k) {
+      ASSERT_TRUE(g.contains("robustness"));
+      EXPECT_EQ(g["robustness"]["samples"], RunParams{}.robust_ranking.robustness.samples);
+      EXPECT_EQ(g["robustness"]["variant"], "paper");
+    }
+  }
+}
+
+TEST_F(DemoScenePipeline, WithoutRobustnessTheRankingIsEpsilonTimesTrust) {
+  const auto hand = loadBuiltinHand("armar3");
+  RunParams params = targetNear(scene_->centres[2]);  // the mug
+  params.robust_ranking.enabled = false;
+  const RunResult run = runPipeline(*scan_, hand, params);
+  ASSERT_TRUE(run.status.ok()) << run.status.message;
+  ASSERT_FALSE(run.ranked.empty());
+  for (std::size_t r = 0; r < run.ranked.size(); ++r) {
+    const auto& ranked = run.ranked[r];
+    EXPECT_FALSE(ranked.grasp.robustness.has_value());
+    EXPECT_DOUBLE_EQ(ranked.score, ranked.grasp.epsilon *
+                                       (1 - params.observed_weight +
+                                        params.observed_weight * ranked.observed_contact_ratio));
+    if (r > 0) {
+      EXPECT_LE(ranked.score, run.ranked[r - 1].score);
+    }
   }
 }
 

@@ -50,7 +50,9 @@ def test_plan_invariants(capsule, sdh, capsule_plan):
     result = capsule_plan
     assert result.status[0] == "ok" and 0 < len(result.grasps) <= 4
     epsilons = [g.epsilon for g in result.grasps]
-    assert epsilons == sorted(epsilons, reverse=True)
+    # Robust ranking: all (<= top K) scored, ranked by r, ties by epsilon.
+    keys = [(g.robustness["r"], g.epsilon) for g in result.grasps]
+    assert keys == sorted(keys, reverse=True)
     for g in result.grasps:
         assert is_rigid(g.hand_pose) and is_rigid(g.gcp_pose)
         assert g.force_closure and g.epsilon > 0
@@ -62,10 +64,27 @@ def test_plan_invariants(capsule, sdh, capsule_plan):
         assert np.allclose(np.linalg.norm(normals, axis=1), 1.0)
         assert g.to_dict()["hand_pose"]["position"] == pytest.approx(list(g.hand_pose[:3, 3]))
     document = result.to_dict()
-    assert document["schema"] == "skelgrasp.grasps/1" and document["hand"] == "sdh"
+    assert document["schema"] == "skelgrasp.grasps/2" and document["hand"] == "sdh"
     assert document["object"] == "capsule" and document["summary"] == result.summary
     assert [g["epsilon"] for g in document["grasps"]] == epsilons
     assert result.skeleton is not None and result.skeleton.ok
+
+
+def test_plan_robustness_keywords(capsule, sdh):
+    assert "robustness_samples: int = 50" in skelgrasp.plan.__doc__
+    result = skelgrasp.plan(capsule, sdh, seed=1, max_grasps=4, robustness_samples=10,
+                            robustness_top_k=2, robustness_variant="reference", robustness_mu=0.5)
+    scored = [g.robustness for g in result.grasps]
+    assert all(r is not None for r in scored[:2]) and all(r is None for r in scored[2:])
+    for r, entry in zip(scored[:2], result.to_dict()["grasps"]):
+        assert r == entry["robustness"] and r["samples"] == 10 and r["variant"] == "reference"
+        assert 0 <= r["ci95"][0] <= r["r"] <= r["ci95"][1] <= 1 and r["mu"] == 0.5
+    plain = skelgrasp.plan(capsule, sdh, seed=1, max_grasps=4, robustness=False)
+    epsilons = [g.epsilon for g in plain.grasps]
+    assert epsilons == sorted(epsilons, reverse=True)
+    assert all(g.robustness is None and "robustness" not in g.to_dict() for g in plain.grasps)
+    with pytest.raises(ValueError):
+        skelgrasp.plan(capsule, sdh, robustness_samples=0)
 
 
 def test_plan_is_deterministic_for_a_seed(capsule, sdh, capsule_plan):

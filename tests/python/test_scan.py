@@ -32,7 +32,7 @@ def test_reconstruct_and_run_on_the_mug_scan():
 
     run = skelgrasp.run(cloud, skelgrasp.hand("armar3"), max_grasps=2)
     document = run.to_dict()
-    assert document["schema"] == "skelgrasp.run/2" and len(document["grasps"]) == len(run)
+    assert document["schema"] == "skelgrasp.run/3" and len(document["grasps"]) == len(run)
     assert run.status[0] in ("ok", "no_result") and len(run.observed) == len(run.mesh.vertices)
     for g in run.grasps:
         assert g.force_closure and math.isfinite(g.rank_score)

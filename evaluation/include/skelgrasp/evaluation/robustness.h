@@ -30,6 +30,10 @@ struct RobustnessParams {
   grasping::ClosingParams closing;
 };
 
+// The pose error standard deviations `params` stands for: its own, or its variant's defaults.
+double positionSigmaM(const RobustnessParams& params);
+double orientationSigmaRad(const RobustnessParams& params);
+
 struct RobustnessResult {
   int samples = 0;
   int force_closure = 0;  // samples that closed to force closure

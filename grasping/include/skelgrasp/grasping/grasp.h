@@ -14,6 +14,20 @@ namespace skelgrasp::grasping {
 enum class GraspType { kPrecision, kPower };
 const char* toString(GraspType type);
 
+// Robustness r of a grasp (evaluation::evaluateRobustness): the share of `samples` perturbed
+// executions (pose error with standard deviations sigma_m and sigma_rad) that still close to force
+// closure at friction mu, with its 95 % Wilson interval. A plain record so the grasp stage can
+// carry it without depending on evaluation.
+struct GraspRobustness {
+  double r = 0;
+  double ci95_low = 0, ci95_high = 1;
+  int samples = 0;
+  double mu = 0;         // friction coefficient of the force-closure test
+  double sigma_m = 0;    // position error, standard deviation (m)
+  double sigma_rad = 0;  // orientation error, standard deviation (rad)
+  std::string variant;   // "paper" (the hand moves) or "reference" (the object moves)
+};
+
 struct Grasp {
   int id = -1;
   GraspType type = GraspType::kPower;
@@ -29,6 +43,8 @@ struct Grasp {
   bool force_closure = false;
   double epsilon = 0;
   double volume = 0;
+  // Set for the grasps the robust ranking scored (evaluation/robust_ranking.h), else unset.
+  std::optional<GraspRobustness> robustness;
 };
 
 // Why a hypothesis did not become a grasp. Strategy-level codes (interval, thickness, ...) reject a

@@ -1,5 +1,5 @@
 #pragma once
-// grasps.json (schema skelgrasp.grasps/1, docs/planning.md) and pictures of planned grasps.
+// grasps.json (schema skelgrasp.grasps/2, docs/planning.md) and pictures of planned grasps.
 #include <nlohmann/json.hpp>
 
 #include <string>
@@ -10,6 +10,7 @@
 
 namespace skelgrasp::grasping {
 
+// One grasp; "robustness" only when the grasp has one.
 nlohmann::json graspToJson(const Grasp& grasp, const HandModel& hand);
 nlohmann::json planToJson(const PlanResult& result, const HandModel& hand,
                           const std::string& object);

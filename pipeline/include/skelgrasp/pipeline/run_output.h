@@ -11,7 +11,7 @@
 
 namespace skelgrasp::pipeline {
 
-// The grasps.json document of a run (schema skelgrasp.run/1, docs/pipeline.md), as
+// The grasps.json document of a run (schema skelgrasp.run/3, docs/pipeline.md), as
 // writeRunOutputs writes it (the Python module's to_dict()).
 nlohmann::json runToJson(const RunResult& result, const grasping::HandModel& hand,
                          const perception::Scan& scan, const std::string& input_name);

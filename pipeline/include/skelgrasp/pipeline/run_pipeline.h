@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "skelgrasp/evaluation/robust_ranking.h"
 #include "skelgrasp/grasping/planners.h"
 #include "skelgrasp/grasping/scene.h"
 #include "skelgrasp/perception/scan.h"
@@ -44,15 +45,21 @@ struct RunParams {
   // The octree covers the target's box grown by this much (hand size plus pre-grasp distance).
   double workspace_margin_m = 0.4;
   grasping::SceneCheckParams approach;
-  // Ranking score = epsilon * (1 - w + w * observed contact ratio): a grasp whose contacts lie on
-  // surface the sensor saw is trusted more than one on filled-in surface.
+  // Trust of a grasp = 1 - w + w * observed contact ratio: a grasp whose contacts lie on surface
+  // the sensor saw is trusted more than one on filled-in surface. Ranking score (robust ranking,
+  // evaluation/robust_ranking.h): r * trust for the grasps scored for robustness (the best
+  // robust_ranking.top_k by epsilon * trust), ranked first; epsilon * trust for the others (all of
+  // them with robust_ranking.enabled = false, the ranking before robustness).
   double observed_weight = 0.5;
+  // The seed of r is robust_ranking.robustness.seed; the robustness is judged on the object alone
+  // (the perturbed hand is not checked against the rest of the scene).
+  evaluation::RobustRankingParams robust_ranking;
 };
 
 struct RankedGrasp {
   grasping::Grasp grasp;
   double observed_contact_ratio = 0;  // contacts on observed surface / contacts
-  double score = 0;
+  double score = 0;                   // the ranking score (RunParams::observed_weight)
 };
 
 struct StageTime {

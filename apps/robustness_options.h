@@ -1,0 +1,59 @@
+#pragma once
+// Robust ranking options (evaluation/robust_ranking.h), shared by the commands that plan and rank
+// (plan, run, demo, bench run).
+#include <CLI/CLI.hpp>
+
+#include <fmt/format.h>
+
+#include <optional>
+#include <string>
+
+#include "option_checks.h"
+#include "skelgrasp/evaluation/robust_ranking.h"
+
+namespace skelgrasp::cli {
+
+// Most perturbed poses per grasp a command accepts (a million closings is hours).
+constexpr std::uint64_t kMaxRankingSamples = 1'000'000;
+
+// Defaults are the library's RobustRankingParams (never a typed copy of a number).
+struct RobustnessOptions {
+  bool disabled = !evaluation::RobustRankingParams{}.enabled;
+  int samples = evaluation::RobustRankingParams{}.robustness.samples;
+  std::string variant = evaluation::toString(evaluation::RobustRankingParams{}.robustness.variant);
+  std::size_t top_k = evaluation::RobustRankingParams{}.top_k;
+  std::optional<double> mu;  // unset: the planner's --mu
+
+  void addTo(CLI::App& cmd) {
+    cmd.add_flag("--no-robustness", disabled,
+                 "Rank by epsilon only; no robustness r on the grasps (faster)");
+    cmd.add_option("--robustness-samples", samples, "Perturbed executions per scored grasp")
+        ->transform(countIn(1, kMaxRankingSamples))
+        ->capture_default_str();
+    cmd.add_option("--robustness-variant", variant,
+                   "paper (hand moved, 10 mm / 5 deg) or reference (object moved, 5 mm / 2.5 deg)")
+        ->check(CLI::IsMember({"paper", "reference"}))
+        ->capture_default_str();
+    cmd.add_option("--robustness-top-k", top_k,
+                   "Grasps scored for robustness, the best by epsilon (0 = all)")
+        ->transform(countIn(0, kMaxCount))
+        ->capture_default_str();
+    // No shown default: unset means the planner's friction.
+    cmd.add_option("--robustness-mu", mu, "Friction coefficient of r (default: --mu)")
+        ->check(finiteIn(0, kMaxFriction));
+  }
+
+  // `seed`: the command's --seed, which also seeds the robustness samples.
+  evaluation::RobustRankingParams params(std::uint64_t seed) const {
+    evaluation::RobustRankingParams p;
+    p.enabled = !disabled;
+    p.top_k = top_k;
+    p.robustness.samples = samples;
+    p.robustness.variant = evaluation::parseRobustnessVariant(variant);
+    p.robustness.seed = seed;
+    p.friction = mu;
+    return p;
+  }
+};
+
+}  // namespace skelgrasp::cli

@@ -1,0 +1,68 @@
+#pragma once
+// Robust ranking: the planner's best grasps scored by their robustness r (robustness.h) and
+// re-ranked by it, so the grasps a user gets first are the ones that survive positioning errors,
+// each with its r attached (Grasp::robustness). docs/planning.md, "Robust ranking".
+#include <cstddef>
+#include <optional>
+#include <vector>
+
+#include "skelgrasp/evaluation/robustness.h"
+#include "skelgrasp/grasping/hypothesis.h"
+
+namespace skelgrasp::evaluation {
+
+// Defaults chosen so that ranking one object costs about a second with the paper hands on the
+// YCB meshes (docs/planning.md has the measurements): 10 grasps x 50 samples.
+inline constexpr std::size_t kDefaultRobustTopK = 10;
+inline constexpr int kDefaultRankingSamples = 50;
+
+inline RobustnessParams defaultRankingRobustness() {
+  RobustnessParams params;
+  params.samples = kDefaultRankingSamples;
+  return params;
+}
+
+struct RobustRankingParams {
+  bool enabled = true;  // false: the grasps keep the pre-score order and get no robustness
+  // The grasps scored: the best top_k by the pre-score (epsilon x trust); 0 scores all of them.
+  std::size_t top_k = kDefaultRobustTopK;
+  // Samples, variant, pose error sigmas and seed of r. Its `quality` and `closing` are NOT used:
+  // r is judged as the planner judged the grasp (rankByRobustness's `planner` argument), with the
+  // friction replaced by `friction` when that is set.
+  RobustnessParams robustness = defaultRankingRobustness();
+  std::optional<double> friction;  // unset: the planner's QualityParams::friction (0.35)
+};
+
+struct RobustRankingResult {
+  Status status;                        // kOk (also when disabled or there is no grasp)
+  std::vector<grasping::Grasp> grasps;  // best first, ids renumbered 0..n-1 (id = rank)
+  std::vector<double> scores;           // each grasp's rank score (see rankByRobustness)
+  std::vector<std::size_t> order;       // grasps[i] was input grasp order[i]
+  std::size_t scored = 0;               // grasps that got a robustness
+  double time_s = 0;
+};
+
+// Scores the best `params.top_k` grasps by robustness and re-ranks all of them:
+//  * pre-score = epsilon x trust[i] (trust empty: 1; scans: 1 - w + w x observed contact ratio);
+//  * rank score of a scored grasp = r x trust[i]; of an unscored one (beyond top_k, or ranking
+//    disabled) = its pre-score;
+//  * order: scored grasps first by rank score, ties by pre-score; then the unscored ones by
+//    pre-score (the planner's order when trust is empty). The sort is stable.
+// Common random numbers: every grasp is scored with evaluateRobustness(..., grasp_index = 0) and
+// params.robustness.seed, so all grasps face the same perturbations and the differences in r
+// between them are not sampling noise (`skelgrasp score` relies on this convention to reproduce
+// plan's numbers). The result does not depend on the thread count. Grasps without contacts stay
+// unscored. Throws InvalidArgument for samples < 1 (when enabled), a negative or non-finite
+// friction, or a trust vector whose size is not the grasps'.
+RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
+                                     const grasping::GraspObject& object,
+                                     std::vector<grasping::Grasp> grasps,
+                                     const grasping::HypothesisParams& planner,
+                                     const RobustRankingParams& params,
+                                     const std::vector<double>& trust = {});
+
+// The robustness record a grasp carries, from a result and the parameters that produced it.
+grasping::GraspRobustness graspRobustness(const RobustnessResult& result,
+                                          const RobustnessParams& params);
+
+}  // namespace skelgrasp::evaluation

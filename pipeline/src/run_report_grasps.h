@@ -1,0 +1,23 @@
+#pragma once
+// The grasp sections of the run reports (one target and scene): a table of the ranked grasps with
+// their robustness r and its interval, and a histogram of r over the object's scored grasps.
+#include <string>
+#include <vector>
+
+#include "skelgrasp/common/html_report.h"
+#include "skelgrasp/pipeline/run_pipeline.h"
+
+namespace skelgrasp::pipeline::internal {
+
+// Rank, type, strategy, epsilon, observed contacts, r [95 % interval] ("-" when not scored) and
+// the rank score, one row per grasp.
+void addGraspTable(HtmlReport& report, const std::vector<RankedGrasp>& ranked);
+
+// An inline SVG bar chart (no file, works offline) of r over the scored grasps, in ten bins of
+// 0.1; a sentence instead when no grasp was scored.
+void addRobustnessHistogram(HtmlReport& report, const std::vector<RankedGrasp>& ranked);
+
+// The SVG of that chart (for tests): `counts` per bin of width 1 / counts.size().
+std::string robustnessHistogramSvg(const std::vector<std::size_t>& counts);
+
+}  // namespace skelgrasp::pipeline::internal

@@ -1,0 +1,205 @@
+#include "skelgrasp/evaluation/robust_ranking.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <filesystem>
+#include <numeric>
+
+#include "skelgrasp/common/mesh_io.h"
+#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/grasping/planners.h"
+#include "skelgrasp/skeleton/extraction.h"
+#include "test_support.h"
+
+namespace skelgrasp::evaluation {
+namespace {
+
+struct Planned {
+  grasping::HandModel hand;
+  TriangleMesh mesh;
+  std::unique_ptr<grasping::GraspObject> object;
+  grasping::SkeletonPlannerParams params;
+  grasping::PlanResult plan;
+};
+
+// A few grasps of `hand` on `mesh`, sorted by epsilon as the planner returns them.
+Planned planOn(const std::string& hand, TriangleMesh mesh, std::size_t max_grasps) {
+  Planned p{grasping::loadBuiltinHand(hand), std::move(mesh), nullptr, {}, {}};
+  p.object = std::make_unique<grasping::GraspObject>(p.mesh);
+  const auto skel = skeleton::extractSkeleton(p.mesh);
+  EXPECT_TRUE(skel.status.ok()) << skel.status.message;
+  p.params.max_grasps = max_grasps;
+  p.params.timeout_s = 60;
+  p.plan = grasping::planSkeletonGrasps(p.hand, *p.object, skel.skeleton, p.params);
+  return p;
+}
+
+const Planned& cylinder() {
+  static const Planned planned = planOn("armar3", primitives::makeCylinder(0.035, 0.2, 48, 10), 8);
+  return planned;
+}
+
+RobustRankingParams fewSamples(int samples, std::size_t top_k) {
+  RobustRankingParams params;
+  params.robustness.samples = samples;
+  params.top_k = top_k;
+  return params;
+}
+
+TEST(RobustRanking, ScoresTheTopKAndRanksThemFirstByR) {
+  const Planned& p = cylinder();
+  ASSERT_GE(p.plan.grasps.size(), 4u);
+  const auto params = fewSamples(16, 3);
+  const auto result =
+      rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params);
+  EXPECT_TRUE(result.status.ok());
+  ASSERT_EQ(result.grasps.size(), p.plan.grasps.size());
+  EXPECT_EQ(result.scored, 3u);
+  for (std::size_t i = 0; i < result.grasps.size(); ++i) {
+    const auto& g = result.grasps[i];
+    EXPECT_EQ(g.id, static_cast<int>(i));
+    // The scored grasps come first, each with a valid record.
+    EXPECT_EQ(g.robustness.has_value(), i < 3) << i;
+    if (g.robustness) {
+      const auto& r = *g.robustness;
+      EXPECT_EQ(r.samples, 16);
+      EXPECT_LE(0.0, r.ci95_low);
+      EXPECT_LE(r.ci95_low, r.r);
+      EXPECT_LE(r.r, r.ci95_high);
+      EXPECT_LE(r.ci95_high, 1.0);
+      EXPECT_DOUBLE_EQ(r.mu, grasping::QualityParams{}.friction);
+      EXPECT_EQ(r.variant, "paper");
+      EXPECT_DOUBLE_EQ(r.sigma_m, 0.010);
+      EXPECT_DOUBLE_EQ(result.scores[i], r.r);  // no trust factor: the score is r
+    } else {
+      EXPECT_DOUBLE_EQ(result.scores[i], g.epsilon);
+    }
+    // Non-increasing in the documented score within each group; ties by epsilon.
+    if (i > 0 && result.grasps[i - 1].robustness.has_value() == g.robustness.has_value()) {
+      EXPECT_GE(result.scores[i - 1], result.scores[i]);
+      if (result.scores[i - 1] == result.scores[i]) {
+        EXPECT_GE(result.grasps[i - 1].epsilon, g.epsilon);
+      }
+    }
+  }
+  // The scored grasps are the three best by epsilon.
+  for (std::size_t i = 0; i < 3; ++i) EXPECT_LT(result.order[i], 3u);
+}
+
+TEST(RobustRanking, DisabledKeepsTheEpsilonOrderWithoutRobustness) {
+  const Planned& p = cylinder();
+  RobustRankingParams params;
+  params.enabled = false;
+  const auto result =
+      rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params);
+  EXPECT_EQ(result.scored, 0u);
+  ASSERT_EQ(result.grasps.size(), p.plan.grasps.size());
+  for (std::size_t i = 0; i < result.grasps.size(); ++i) {
+    EXPECT_EQ(result.order[i], i);
+    EXPECT_FALSE(result.grasps[i].robustness.has_value());
+    EXPECT_EQ(result.grasps[i].epsilon, p.plan.grasps[i].epsilon);
+  }
+}
+
+TEST(RobustRanking, UsesCommonRandomNumbersAndTheGivenFriction) {
+  // Every grasp is scored with grasp_index 0 and the params' seed: evaluateRobustness with those
+  // reproduces each r (what `skelgrasp score` relies on).
+  const Planned& p = cylinder();
+  auto params = fewSamples(12, 2);
+  params.robustness.seed = 7;
+  params.friction = 0.5;
+  const auto result =
+      rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params);
+  grasping::GraspSimulator sim(p.hand, *p.object);
+  RobustnessParams rp = params.robustness;
+  rp.quality = p.params.hypothesis.quality;
+  rp.quality.friction = 0.5;
+  rp.quality.torsional_friction_m = p.hand.closingDefaults().torsional_friction_m;
+  rp.closing = p.params.hypothesis.closing;
+  ASSERT_EQ(result.scored, 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    const auto& g = result.grasps[i];
+    EXPECT_DOUBLE_EQ(g.robustness->mu, 0.5);
+    EXPECT_EQ(g.robustness->r, evaluateRobustness(sim, g, rp, 0).score) << i;
+  }
+}
+
+TEST(RobustRanking, SameSeedSameRAtOneAndTwoThreads) {
+  const Planned& p = cylinder();
+  const auto params = fewSamples(20, 3);
+  std::vector<double> one, two;
+  {
+    tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 1);
+    for (const auto& g :
+         rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params).grasps)
+      one.push_back(g.robustness ? g.robustness->r : -1);
+  }
+  {
+    tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 2);
+    for (const auto& g :
+         rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params).grasps)
+      two.push_back(g.robustness ? g.robustness->r : -1);
+  }
+  EXPECT_EQ(one, two);
+}
+
+TEST(RobustRanking, TrustScalesTheScoreAndMustMatchTheGrasps) {
+  const Planned& p = cylinder();
+  const std::size_t n = p.plan.grasps.size();
+  std::vector<double> trust(n, 0.5);
+  trust[0] = 1.0;
+  const auto result = rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis,
+                                       fewSamples(8, n), trust);
+  for (std::size_t i = 0; i < n; ++i) {
+    ASSERT_TRUE(result.grasps[i].robustness);
+    EXPECT_DOUBLE_EQ(result.scores[i], result.grasps[i].robustness->r * trust[result.order[i]]);
+    if (i > 0) {
+      EXPECT_GE(result.scores[i - 1], result.scores[i]);
+    }
+  }
+  trust.pop_back();
+  EXPECT_THROW(rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis,
+                                fewSamples(8, n), trust),
+               InvalidArgument);
+  auto none = fewSamples(0, n);
+  EXPECT_THROW(rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, none),
+               InvalidArgument);
+}
+
+TEST(RobustRanking, TopRankedGraspsOfARealObjectAreMoreRobustThanTheAverage) {
+  std::string path;
+  for (const char* name : {"006_mustard_bottle.ply", "011_banana.ply"}) {
+    const std::string candidate = test::sharedDataDir() + "/objects/ycb/" + name;
+    if (!test::sharedDataDir().empty() && std::filesystem::exists(candidate)) {
+      path = candidate;
+      break;
+    }
+  }
+  if (path.empty()) GTEST_SKIP() << "no YCB mustard bottle or banana in ../shared/data";
+  const Planned p = planOn("sdh", loadMesh(path), 20);
+  ASSERT_GE(p.plan.grasps.size(), 4u) << path;
+  const auto ranking = fewSamples(40, 0);
+  const auto result =
+      rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, ranking);
+  ASSERT_EQ(result.scored, result.grasps.size());
+  // Ranked on one set of samples, judged on fresh ones (another seed): taking the top by the same
+  // samples they were ranked on would be better by construction.
+  grasping::GraspSimulator sim(p.hand, *p.object);
+  RobustnessParams fresh = ranking.robustness;
+  fresh.seed = 12345;
+  fresh.quality = p.params.hypothesis.quality;
+  fresh.quality.torsional_friction_m = p.hand.closingDefaults().torsional_friction_m;
+  fresh.closing = p.params.hypothesis.closing;
+  double all = 0, top = 0;
+  for (std::size_t i = 0; i < result.grasps.size(); ++i) {
+    const double r = evaluateRobustness(sim, result.grasps[i], fresh, 0).score;
+    all += r / result.grasps.size();
+    if (i < 3) top += r / 3;
+  }
+  EXPECT_GE(top, all) << path;
+  EXPECT_GT(top, 0.0) << path;
+}
+
+}  // namespace
+}  // namespace skelgrasp::evaluation
