@@ -17,6 +17,8 @@ namespace skelgrasp::cli {
 // Planning time limit of the commands (the library's default is none: on the command line a
 // forgotten limit would let a planner run for minutes on a large mesh).
 constexpr double kDefaultPlanningTimeoutS = 30;
+// More refinement evaluations than this per hypothesis is a typing mistake (each is a closing).
+constexpr int kMaxRefineEvaluations = 1000;
 
 // Defaults are the library's Params (never a typed copy of a number), except the time limit.
 struct PlannerOptions {
@@ -33,6 +35,8 @@ struct PlannerOptions {
   bool reference_compat = false;
   std::string fc_test = defaultForceClosureTest();
   std::string closing = defaultClosingMethod();
+  int refine_evaluations = grasping::RefinementParams{}.max_evaluations;
+  bool no_refine = false;
 
   // `choice`: also --planner and --hypotheses (commands that can run either planner).
   void addTo(CLI::App& cmd, bool choice = true) {
@@ -76,6 +80,13 @@ struct PlannerOptions {
                  "Quality as the reference code (docs/hands.md)");
     addForceClosureTestOption(cmd, fc_test);
     addClosingMethodOption(cmd, closing);
+    cmd.add_option("--refine-evaluations", refine_evaluations,
+                   "Skeleton planner: poses tried around each closed hypothesis by local "
+                   "refinement (0 = none)")
+        ->check(CLI::Range(0, kMaxRefineEvaluations))
+        ->capture_default_str();
+    cmd.add_flag("--no-refine", no_refine,
+                 "Skeleton planner: no local refinement (one pose per hypothesis, as the paper)");
   }
 
   grasping::HypothesisParams hypothesis() const {
@@ -96,6 +107,8 @@ struct PlannerOptions {
     p.vertex_distance_m = vertex_distance_m;
     p.round_ratio = round_ratio;
     p.hypothesis = hypothesis();
+    p.refinement.enabled = !no_refine;
+    p.refinement.max_evaluations = refine_evaluations;
     return p;
   }
 

@@ -6,6 +6,7 @@
 #include "skelgrasp/common/render.h"
 #include "skelgrasp/geometry/mesh_query.h"
 #include "skelgrasp/grasping/hand_render.h"
+#include "skelgrasp/grasping/refinement_json.h"
 
 namespace skelgrasp::grasping {
 
@@ -23,7 +24,8 @@ nlohmann::json graspToJson(const Grasp& g, const HandModel& hand) {
                         {"link", c.link},
                         {"palm", c.palm}});
   }
-  return {{"id", g.id},
+  return withRefinementJson(
+      g, {{"id", g.id},
           {"type", toString(g.type)},
           {"strategy", g.strategy},
           {"segment", g.segment >= 0 ? nlohmann::json(g.segment) : nlohmann::json(nullptr)},
@@ -37,7 +39,7 @@ nlohmann::json graspToJson(const Grasp& g, const HandModel& hand) {
           {"contacts", contacts},
           {"force_closure", g.force_closure},
           {"epsilon", g.epsilon},
-          {"volume", g.volume}};
+          {"volume", g.volume}});
 }
 
 nlohmann::json planToJson(const PlanResult& r, const HandModel& hand, const std::string& object) {
