@@ -82,7 +82,7 @@ struct PlannerOptions {
     addClosingMethodOption(cmd, closing);
     cmd.add_option("--refine-evaluations", refine_evaluations,
                    "Skeleton planner: poses tried around each closed hypothesis by local "
-                   "refinement (0 = none)")
+                   "refinement (0 = none, but each grasp records its closure margin)")
         ->check(CLI::Range(0, kMaxRefineEvaluations))
         ->capture_default_str();
     cmd.add_flag("--no-refine", no_refine,

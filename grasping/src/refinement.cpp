@@ -78,14 +78,13 @@ HypothesisOutcome evaluateRefinedHypothesis(GraspSimulator& simulator, const Pos
                                             const HypothesisParams& params,
                                             const RefinementFrame& frame,
                                             const RefinementParams& refinement) {
-  if (!refinement.enabled || refinement.max_evaluations <= 0)
-    return evaluateHypothesis(simulator, gcp, preshape, params);
-  if (!(refinement.tangent_step_m > 0 && refinement.lateral_step_m > 0 &&
-        refinement.roll_step_rad > 0 && refinement.standoff_step_m > 0 &&
-        refinement.max_tangent_m >= 0 && refinement.max_lateral_m >= 0 &&
-        refinement.max_roll_rad >= 0 && refinement.max_standoff_m >= 0 &&
-        refinement.max_halvings >= 0)) {
-    throw InvalidArgument("refinement: steps must be > 0, bounds and halvings >= 0");
+  if (!refinement.enabled) return evaluateHypothesis(simulator, gcp, preshape, params);
+  if (!(refinement.max_evaluations >= 0 && refinement.tangent_step_m > 0 &&
+        refinement.lateral_step_m > 0 && refinement.roll_step_rad > 0 &&
+        refinement.standoff_step_m > 0 && refinement.max_tangent_m >= 0 &&
+        refinement.max_lateral_m >= 0 && refinement.max_roll_rad >= 0 &&
+        refinement.max_standoff_m >= 0 && refinement.max_halvings >= 0)) {
+    throw InvalidArgument("refinement: steps must be > 0, evaluations, bounds and halvings >= 0");
   }
   const GraspObject& object = simulator.object();
   HypothesisOutcome seed = closeHypothesis(simulator, gcp, preshape, params);

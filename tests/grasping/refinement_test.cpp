@@ -211,8 +211,8 @@ TEST(Refinement, PlanningIsDeterministic) {
   }
 }
 
-// Off (either switch): no grasp carries a refinement record, and each grasp is exactly what the
-// unrefined hypothesis evaluation gives (the planner's path before refinement existed).
+// Off: no grasp carries a refinement record. A budget of 0 plans the same grasps (the seeds), each
+// recording its margin and that it was not moved.
 TEST(Refinement, OffPlansAsWithoutRefinement) {
   RefinementParams off;
   off.enabled = false;
@@ -224,6 +224,11 @@ TEST(Refinement, OffPlansAsWithoutRefinement) {
   ASSERT_FALSE(a.empty());
   for (std::size_t i = 0; i < a.size(); ++i) {
     EXPECT_FALSE(a[i].refinement);
+    ASSERT_TRUE(b[i].refinement);
+    EXPECT_FALSE(b[i].refinement->refined);
+    EXPECT_EQ(b[i].refinement->evaluations, 0);
+    EXPECT_EQ(b[i].refinement->margin_before, b[i].refinement->margin_after);
+    EXPECT_GT(b[i].refinement->margin_after, 0);
     EXPECT_EQ(a[i].epsilon, b[i].epsilon);
     EXPECT_TRUE(a[i].hand_pose.isApprox(b[i].hand_pose, 0));
     EXPECT_EQ(a[i].contacts.size(), b[i].contacts.size());

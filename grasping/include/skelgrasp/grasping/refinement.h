@@ -16,7 +16,7 @@ namespace skelgrasp::grasping {
 struct RefinementParams {
   bool enabled = true;
   // Poses closed and judged per hypothesis besides the seed (each costs one retreat search and one
-  // closing); 0 turns refinement off as `enabled = false` does.
+  // closing); 0: no search, but kept grasps still record their margin (refined = false).
   int max_evaluations = 12;
   // First step of each move; every step is halved together when no move improves.
   double tangent_step_m = 0.004;
@@ -54,7 +54,8 @@ double signedClosureMargin(const std::vector<Contact>& contacts, const GraspObje
 // contacts (kept or a near-miss) its neighbourhood is searched and the best pose judged. The kept
 // grasp's `refinement` records the moves. Never worse than the seed: a pose replaces the seed only
 // when it is force closure where the seed was not, or has a larger margin with the same verdict,
-// and still passes min_epsilon. With refinement disabled: exactly evaluateHypothesis.
+// and still passes min_epsilon. With refinement disabled: exactly evaluateHypothesis. Throws
+// InvalidArgument for a negative budget, bound or halving count or a step <= 0.
 HypothesisOutcome evaluateRefinedHypothesis(GraspSimulator& simulator, const Pose& gcp,
                                             const Preshape& preshape,
                                             const HypothesisParams& params,
