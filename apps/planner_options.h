@@ -17,6 +17,8 @@ namespace skelgrasp::cli {
 // Planning time limit of the commands (the library's default is none: on the command line a
 // forgotten limit would let a planner run for minutes on a large mesh).
 constexpr double kDefaultPlanningTimeoutS = 30;
+// More refinement evaluations than this per hypothesis is a typing mistake (each is a closing).
+constexpr int kMaxRefineEvaluations = 1000;
 
 // Defaults are the library's Params (never a typed copy of a number), except the time limit.
 struct PlannerOptions {
@@ -34,6 +36,8 @@ struct PlannerOptions {
   bool no_fallback = false;  // skeleton planner: the skeleton strategies only
   std::string fc_test = defaultForceClosureTest();
   std::string closing = defaultClosingMethod();
+  int refine_evaluations = grasping::RefinementParams{}.max_evaluations;
+  bool refine = grasping::RefinementParams{}.enabled;
 
   // `choice`: also --planner and --hypotheses (commands that can run either planner).
   void addTo(CLI::App& cmd, bool choice = true) {
@@ -80,6 +84,14 @@ struct PlannerOptions {
                  "grasps (docs/planning.md)");
     addForceClosureTestOption(cmd, fc_test);
     addClosingMethodOption(cmd, closing);
+    cmd.add_option("--refine-evaluations", refine_evaluations,
+                   "Skeleton planner: poses tried around each closed hypothesis by local "
+                   "refinement (0 = none, but each grasp records its closure margin)")
+        ->check(CLI::Range(0, kMaxRefineEvaluations))
+        ->capture_default_str();
+    cmd.add_flag("--refine,!--no-refine", refine,
+                 "Skeleton planner: local refinement of every closed hypothesis (off by default: "
+                 "8-12x slower planning; docs/planning.md)");
   }
 
   grasping::HypothesisParams hypothesis() const {
@@ -101,6 +113,8 @@ struct PlannerOptions {
     p.round_ratio = round_ratio;
     p.fallback = !no_fallback;
     p.hypothesis = hypothesis();
+    p.refinement.enabled = refine;
+    p.refinement.max_evaluations = refine_evaluations;
     return p;
   }
 

@@ -10,6 +10,12 @@ const char* toString(GraspType type) {
 
 HypothesisOutcome evaluateHypothesis(GraspSimulator& simulator, const Pose& gcp,
                                      const Preshape& preshape, const HypothesisParams& params) {
+  return judgeHypothesis(closeHypothesis(simulator, gcp, preshape, params), simulator.object(),
+                         params);
+}
+
+HypothesisOutcome closeHypothesis(GraspSimulator& simulator, const Pose& gcp,
+                                  const Preshape& preshape, const HypothesisParams& params) {
   HypothesisOutcome out;
   const Eigen::Vector3d approach = gcp.rotation().col(2);
   auto poseAt = [&](double retreat) {
@@ -76,8 +82,17 @@ HypothesisOutcome evaluateHypothesis(GraspSimulator& simulator, const Pose& gcp,
   }
   out.generated = true;
   grasp.contacts = closing.contacts;
-  const WrenchSpaceResult quality =
-      evaluateGrasp(grasp.contacts, simulator.object(), params.quality);
+  out.grasp = std::move(grasp);
+  return out;
+}
+
+HypothesisOutcome judgeHypothesis(HypothesisOutcome&& closed, const GraspObject& object,
+                                  const HypothesisParams& params) {
+  if (!closed.generated || !closed.grasp) return std::move(closed);
+  HypothesisOutcome out;
+  out.generated = true;
+  Grasp grasp = std::move(*closed.grasp);
+  const WrenchSpaceResult quality = evaluateGrasp(grasp.contacts, object, params.quality);
   grasp.force_closure = quality.force_closure;
   grasp.epsilon = quality.epsilon;
   grasp.volume = quality.volume;

@@ -6,6 +6,7 @@
 #include "skelgrasp/common/render.h"
 #include "skelgrasp/geometry/mesh_query.h"
 #include "skelgrasp/grasping/hand_render.h"
+#include "skelgrasp/grasping/refinement_json.h"
 
 namespace skelgrasp::grasping {
 
@@ -49,7 +50,7 @@ nlohmann::json graspToJson(const Grasp& g, const HandModel& hand) {
                          {"sigma_rad", r.sigma_rad},
                          {"variant", r.variant}};
   }
-  return out;
+  return withRefinementJson(g, std::move(out));
 }
 
 nlohmann::json planToJson(const PlanResult& r, const HandModel& hand, const std::string& object) {

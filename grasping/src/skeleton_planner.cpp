@@ -83,6 +83,22 @@ std::vector<Pose> hypothesisFrames(const Eigen::Vector3d& s, const LocalShape& s
   return frames;
 }
 
+// Mean of the surface points of the local interval (the refinement's lateral target); the
+// interval's first vertex when it has none.
+Eigen::Vector3d localCentroid(const Skeleton& skel, const TriangleMesh& mesh,
+                              const LocalShape& shape) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  std::size_t count = 0;
+  for (int v : shape.interval) {
+    for (int p : skel.vertices[v].surface_points) {
+      sum += mesh.vertices[p];
+      ++count;
+    }
+  }
+  if (count == 0) return skel.vertices[shape.interval.front()].position;
+  return sum / static_cast<double>(count);
+}
+
 // Table II: the strategy that applies to this vertex and grasp type, or the failed property.
 const char* strategyFor(GraspType type, bool endpoint, const LocalShape& shape,
                         const ShapeThresholds& limits, std::string& strategy) {
@@ -181,11 +197,14 @@ PlanResult planSkeletonGrasps(const HandModel& hand, const GraspObject& object,
       if (!hp.quality.torsional_friction_m)
         hp.quality.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
       hp.extra_retreat_m = precision ? 0.0 : hand.thresholds().power_retreat_m;
+      const RefinementFrame local{shape.tangent, localCentroid(skel, object.mesh(), shape)};
       for (const Pose& frame : hypothesisFrames(v.position, shape, endpoint, params)) {
         if (stop()) break;
         ++summary.hypotheses;
         ++summary.poses;
-        auto kept = countOutcome(evaluateHypothesis(simulator, frame, preshape, hp), summary);
+        auto kept = countOutcome(
+            evaluateRefinedHypothesis(simulator, frame, preshape, hp, local, params.refinement),
+            summary);
         if (!kept) continue;
         Grasp grasp = std::move(*kept);
         grasp.type = type;

@@ -28,6 +28,19 @@ struct GraspRobustness {
   std::string variant;   // "paper" (the hand moves) or "reference" (the object moves)
 };
 
+// How local refinement (refinement.h) changed a grasp: the moves of the pose it kept, relative to
+// the hypothesis it started from, and the closure margin before and after.
+struct GraspRefinement {
+  bool refined = false;  // the kept pose differs from the seed (false: the seed was the best)
+  int evaluations = 0;   // poses closed and judged besides the seed
+  // Signed normalised LP margin n l* (solveClosureLp, quality.h): > 0 force closure, <= 0 not.
+  double margin_before = 0, margin_after = 0;
+  double tangent_m = 0;   // shift along the skeleton tangent
+  double lateral_m = 0;   // shift across the approach, towards the local surface centroid
+  double roll_rad = 0;    // roll about the approach axis
+  double standoff_m = 0;  // extra retreat along the approach (negative: closer)
+};
+
 struct Grasp {
   int id = -1;
   GraspType type = GraspType::kPower;
@@ -45,6 +58,7 @@ struct Grasp {
   double volume = 0;
   // Set for the grasps the robust ranking scored (evaluation/robust_ranking.h), else unset.
   std::optional<GraspRobustness> robustness;
+  std::optional<GraspRefinement> refinement;  // set when local refinement ran on this grasp
 };
 
 // Why a hypothesis did not become a grasp. Strategy-level codes (interval, thickness, ...) reject a

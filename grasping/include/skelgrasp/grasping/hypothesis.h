@@ -31,8 +31,19 @@ struct HypothesisOutcome {
 };
 
 // `gcp` is the hypothesis' grasp centre point pose (object frame; z = approach direction).
+// The same as judgeHypothesis(closeHypothesis(...)).
 HypothesisOutcome evaluateHypothesis(GraspSimulator& simulator, const Pose& gcp,
                                      const Preshape& preshape, const HypothesisParams& params);
+
+// The first half of evaluateHypothesis: back off, retreat, scene check, close. `generated` with
+// `grasp` set (pose, joints, contacts; quality not judged yet) when it closed with enough contacts,
+// else `reason` (and `scene_link`). Local refinement (refinement.h) closes many poses this way.
+HypothesisOutcome closeHypothesis(GraspSimulator& simulator, const Pose& gcp,
+                                  const Preshape& preshape, const HypothesisParams& params);
+// The second half: quality of a closed hypothesis' grasp, kept or rejected (not_force_closure,
+// epsilon_below_minimum). Outcomes that did not close are returned unchanged.
+HypothesisOutcome judgeHypothesis(HypothesisOutcome&& closed, const GraspObject& object,
+                                  const HypothesisParams& params);
 
 // Counts an outcome in the summary (generated, force closure, rejection reason and scene link);
 // returns the grasp when the hypothesis was kept.

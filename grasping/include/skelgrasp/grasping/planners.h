@@ -10,6 +10,7 @@
 #include "skelgrasp/grasping/hand_model.h"
 #include "skelgrasp/grasping/hypothesis.h"
 #include "skelgrasp/grasping/local_shape.h"
+#include "skelgrasp/grasping/refinement.h"
 #include "skelgrasp/skeleton/skeleton.h"
 
 namespace skelgrasp::grasping {
@@ -37,6 +38,9 @@ struct SkeletonPlannerParams {
   // Retreat, closing, quality (mu, contact model), min epsilon. extra_retreat_m is the hand's
   // power retreat for power grasps, 0 for precision grasps.
   HypothesisParams hypothesis;
+  // Local refinement of every hypothesis that closes (refinement.h); enabled = false plans as the
+  // paper (one pose per hypothesis).
+  RefinementParams refinement;
 };
 
 // `object.mesh()` must be the mesh whose vertices `skeleton.vertices[*].surface_points` index.
