@@ -161,12 +161,9 @@ nlohmann::json scoreToJson(const ScoreResult& result, const ScoreParams& params,
                   {"variant", toString(rp.variant)},
                   {"seed", rp.seed},
                   {"grasp_index", 0},
-                  // null: the variant's default (paper 10 mm and 5 degrees, reference 5 mm and
-                  // 2.5 degrees)
-                  {"sigma_m", rp.position_sigma_m ? nlohmann::json(*rp.position_sigma_m)
-                                                  : nlohmann::json(nullptr)},
-                  {"sigma_rad", rp.orientation_sigma_rad ? nlohmann::json(*rp.orientation_sigma_rad)
-                                                         : nlohmann::json(nullptr)}};
+                  // The sigmas used: set ones, else the variant's defaults.
+                  {"sigma_m", positionSigmaM(rp)},
+                  {"sigma_rad", orientationSigmaRad(rp)}};
   }
   nlohmann::json per_mu = nlohmann::json::array();
   for (std::size_t k = 0; k < params.frictions.size(); ++k) {
