@@ -28,6 +28,21 @@ const std::set<std::string> kPcdHeaderKeywords = {
     "VERSION", "FIELDS", "SIZE", "TYPE", "COUNT", "WIDTH", "HEIGHT", "VIEWPOINT", "POINTS"};
 const std::set<std::string> kPcdDataTypes = {"ascii", "binary", "binary_compressed"};
 
+// The header line a keyword means to PCL, which matches keywords by their beginning and takes
+// COLUMNS for FIELDS (old PCD files): "COLUMNSNT" redefined the fields after SIZE and TYPE and PCL
+// read past its buffer (found by fuzzing). Other words are returned unchanged.
+std::string pclHeaderKeyword(const std::string& word) {
+  static const std::pair<const char*, const char*> kPrefixes[] = {
+      {"FIELDS", "FIELDS"}, {"COLUMNS", "FIELDS"},      {"SIZE", "SIZE"},
+      {"TYPE", "TYPE"},     {"COUNT", "COUNT"},         {"WIDTH", "WIDTH"},
+      {"HEIGHT", "HEIGHT"}, {"VIEWPOINT", "VIEWPOINT"}, {"POINTS", "POINTS"},
+      {"DATA", "DATA"},     {"VERSION", "VERSION"}};
+  for (const auto& [prefix, keyword] : kPrefixes) {
+    if (word.rfind(prefix, 0) == 0) return keyword;
+  }
+  return word;
+}
+
 std::uint32_t readUint32Le(const unsigned char* b) {
   return b[0] | (b[1] << 8) | (b[2] << 16) | (static_cast<std::uint32_t>(b[3]) << 24);
 }
@@ -66,8 +81,9 @@ DeclaredCloud checkPcdDeclaredSize(const std::string& path) {
     if (offset < 0 || static_cast<std::uint64_t>(offset) > kMaxPcdHeaderBytes) return {};
     if (!line.empty() && line.back() == '\r') line.pop_back();
     std::istringstream tokens(line);
-    std::string keyword;
-    if (!(tokens >> keyword) || keyword[0] == '#') continue;
+    std::string word;
+    if (!(tokens >> word) || word[0] == '#') continue;
+    const std::string keyword = pclHeaderKeyword(word);
     std::vector<std::string> values;
     for (std::string v; tokens >> v;) values.push_back(v);
     // PCL parses a repeated header line again (a second FIELDS after SIZE and TYPE leaves fields

@@ -189,6 +189,12 @@ INSTANTIATE_TEST_SUITE_P(
                  "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 2\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1\n"
                  "HEIGHT 1\nPOINTS 1\nDATA ascii\n0 0 0\n",
                  "field 3 has SIZE 2 and TYPE F"},
+        // PCL reads COLUMNS (and any word starting with it) as FIELDS (fuzz/regressions/
+        // cloud_reader/pcd_columns_redefines_fields).
+        BadCloud{"columns_after_fields", "columns.pcd",
+                 "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1\n"
+                 "HEIGHT 1\nCOLUMNSNT 0 0 0 1\nPOINTS 1\nDATA ascii\n0 0 0\n",
+                 "PCD header: FIELDS appears twice"},
         BadCloud{"ply_without_z", "flat.ply",
                  "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
                  "end_header\n0 0\n1 1\n",
