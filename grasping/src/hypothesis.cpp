@@ -80,6 +80,16 @@ HypothesisOutcome closeHypothesis(GraspSimulator& simulator, const Pose& gcp,
         closing.reason == "start_collision" ? reason::kStartCollision : reason::kTooFewContacts;
     return out;
   }
+  // The open hand and its approach were clear; the fingers closing around a small object can still
+  // sweep into the table or a neighbour (found with the fallback's side grasps of the demo ball).
+  if (params.scene) {
+    const SceneCheckResult closed = params.scene->checkPose(grasp.hand_pose, closing.joints);
+    if (closed.collision) {
+      out.reason = reason::kSceneCollision;
+      out.scene_link = closed.link;
+      return out;
+    }
+  }
   out.generated = true;
   grasp.contacts = closing.contacts;
   out.grasp = std::move(grasp);

@@ -308,11 +308,21 @@ SceneChecker::~SceneChecker() = default;
 
 SceneCheckResult SceneChecker::check(const Pose& hand_pose, const Eigen::VectorXd& q,
                                      const Eigen::Vector3d& approach) const {
+  return checkPath(hand_pose, q, approach, true);
+}
+
+SceneCheckResult SceneChecker::checkPose(const Pose& hand_pose, const Eigen::VectorXd& q) const {
+  return checkPath(hand_pose, q, Eigen::Vector3d::UnitZ(), false);
+}
+
+SceneCheckResult SceneChecker::checkPath(const Pose& hand_pose, const Eigen::VectorXd& q,
+                                         const Eigen::Vector3d& approach, bool with_path) const {
   SceneCheckResult result;
   const auto link_poses = impl_->hand->linkPoses(q);
   const Eigen::Vector3d dir = approach.normalized();
-  const int steps =
-      static_cast<int>(std::ceil(impl_->params.pregrasp_distance_m / impl_->params.path_step_m));
+  const int steps = with_path ? static_cast<int>(std::ceil(impl_->params.pregrasp_distance_m /
+                                                           impl_->params.path_step_m))
+                              : 0;
   for (int i = 0; i <= steps; ++i) {
     const double back = std::min(impl_->params.pregrasp_distance_m, i * impl_->params.path_step_m);
     const Pose pose = Eigen::Translation3d(-back * dir) * hand_pose;

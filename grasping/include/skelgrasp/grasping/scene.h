@@ -112,8 +112,13 @@ class SceneChecker {
   ~SceneChecker();
   SceneCheckResult check(const Pose& hand_pose, const Eigen::VectorXd& q,
                          const Eigen::Vector3d& approach) const;
+  // The hand at `hand_pose` in configuration `q` only, without the approach path (the closed
+  // hand: its fingers close around the object where the open hand was checked).
+  SceneCheckResult checkPose(const Pose& hand_pose, const Eigen::VectorXd& q) const;
 
  private:
+  SceneCheckResult checkPath(const Pose& hand_pose, const Eigen::VectorXd& q,
+                             const Eigen::Vector3d& approach, bool with_path) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
