@@ -161,6 +161,11 @@ void addObjectSection(HtmlReport& report, OutputTransaction& outputs, const std:
 
 }  // namespace
 
+nlohmann::json sceneRunToJson(const SceneRunResult& result, const HandModel& hand,
+                              const perception::Scan& scan, const std::string& input_name) {
+  return sceneRunJson(result, hand, scan, input_name);
+}
+
 void writeSceneRunOutputs(const std::string& dir, const SceneRunResult& r, const HandModel& hand,
                           const perception::Scan& scan, const std::string& input_name) {
   // As writeRunOutputs: every file staged, renamed together, grasps.json last.

@@ -20,6 +20,8 @@ from ._skelgrasp import (  # noqa: F401
     PointCloud,
     Reconstruction,
     RunResult,
+    SceneObject,
+    SceneRunResult,
     Skeleton,
     close,
     hand,

@@ -29,13 +29,22 @@ struct Run {
   std::string name;
 };
 
+// run(objects='all'): every object of the scene in one run (pipeline::runScene).
+struct SceneRun {
+  pipeline::SceneRunResult result;
+  HandPtr hand;
+  perception::Scan scan;
+  std::string name;
+};
+
 // "largest" | "all" | "nearest:x,y,z" | "index:k", or a point (x, y, z): the object nearest to it.
 perception::TargetSpec targetOf(const py::object& objects) {
   if (py::isinstance<py::str>(objects))
     return perception::TargetSpec::parse(objects.cast<std::string>());
   const Matrix point = Matrix::ensure(objects);  // null when not numeric
   if (!point || point.size() != 3)
-    throw InvalidArgument("objects: expected 'largest', 'all', 'nearest:x,y,z' or a point x, y, z");
+    throw InvalidArgument(
+        "objects: expected 'largest', 'all', 'nearest:x,y,z', 'index:k' or a point x, y, z");
   const double* xyz = point.data();
   if (!std::isfinite(xyz[0]) || !std::isfinite(xyz[1]) || !std::isfinite(xyz[2]))
     throw InvalidArgument("objects: the point is not finite");
@@ -87,13 +96,13 @@ Reconstruction reconstruct(const Cloud& cloud, const py::object& objects, const 
   return out;
 }
 
-Run run(const Cloud& cloud, const HandPtr& hand, const py::object& objects, bool scene_check,
-        double timeout_s, std::size_t max_grasps, std::uint64_t seed, double mu,
-        double observed_weight, double octree_resolution_m, const std::string& unknown_space,
-        double pregrasp_distance_m, const std::string& plane, double voxel_leaf_m,
-        int poisson_depth, bool robustness, int robustness_samples,
-        const std::string& robustness_variant, std::size_t robustness_top_k,
-        std::optional<double> robustness_mu) {
+py::object run(const Cloud& cloud, const HandPtr& hand, const py::object& objects, bool scene_check,
+               double timeout_s, std::size_t max_grasps, std::uint64_t seed, double mu,
+               double observed_weight, double octree_resolution_m, const std::string& unknown_space,
+               double pregrasp_distance_m, const std::string& plane, double voxel_leaf_m,
+               int poisson_depth, bool robustness, int robustness_samples,
+               const std::string& robustness_variant, std::size_t robustness_top_k,
+               std::optional<double> robustness_mu) {
   pipeline::RunParams p;
   p.robust_ranking = robustRankingParams(robustness, robustness_samples, robustness_variant,
                                          robustness_top_k, robustness_mu, seed);
@@ -113,12 +122,26 @@ Run run(const Cloud& cloud, const HandPtr& hand, const py::object& objects, bool
   p.occupancy.unknown = unknown_space == "occupied" ? grasping::UnknownSpace::kOccupied
                                                     : grasping::UnknownSpace::kFree;
   p.approach.pregrasp_distance_m = pregrasp_distance_m;
+  if (p.reconstruction.ingest.scene.target.mode == perception::TargetMode::kAll) {
+    SceneRun out{{}, hand, cloud.scan, scanName(cloud.scan)};
+    {
+      py::gil_scoped_release release;
+      out.result = pipeline::runScene(out.scan, *hand, p);
+    }
+    // As `run --object all`: a scan without a plane or object is bad input; objects without
+    // grasps are results that say why.
+    const auto& ingest = out.result.reconstruction.ingest;
+    if (!ingest.status.ok()) throw InvalidArgument(out.scan.source + ": " + ingest.status.message);
+    return py::cast(std::move(out));
+  }
   Run out{{}, hand, cloud.scan, scanName(cloud.scan)};
-  py::gil_scoped_release release;
-  out.result = pipeline::runPipeline(out.scan, *hand, p);
+  {
+    py::gil_scoped_release release;
+    out.result = pipeline::runPipeline(out.scan, *hand, p);
+  }
   if (!out.result.reconstruction.status.ok())
     throw InvalidArgument(out.scan.source + ": " + out.result.reconstruction.status.message);
-  return out;
+  return py::cast(std::move(out));
 }
 
 py::array_t<std::uint8_t> flags(const std::vector<std::uint8_t>& values) {
@@ -209,6 +232,63 @@ ValueError with the command line's message.)doc");
           "grasps.json as ``skelgrasp run`` writes it (schema skelgrasp.run/3).")
       .def("__len__", [](const Run& r) { return r.result.ranked.size(); });
 
+  py::class_<pipeline::SceneObjectRun>(
+      m, "SceneObject", "One object of a scene run (:func:`run` with objects='all').")
+      .def_readonly("id", &pipeline::SceneObjectRun::id, "Its id in the outputs (0 = largest).")
+      .def_property_readonly(
+          "points", [](const pipeline::SceneObjectRun& o) { return o.info.points; },
+          "Points of its cluster.")
+      .def_property_readonly(
+          "centroid",
+          [](const pipeline::SceneObjectRun& o) {
+            return py::make_tuple(o.info.centroid.x(), o.info.centroid.y(), o.info.centroid.z());
+          },
+          "Centroid of its points (scan frame, metres).")
+      .def_readonly("reason", &pipeline::SceneObjectRun::reason,
+                    "Empty when it has grasps, else meshing_failed, skeleton_failed or no_grasp.")
+      .def_property_readonly(
+          "mesh",
+          [](const pipeline::SceneObjectRun& o) {
+            return Mesh{o.mesh, {}, fmt::format("object_{}", o.id)};
+          },
+          "Its closed mesh (empty when meshing failed).");
+
+  py::class_<SceneRun>(m, "SceneRunResult",
+                       "The result of :func:`run` with objects='all' (scan frame, metres).")
+      .def_property_readonly(
+          "objects",
+          [](const SceneRun& r) {
+            py::list out;
+            for (const auto& o : r.result.objects) out.append(py::cast(o));
+            return out;
+          },
+          "Every selected object, largest first, with its status.")
+      .def(
+          "grasps",
+          [](const SceneRun& r, std::size_t object) {
+            if (object >= r.result.objects.size())
+              throw InvalidArgument("object " + std::to_string(object) + ": the scene has " +
+                                    std::to_string(r.result.objects.size()) + " objects");
+            std::vector<Grasp> out;
+            for (const auto& g : r.result.objects[object].ranked)
+              out.push_back({g.grasp, r.hand, g.observed_contact_ratio, g.score});
+            return out;
+          },
+          py::arg("object"), "Ranked collision-free grasps of one object, best first.")
+      .def_property_readonly(
+          "status",
+          [](const SceneRun& r) {
+            return py::make_tuple(toString(r.result.status.code), r.result.status.message);
+          },
+          "(code, message): 'ok' when at least one object got grasps.")
+      .def(
+          "to_dict",
+          [](const SceneRun& r) {
+            return fromJson(pipeline::sceneRunToJson(r.result, *r.hand, r.scan, r.name));
+          },
+          "grasps.json as ``skelgrasp run --object all`` writes it (schema skelgrasp.run/3).")
+      .def("__len__", [](const SceneRun& r) { return r.result.objects.size(); });
+
   const pipeline::RunParams run_defaults;
   m.def("run", &run, py::arg("cloud"), py::arg("hand"), py::kw_only(),
         py::arg("objects") = run_defaults.reconstruction.ingest.scene.target.toString(),
@@ -233,7 +313,8 @@ ValueError with the command line's message.)doc");
         py::arg("robustness_top_k") = run_defaults.robust_ranking.top_k,
         py::arg("robustness_mu") = run_defaults.robust_ranking.friction, R"doc(
 The main job (``skelgrasp run``): a scan of a table scene to ranked, collision-free grasps on one
-object (``objects``: 'largest', 'nearest:x,y,z' or a point). Defaults are the library's RunParams
+object (``objects``: 'largest', 'nearest:x,y,z', 'index:k' or a point; a RunResult) or on every
+object in one run (``objects='all'``: a SceneRunResult, as ``run --object all``). Defaults are the library's RunParams
 (docs/pipeline.md); the robustness keywords are :func:`plan`'s. A scan without a plane or object raises ValueError; no grasp is a result with
 status 'no_result'.)doc");
 }

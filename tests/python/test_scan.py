@@ -39,6 +39,31 @@ def test_reconstruct_and_run_on_the_mug_scan():
         assert 0.0 <= g.observed_contact_ratio <= 1.0
 
 
+def test_run_every_object_of_the_scan_in_one_run():
+    cloud = mug_scan()
+    hand = skelgrasp.hand("armar3")
+    scene = skelgrasp.run(cloud, hand, objects="all", max_grasps=2, robustness=False)
+    assert isinstance(scene, skelgrasp.SceneRunResult) and len(scene) >= 1
+    document = scene.to_dict()
+    assert document["schema"] == "skelgrasp.run/3"
+    assert [o["id"] for o in document["objects"]] == [o.id for o in scene.objects]
+    listed = 0
+    for o in scene.objects:
+        grasps = scene.grasps(o.id)
+        listed += len(grasps)
+        assert (o.reason == "") == (len(grasps) > 0)
+        assert o.points > 0 and len(o.centroid) == 3
+        for g in grasps:
+            assert g.force_closure
+    assert listed == len(document["grasps"])
+    assert scene.status[0] == ("ok" if listed else "no_result")
+    with pytest.raises(ValueError, match="the scene has"):
+        scene.grasps(len(scene))
+    # index:0 is the largest object, the first of the scene run.
+    first = skelgrasp.run(cloud, hand, objects="index:0", max_grasps=2, robustness=False)
+    assert len(first.mesh.vertices) == len(scene.objects[0].mesh.vertices)
+
+
 def test_scan_errors():
     with pytest.raises(ValueError, match="objects: "):
         skelgrasp.reconstruct(skelgrasp.PointCloud(np.zeros((10, 3))), objects=[1, 2])

@@ -24,6 +24,11 @@ void writeRunOutputs(const std::string& dir, const RunResult& result,
                      const grasping::HandModel& hand, const perception::Scan& scan,
                      const std::string& input_name);
 
+// The grasps.json document of a scene run (schema skelgrasp.run/3 with every object), as
+// writeSceneRunOutputs writes it (the Python module's to_dict()).
+nlohmann::json sceneRunToJson(const SceneRunResult& result, const grasping::HandModel& hand,
+                              const perception::Scan& scan, const std::string& input_name);
+
 // The files of a scene run (`run --object all`, docs/pipeline.md): DIR/grasps.json with every
 // object, object_<id>.ply and skeleton_<id>.json per meshed object, scene.bt, report.html with
 // the scene overview and a section per object, with its PNG pictures. Same all-or-nothing
