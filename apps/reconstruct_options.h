@@ -24,6 +24,7 @@ struct ReconstructOptions {
   double voxel_m = perception::FilterParams{}.voxel_leaf_m;
   int outlier_k = perception::FilterParams{}.sor_mean_k;
   double cluster_tolerance_m = perception::SceneParams{}.cluster_tolerance_m;
+  std::string segmentation = perception::toString(perception::SceneParams{}.segmentation);
   double plane_distance_m = perception::SceneParams{}.plane_distance_m;
   double normal_radius_m = perception::NormalParams{}.radius_m;
   int threads = 1;
@@ -55,7 +56,8 @@ struct ReconstructOptions {
   }
 
   void addIngestOptions(CLI::App& cmd) {
-    cmd.add_option("--object", object, "Target: largest, all, nearest:x,y,z (metres) or index:k (0 = largest)")
+    cmd.add_option("--object", object,
+                   "Target: largest, all, nearest:x,y,z (metres) or index:k (0 = largest)")
         ->capture_default_str();
     cmd.add_option("--plane", plane,
                    "Support plane: required (scenes), optional, none (single-object clouds)")
@@ -70,6 +72,12 @@ struct ReconstructOptions {
         ->capture_default_str();
     cmd.add_option("--plane-distance", plane_distance_m, "RANSAC plane inlier distance (m)")
         ->check(positiveLength())
+        ->capture_default_str();
+    cmd.add_option("--segmentation", segmentation,
+                   "Objects above the support: euclidean (connected components) or lccp "
+                   "(supervoxels + locally convex patches: separates touching objects; "
+                   "docs/reconstruction.md)")
+        ->check(CLI::IsMember({"euclidean", "lccp"}))
         ->capture_default_str();
     cmd.add_option("--cluster-tolerance", cluster_tolerance_m, "Euclidean clustering distance (m)")
         ->check(positiveLength())
@@ -140,6 +148,7 @@ struct ReconstructOptions {
     s.plane = perception::parsePlaneRequirement(plane);
     s.target = perception::TargetSpec::parse(object);
     s.cluster_tolerance_m = cluster_tolerance_m;
+    s.segmentation = perception::parseSegmentationMethod(segmentation);
     s.plane_distance_m = plane_distance_m;
     p.ingest.normals.radius_m = normal_radius_m;
     p.ingest.normals.threads = threads;
