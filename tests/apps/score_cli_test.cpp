@@ -75,8 +75,10 @@ TEST_P(ScoreCli, ReproducesPlansNumbersForPlansOwnGrasps) {
   const std::string mesh = ycbMesh();
   if (mesh.empty()) GTEST_SKIP() << "no ../shared/data/objects/ycb meshes";
   const std::string dir = test::tempDir("cli_score_" + hand);
-  const CliRun plan = runCli(
-      "plan " + mesh + " --hand " + hand + " --max-grasps 3 --out " + dir + "/grasps.json", dir);
+  const CliRun plan =
+      runCli("plan " + mesh + " --hand " + hand + " --max-grasps 3 --robustness-samples 8 --out " +
+                 dir + "/grasps.json",
+             dir);
   ASSERT_EQ(plan.exit_code, 0) << plan.err;
   const nlohmann::json grasps = readJsonFile(dir + "/grasps.json");
   ASSERT_FALSE(grasps["grasps"].empty()) << hand;
@@ -87,6 +89,22 @@ TEST_P(ScoreCli, ReproducesPlansNumbersForPlansOwnGrasps) {
   EXPECT_NE(run.out.find("scored"), std::string::npos) << run.out;
   const nlohmann::json scores = readJsonFile(dir + "/scores.json");
   expectScoresMatchPlan(grasps, scores);
+  // The same r as plan's robust ranking: same seed, samples and mu, and every grasp faces the same
+  // perturbations (grasp index 0). The pose read back from grasps.json may differ from plan's in
+  // the last bits (its rotation is a quaternion), which could flip one sample at most.
+  constexpr double kOneSampleOfEight = 1.0 / 8 + 1e-9;
+  int compared = 0;
+  for (std::size_t i = 0; i < grasps["grasps"].size(); ++i) {
+    const auto& planned = grasps["grasps"][i];
+    if (!planned.contains("robustness")) continue;
+    const auto& scored = scores["grasps"][i]["closure"][0]["robustness"];
+    ASSERT_FALSE(scored.is_null());
+    EXPECT_NEAR(planned["robustness"]["r"].get<double>(), scored["r"].get<double>(),
+                kOneSampleOfEight)
+        << hand << " grasp " << i;
+    ++compared;
+  }
+  EXPECT_GT(compared, 0) << "plan scored no grasp for robustness";
   EXPECT_EQ(scores["hand"], hand);
   EXPECT_EQ(scores["parameters"]["mu"], nlohmann::json({0.35, 0.5}));
 
