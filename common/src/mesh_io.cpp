@@ -160,6 +160,12 @@ std::string findOffFaceIndexProblem(const std::string& path) {
       return "face " + std::to_string(face) + " has a corner count that is not a count ('" +
              printableText(token) + "')";
     }
+    // CGAL sizes the face before reading its indices: a corner count of 10^17 allocated until
+    // the fuzzer's time ran out. A face has at most as many corners as the file has vertices.
+    if (*corners > vertices) {
+      return "face " + std::to_string(face) + " has " + std::to_string(*corners) +
+             " corners, but the file has only " + std::to_string(vertices) + " vertices";
+    }
     for (std::int64_t k = 0; k < *corners; ++k) {
       if (!nextOffToken(in, token)) return {};
       const auto index = offIndexValue(token);

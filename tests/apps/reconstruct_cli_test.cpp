@@ -150,7 +150,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadCliInput{"missing", "reconstruct {dir}/none.pcd --out {dir}/out.ply",
                     "none.pcd: no such file"},
         BadCliInput{"corrupt", "reconstruct {dir}/garbage.pcd --out {dir}/out.ply",
-                    "garbage.pcd: cannot parse"},
+                    "garbage.pcd: PCD header has no DATA line"},
         BadCliInput{"empty", "reconstruct {dir}/empty.pcd --out {dir}/out.ply",
                     "empty.pcd: point cloud has no points"},
         BadCliInput{"all_nan", "reconstruct {dir}/nan.pcd --out {dir}/out.ply",

@@ -180,10 +180,15 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"off_fractional_index", "fraction.off",
                  "OFF 3 1 0 0 0 0\n1 0 0\n0 1 0\n3 0 1 1.5\n",
                  "face 0 has a vertex index that is not an integer ('1.5')"},
-        BadInput{"off_face_on_header_line", "inline.off", "OFF 0 1 0 3 7 1 2\n",
-                 "face 0 references vertex 7"},
+        BadInput{"off_face_on_header_line", "inline.off", "OFF 1 1 0 0 0 0\n3 0 0 0\n",
+                 "face 0 has 3 corners, but the file has only 1 vertices"},
         BadInput{"off_edge_count_runs_into_a_face", "edges.off", "OFF 0 1\n\n00-10 1\n",
                  "OFF header: the edge count is not a whole number ('00-10')"},
+        // CGAL sizes a face by its corner count first (fuzz/regressions/mesh_reader/
+        // off_face_with_385e6_corners).
+        BadInput{"off_more_corners_than_vertices", "corners.off",
+                 "OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n385206008 0 1 2\n",
+                 "face 0 has 385206008 corners, but the file has only 3 vertices"},
         BadInput{"off_negative_index", "negative.off",
                  "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 -7 1\n", "negative vertex index (-7)"},
         BadInput{"obj_relative_index_before_first", "relative.obj",

@@ -126,7 +126,8 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         BadCloud{"missing", "nothing.pcd", "", "no such file"},
         BadCloud{"format", "cloud.xyz", "1 2 3\n", "unknown point cloud format"},
-        BadCloud{"garbage", "garbage.pcd", "this is not a point cloud\n", "cannot parse"},
+        BadCloud{"garbage", "garbage.pcd", "this is not a point cloud\n",
+                 "PCD header has no DATA line"},
         BadCloud{"truncated_binary", "short.pcd",
                  kHeader + "WIDTH 100\nHEIGHT 1\nPOINTS 100\nDATA binary\n" + std::string(40, 'x'),
                  "only 40 bytes follow the header"},
@@ -195,6 +196,12 @@ INSTANTIATE_TEST_SUITE_P(
                  "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1\n"
                  "HEIGHT 1\nCOLUMNSNT 0 0 0 1\nPOINTS 1\nDATA ascii\n0 0 0\n",
                  "PCD header: FIELDS appears twice"},
+        // PCL allocates what POINTS declares before it finds that DATA is missing (fuzz/
+        // regressions/cloud_reader/pcd_no_data_line_declares_335e6_points).
+        BadCloud{"no_data_line", "nodata.pcd",
+                 "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 335863712\nHEIGHT 1\n"
+                 "POINTS 335863712\nDAT ascii\n0 0 0\n",
+                 "PCD header has no DATA line"},
         BadCloud{"ply_without_z", "flat.ply",
                  "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
                  "end_header\n0 0\n1 1\n",
