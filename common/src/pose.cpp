@@ -139,4 +139,12 @@ Eigen::Matrix3d frameFromZY(const Eigen::Vector3d& z, const Eigen::Vector3d& y_h
   return r;
 }
 
+Pose poseFromZY(const Eigen::Vector3d& position, const Eigen::Vector3d& z,
+                const Eigen::Vector3d& y_hint) {
+  Pose pose = Pose::Identity();
+  pose.linear() = frameFromZY(z, y_hint);
+  pose.translation() = position;
+  return pose;
+}
+
 }  // namespace skelgrasp

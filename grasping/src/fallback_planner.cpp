@@ -22,15 +22,6 @@ struct FallbackPose {
   const char* strategy;
 };
 
-// Grasp centre point frame: z = approach, y = finger spread (the fingers close along x).
-Pose gcpFrame(const Eigen::Vector3d& position, const Eigen::Vector3d& approach,
-              const Eigen::Vector3d& spread) {
-  Pose pose = Pose::Identity();
-  pose.linear() = frameFromZY(approach, spread);
-  pose.translation() = position;
-  return pose;
-}
-
 // n unit vectors spread evenly over the sphere (Fibonacci lattice).
 std::vector<Eigen::Vector3d> fibonacciDirections(int n) {
   std::vector<Eigen::Vector3d> directions;
@@ -53,7 +44,7 @@ void addSpherePoses(const Eigen::Vector3d& centre, const FallbackStrategyParams&
     const double phase = kGoldenAngleRad * static_cast<double>(k);
     for (int r = 0; r < p.sphere_rolls; ++r) {
       const double a = phase + kTwoPi * r / p.sphere_rolls;
-      poses.push_back({gcpFrame(centre, approach, std::cos(a) * u + std::sin(a) * w), "sphere"});
+      poses.push_back({poseFromZY(centre, approach, std::cos(a) * u + std::sin(a) * w), "sphere"});
     }
   }
 }
@@ -67,15 +58,15 @@ void addRimPoses(const Eigen::Vector3d& centre, const PrincipalAxes& pa,
     const double a = kTwoPi * k / p.rim_directions;
     const Eigen::Vector3d approach = -(std::cos(a) * e1 + std::sin(a) * e2);
     const Eigen::Vector3d spread = approach.cross(thin);
-    poses.push_back({gcpFrame(centre, approach, spread), "rim"});
-    poses.push_back({gcpFrame(centre, approach, -spread), "rim"});
+    poses.push_back({poseFromZY(centre, approach, spread), "rim"});
+    poses.push_back({poseFromZY(centre, approach, -spread), "rim"});
   }
   // Across: along the thin axis (from both faces), rolls half-way between the axis-aligned rolls
   // of the "axes" strategy so the two do not repeat each other.
   for (const Eigen::Vector3d& approach : {Eigen::Vector3d(thin), Eigen::Vector3d(-thin)}) {
     for (int r = 0; r < p.rim_across_rolls; ++r) {
       const double a = kPi / 4 + kTwoPi * r / p.rim_across_rolls;
-      poses.push_back({gcpFrame(centre, approach, std::cos(a) * e1 + std::sin(a) * e2), "rim"});
+      poses.push_back({poseFromZY(centre, approach, std::cos(a) * e1 + std::sin(a) * e2), "rim"});
     }
   }
 }
@@ -87,8 +78,8 @@ void addAxisPoses(const Eigen::Vector3d& centre, const PrincipalAxes& pa,
       const Eigen::Vector3d approach = sign * pa.axes.col(i);
       for (int j = 0; j < 3; ++j) {
         if (j == i) continue;
-        poses.push_back({gcpFrame(centre, approach, pa.axes.col(j)), "axes"});
-        poses.push_back({gcpFrame(centre, approach, -pa.axes.col(j)), "axes"});
+        poses.push_back({poseFromZY(centre, approach, pa.axes.col(j)), "axes"});
+        poses.push_back({poseFromZY(centre, approach, -pa.axes.col(j)), "axes"});
       }
     }
   }

@@ -36,15 +36,6 @@ std::vector<int> selectVertices(const Skeleton& skel, double distance) {
   return selected;
 }
 
-// Grasp centre point frame: z = approach, y = finger spread.
-Pose gcpFrame(const Eigen::Vector3d& position, const Eigen::Vector3d& approach,
-              const Eigen::Vector3d& spread) {
-  Pose pose = Pose::Identity();
-  pose.linear() = frameFromZY(approach, spread);
-  pose.translation() = position;
-  return pose;
-}
-
 // The hand poses of one strategy (paper Sec. IV-C; counts as the issue and reference).
 std::vector<Pose> hypothesisFrames(const Eigen::Vector3d& s, const LocalShape& shape, bool endpoint,
                                    const SkeletonPlannerParams& params) {
@@ -55,11 +46,11 @@ std::vector<Pose> hypothesisFrames(const Eigen::Vector3d& s, const LocalShape& s
     if (shape.round) {
       for (int k = 0; k < params.round_endpoint_rolls; ++k) {
         const double a = kTwoPi * k / params.round_endpoint_rolls;
-        frames.push_back(gcpFrame(s, t, std::cos(a) * shape.ev1 + std::sin(a) * shape.ev2));
+        frames.push_back(poseFromZY(s, t, std::cos(a) * shape.ev1 + std::sin(a) * shape.ev2));
       }
     } else {
-      frames.push_back(gcpFrame(s, t, shape.ev1));
-      frames.push_back(gcpFrame(s, t, -shape.ev1));
+      frames.push_back(poseFromZY(s, t, shape.ev1));
+      frames.push_back(poseFromZY(s, t, -shape.ev1));
     }
     return frames;
   }
@@ -70,14 +61,14 @@ std::vector<Pose> hypothesisFrames(const Eigen::Vector3d& s, const LocalShape& s
     for (int k = 0; k < n; ++k) {
       const double a = kTwoPi * k / n;
       const Eigen::Vector3d approach = -(std::cos(a) * shape.ev1 + std::sin(a) * shape.ev2);
-      frames.push_back(gcpFrame(s, approach, k % 2 == 0 ? t : Eigen::Vector3d(-t)));
+      frames.push_back(poseFromZY(s, approach, k % 2 == 0 ? t : Eigen::Vector3d(-t)));
     }
   } else {
     // Rectangular: approach along the long section axis so the hand closes across the thin one.
     for (const Eigen::Vector3d& approach :
          {Eigen::Vector3d(shape.ev1), Eigen::Vector3d(-shape.ev1)}) {
-      frames.push_back(gcpFrame(s, approach, t));
-      frames.push_back(gcpFrame(s, approach, -t));
+      frames.push_back(poseFromZY(s, approach, t));
+      frames.push_back(poseFromZY(s, approach, -t));
     }
   }
   return frames;

@@ -25,14 +25,6 @@ HypothesisParams hypothesisParamsFor(const HandModel& hand, bool power) {
   return hp;
 }
 
-Pose gcpFrame(const Eigen::Vector3d& position, const Eigen::Vector3d& approach,
-              const Eigen::Vector3d& spread) {
-  Pose pose = Pose::Identity();
-  pose.linear() = frameFromZY(approach, spread);
-  pose.translation() = position;
-  return pose;
-}
-
 // The default parameters with refinement switched on (it is off by default).
 RefinementParams enabledRefinement() {
   RefinementParams on;
@@ -71,7 +63,7 @@ Tally checkNeverWorse(const TriangleMesh& mesh, const HandModel& hand, int max_h
       const double roll = 0.3 * (angle(rng) - 3.14159265358979);
       const Eigen::Vector3d spread =
           std::cos(roll) * tangent + std::sin(roll) * approach.cross(tangent);
-      const Pose gcp = gcpFrame(v.position, approach, spread);
+      const Pose gcp = poseFromZY(v.position, approach, spread);
       Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
       for (int p : v.surface_points) centroid += mesh.vertices[p];
       centroid = v.surface_points.empty() ? v.position
@@ -170,11 +162,11 @@ TEST(Refinement, CentresAnOffCentrePowerGraspOnACylinder) {
   constexpr double kMarginSlack = 0.02;  // n l*, of a centred margin of 0.63
 
   const HypothesisOutcome centred = evaluateHypothesis(
-      simulator, gcpFrame(Eigen::Vector3d::Zero(), approach, axis), preshape, hp);
+      simulator, poseFromZY(Eigen::Vector3d::Zero(), approach, axis), preshape, hp);
   ASSERT_TRUE(centred.grasp) << centred.reason;
   const double centred_margin = signedClosureMargin(centred.grasp->contacts, object, hp.quality);
 
-  const Pose off = gcpFrame(kOffCentreM * side, approach, axis);
+  const Pose off = poseFromZY(kOffCentreM * side, approach, axis);
   const HypothesisOutcome closed_off = closeHypothesis(simulator, off, preshape, hp);
   ASSERT_TRUE(closed_off.generated) << closed_off.reason;
   const double off_margin = signedClosureMargin(closed_off.grasp->contacts, object, hp.quality);

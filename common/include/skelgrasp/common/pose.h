@@ -34,6 +34,9 @@ std::array<double, 7> toXyzQuatWxyz(const Pose& pose);
 
 // Rotation whose z axis is `z` and whose y axis is as close as possible to `y_hint`.
 Eigen::Matrix3d frameFromZY(const Eigen::Vector3d& z, const Eigen::Vector3d& y_hint);
+// The pose at `position` with that frame (a grasp centre point: z = approach, y = finger spread).
+Pose poseFromZY(const Eigen::Vector3d& position, const Eigen::Vector3d& z,
+                const Eigen::Vector3d& y_hint);
 
 // Any unit vector perpendicular to v.
 Eigen::Vector3d anyPerpendicular(const Eigen::Vector3d& v);
