@@ -123,6 +123,10 @@ std::optional<std::int64_t> offIndexValue(const std::string& token) {
   return std::stoll(token);
 }
 
+// The largest vertex, face or edge count an OFF header may declare: CGAL reads them into int and
+// computes twice the edge count.
+constexpr std::int64_t kMaxOffHeaderCount = std::numeric_limits<int>::max() / 2;
+
 // CGAL's OFF reader reads face indices as floating-point numbers and converts them to
 // std::size_t: an index that is not an integer in range is undefined behaviour there (1e62 was
 // found by fuzzing), and otherwise it stops without saying which. This walks the file as CGAL
@@ -142,6 +146,12 @@ std::string findOffFaceIndexProblem(const std::string& path) {
     if (!value || *value < 0) {
       return std::string("OFF header: the ") + count_names[k] + " count is not a whole number ('" +
              printableText(token) + "')";
+    }
+    // CGAL keeps the counts in int and doubles the edge count (half-edges): 1700413616 edges
+    // overflowed (found by fuzzing). No mesh skelgrasp can hold comes near these counts.
+    if (*value > kMaxOffHeaderCount) {
+      return std::string("OFF header: the ") + count_names[k] + " count " + token +
+             " is too large (at most " + std::to_string(kMaxOffHeaderCount) + ")";
     }
     counts[k] = *value;
   }

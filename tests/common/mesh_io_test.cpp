@@ -184,6 +184,10 @@ INSTANTIATE_TEST_SUITE_P(
                  "face 0 has 3 corners, but the file has only 1 vertices"},
         BadInput{"off_edge_count_runs_into_a_face", "edges.off", "OFF 0 1\n\n00-10 1\n",
                  "OFF header: the edge count is not a whole number ('00-10')"},
+        // CGAL doubles the edge count in an int (fuzz/regressions/mesh_reader/
+        // off_edge_count_1700413616).
+        BadInput{"off_edge_count_overflows", "edges_overflow.off", "OFF 1 0\n1700413616\n0 0 0\n",
+                 "OFF header: the edge count 1700413616 is too large (at most 1073741823)"},
         // CGAL sizes a face by its corner count first (fuzz/regressions/mesh_reader/
         // off_face_with_385e6_corners).
         BadInput{"off_more_corners_than_vertices", "corners.off",
