@@ -126,6 +126,15 @@ DeclaredCloud checkPcdDeclaredSize(const std::string& path) {
                             " without " + (keys.count("SIZE") ? "TYPE" : "SIZE"));
   }
   checkPcdFieldTypes(path, keys["SIZE"], keys["TYPE"]);
+  // PCL reads the first word of WIDTH, HEIGHT and POINTS as the count and ignores the rest, so
+  // a line with more words is sized by PCL but was not by this check: `POINTS 0005000000000\301 0`
+  // made PCL allocate 160 GB (found by fuzzing). Each is one count.
+  for (const char* keyword : {"WIDTH", "HEIGHT", "POINTS"}) {
+    if (keys.count(keyword) && keys[keyword].size() != 1) {
+      throw IoError(path, std::string("PCD header: ") + keyword + " must be one count, not " +
+                              std::to_string(keys[keyword].size()) + " words");
+    }
+  }
   // PCL rejects a header without DATA, but only after it has allocated the points POINTS declares
   // (335 million took seconds; found by fuzzing).
   if (data_type.empty()) throw IoError(path, "PCD header has no DATA line");

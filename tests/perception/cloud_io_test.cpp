@@ -202,6 +202,15 @@ INSTANTIATE_TEST_SUITE_P(
                  "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 335863712\nHEIGHT 1\n"
                  "POINTS 335863712\nDAT ascii\n0 0 0\n",
                  "PCD header has no DATA line"},
+        // PCL takes the first word of POINTS and ignores the rest (fuzz/regressions/cloud_reader/
+        // pcd_points_with_three_words_declares_5e9).
+        BadCloud{"points_with_more_words", "points.pcd",
+                 "VERSION 0.7\nFIELDS x y z\nPOINTS 5000000000 0 0\nDATA ascii\n0 0 0\n",
+                 "PCD header: POINTS must be one count, not 3 words"},
+        BadCloud{"width_with_more_words", "width.pcd",
+                 "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1 9\nHEIGHT 1\n"
+                 "POINTS 1\nDATA ascii\n0 0 0\n",
+                 "PCD header: WIDTH must be one count, not 2 words"},
         BadCloud{"ply_without_z", "flat.ply",
                  "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
                  "end_header\n0 0\n1 1\n",
