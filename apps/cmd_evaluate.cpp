@@ -54,6 +54,7 @@ struct EvaluateArgs {
   std::string closing = defaultClosingMethod();
   bool restart = false;
   bool retry_failed = false;
+  bool robust_ranking = evaluation::BatchParams{}.ranking.enabled;
 };
 
 std::vector<std::string> split(const std::string& text, char sep) {
@@ -119,6 +120,8 @@ int runEvaluate(const EvaluateArgs& a) {
   p.quality.reference_compat = a.reference_compat;
   p.quality.fc_test = grasping::parseForceClosureTest(a.fc_test);
   p.robustness.closing.method = grasping::parseClosingMethod(a.closing);
+  p.ranking.enabled = a.robust_ranking;
+  p.ranking.robustness.variant = p.robustness.variant;
   p.load.units = parseLengthUnit(a.units);
   p.seed = a.seed;
   p.restart = a.restart;
@@ -170,6 +173,13 @@ void registerEvaluateCommands(CLI::App& app, Action& action) {
   cmd->add_option("--mu", a->mu, "Friction coefficient")
       ->check(finiteIn(0, kMaxFriction))
       ->capture_default_str();
+  cmd->add_flag(
+      "--robust-ranking", a->robust_ranking,
+      fmt::format("Also rank each run's grasps by robustness as plan does (best {} of {} screened, "
+                  "{} samples each) and report the r of the returned top grasps",
+                  evaluation::RobustRankingParams{}.top_k,
+                  evaluation::RobustRankingParams{}.screen_k,
+                  evaluation::RobustRankingParams{}.robustness.samples));
   cmd->add_flag("--reference-compat", a->reference_compat,
                 "Quality as the reference code (docs/hands.md)");
   addForceClosureTestOption(*cmd, a->fc_test);

@@ -22,6 +22,8 @@ struct RobustnessOptions {
   int samples = evaluation::RobustRankingParams{}.robustness.samples;
   std::string variant = evaluation::toString(evaluation::RobustRankingParams{}.robustness.variant);
   std::size_t top_k = evaluation::RobustRankingParams{}.top_k;
+  std::size_t screen_k = evaluation::RobustRankingParams{}.screen_k;
+  int screen_samples = evaluation::RobustRankingParams{}.screen_samples;
   std::optional<double> mu;  // unset: the planner's --mu
 
   void addTo(CLI::App& cmd) {
@@ -35,8 +37,17 @@ struct RobustnessOptions {
         ->check(CLI::IsMember({"paper", "reference"}))
         ->capture_default_str();
     cmd.add_option("--robustness-top-k", top_k,
-                   "Grasps scored for robustness, the best by epsilon (0 = all)")
+                   "Grasps scored for robustness, the best by the screening (0 = all)")
         ->transform(countIn(0, kMaxCount))
+        ->capture_default_str();
+    cmd.add_option("--robustness-screen", screen_k,
+                   "Grasps screened with a cheap r to choose those scored, the best by epsilon "
+                   "(0 = all; none when at most --robustness-top-k)")
+        ->transform(countIn(0, kMaxCount))
+        ->capture_default_str();
+    cmd.add_option("--robustness-screen-samples", screen_samples,
+                   "Perturbed executions per screened grasp")
+        ->transform(countIn(1, kMaxRankingSamples))
         ->capture_default_str();
     // No shown default: unset means the planner's friction.
     cmd.add_option("--robustness-mu", mu, "Friction coefficient of r (default: --mu)")
@@ -48,6 +59,8 @@ struct RobustnessOptions {
     evaluation::RobustRankingParams p;
     p.enabled = !disabled;
     p.top_k = top_k;
+    p.screen_k = screen_k;
+    p.screen_samples = screen_samples;
     p.robustness.samples = samples;
     p.robustness.variant = evaluation::parseRobustnessVariant(variant);
     p.robustness.seed = seed;

@@ -155,14 +155,37 @@ class ObjectEvaluator {
       fp.hypothesis = hypothesis;
       result = grasping::planSurfaceGrasps(hand, object, fp);
     }
-    record(id, hand, planner, seed, object, result, skel, out);
+    // The grasps as `plan` returns them: ranked by robustness, r on the best (same seed).
+    RankingMeasures ranking;
+    ranking.ran = p_.ranking.enabled;
+    if (p_.ranking.enabled) {
+      RobustRankingParams rp = p_.ranking;
+      rp.robustness.seed = seed;
+      auto ranked = rankByRobustness(hand, object, std::move(result.grasps), hypothesis, rp);
+      result.grasps = std::move(ranked.grasps);
+      ranking.scored = ranked.scored;
+      ranking.time_s = ranked.time_s;
+      double sum = 0;
+      for (const auto& g : result.grasps)
+        if (g.robustness) sum += g.robustness->r;
+      if (ranked.scored > 0) ranking.r_mean = sum / ranked.scored;
+    }
+    record(id, hand, planner, seed, object, result, ranking, skel, out);
     return result.summary.poses;
   }
 
+  // What robust ranking measured in a run (BatchParams::ranking).
+  struct RankingMeasures {
+    bool ran = false;
+    std::size_t scored = 0;
+    std::optional<double> r_mean;  // of the scored grasps
+    double time_s = 0;
+  };
+
   void record(const ObjectIdentity& id, const grasping::HandModel& hand, Planner planner,
               std::uint64_t seed, const grasping::GraspObject& object,
-              const grasping::PlanResult& plan, const skeleton::SkeletonResult* skel,
-              ObjectOutcome& out) const {
+              const grasping::PlanResult& plan, const RankingMeasures& ranking,
+              const skeleton::SkeletonResult* skel, ObjectOutcome& out) const {
     // Robustness of a seeded sample of the kept grasps.
     std::vector<std::size_t> chosen(plan.grasps.size());
     std::iota(chosen.begin(), chosen.end(), 0);
@@ -206,6 +229,10 @@ class ObjectEvaluator {
     m.robustness_samples = rp.samples;
     m.robustness_s = robustness_s;
     if (!chosen.empty()) m.robustness_mean = robustness_sum / chosen.size();
+    m.ranked = ranking.ran;
+    m.ranked_grasps = ranking.scored;
+    m.ranked_r_mean = ranking.r_mean;
+    m.ranking_s = ranking.time_s;
     out.runs.push_back(std::move(run));
     for (std::size_t i = 0; i < plan.grasps.size(); ++i) {
       const auto& g = plan.grasps[i];
@@ -253,6 +280,8 @@ void checkBatchParams(const BatchParams& p) {
     nonNegative(*p.quality.torsional_friction_m, "torsional friction");
   if (p.quality.cone_edges < 3) throw InvalidArgument("friction cones need at least 3 edges");
   if (p.robustness.samples < 1) throw InvalidArgument("robustness needs at least one sample");
+  if (p.ranking.enabled && (p.ranking.robustness.samples < 1 || p.ranking.screen_samples < 1))
+    throw InvalidArgument("robust ranking needs at least one sample and one screening sample");
 }
 
 // The files a batch writes into its directory (and nothing else there).

@@ -151,6 +151,10 @@ void to_json(nlohmann::json& j, const RunRecord& run) {
   j["robustness_samples"] = m.robustness_samples;
   j["robustness_s"] = m.robustness_s;
   j["robustness_mean"] = orNull(m.robustness_mean);
+  j["ranked"] = m.ranked;
+  j["ranked_grasps"] = m.ranked_grasps;
+  j["ranked_r_mean"] = orNull(m.ranked_r_mean);
+  j["ranking_s"] = m.ranking_s;
 }
 
 void from_json(const nlohmann::json& j, RunRecord& run) {
@@ -184,6 +188,12 @@ void from_json(const nlohmann::json& j, RunRecord& run) {
   m.robustness_samples = f.integer("robustness_samples");
   m.robustness_s = f.real("robustness_s");
   m.robustness_mean = f.realOrNull("robustness_mean");
+  if (f.has("ranked")) {
+    m.ranked = f.flag("ranked");
+    m.ranked_grasps = f.count("ranked_grasps");
+    m.ranked_r_mean = f.realOrNull("ranked_r_mean");
+    m.ranking_s = f.real("ranking_s");
+  }
   run.measures = std::move(m);
 }
 

@@ -45,6 +45,13 @@ struct RunMeasures {
   int robustness_samples = 0;                // perturbed poses per scored grasp
   double robustness_s = 0;
   std::optional<double> robustness_mean;  // none when no grasp was scored
+  // Robust ranking (BatchParams::ranking): the returned grasps scored, the mean of their r (none
+  // when ranking was off or no grasp was scored) and the ranking's time. Absent in records of a
+  // skelgrasp before robust ranking: read as 0 / none.
+  bool ranked = false;
+  std::size_t ranked_grasps = 0;
+  std::optional<double> ranked_r_mean;
+  double ranking_s = 0;
 };
 
 // One line of runs.jsonl: one object x hand x planner.

@@ -78,13 +78,23 @@ std::string shown(const nlohmann::json& value) {
 
 }  // namespace
 
+// Robust ranking as recorded in batch.json (only when on, so batches from before the option
+// resume).
+nlohmann::json rankingOptions(const RobustRankingParams& r) {
+  return {{"top_k", r.top_k},
+          {"screen_k", r.screen_k},
+          {"screen_samples", r.screen_samples},
+          {"samples", r.robustness.samples},
+          {"variant", toString(r.robustness.variant)}};
+}
+
 nlohmann::json resultOptions(const BatchParams& p) {
   std::vector<std::string> planners;
   for (const Planner planner : p.planners) planners.push_back(toString(planner));
   const auto& q = p.quality;
   const auto& r = p.robustness;
   const auto& c = r.closing;
-  return {
+  nlohmann::json options = {
       {"hands", p.hands},
       {"planners", planners},
       {"seed", p.seed},
@@ -119,6 +129,8 @@ nlohmann::json resultOptions(const BatchParams& p) {
        {{"units", unitName(p.load.units)},
         {"auto_millimetre_diagonal", p.load.auto_millimetre_diagonal}}},
   };
+  if (p.ranking.enabled) options["ranking"] = rankingOptions(p.ranking);
+  return options;
 }
 
 std::string describeDifferences(const nlohmann::json& recorded, const nlohmann::json& current) {

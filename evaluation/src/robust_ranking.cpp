@@ -7,6 +7,14 @@
 #include "skelgrasp/common/logging.h"
 
 namespace skelgrasp::evaluation {
+namespace {
+
+// evaluateRobustness's grasp_index: every scored grasp faces the same perturbations (common
+// random numbers, the header's convention), and screening faces others.
+constexpr std::uint64_t kScoreStream = 0;
+constexpr std::uint64_t kScreenStream = 1;
+
+}  // namespace
 
 grasping::GraspRobustness graspRobustness(const RobustnessResult& result,
                                           const RobustnessParams& params) {
@@ -32,6 +40,8 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
     throw InvalidArgument("robust ranking: one trust factor per grasp needed");
   if (params.enabled && params.robustness.samples < 1)
     throw InvalidArgument("robust ranking: need at least one robustness sample");
+  if (params.enabled && params.screen_samples < 1)
+    throw InvalidArgument("robust ranking: need at least one screening sample");
   if (params.friction && !(std::isfinite(*params.friction) && *params.friction >= 0))
     throw InvalidArgument("robust ranking: friction must be finite and >= 0");
   Stopwatch watch;
@@ -47,7 +57,8 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
                    [&](std::size_t a, std::size_t b) { return pre_score[a] > pre_score[b]; });
 
   std::vector<double> rank_score = pre_score;
-  std::vector<char> scored(n, 0);
+  // 2: scored for robustness, 1: screened only, 0: neither.
+  std::vector<int> level(n, 0);
   if (params.enabled && n > 0) {
     // r is judged as the planner judged: its quality (friction unless overridden, force-closure
     // test, contact model) and its closing.
@@ -58,21 +69,38 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
       rp.quality.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
     rp.closing = planner.closing;
     grasping::GraspSimulator simulator(hand, object);
-    const std::size_t k = params.top_k == 0 ? n : std::min(params.top_k, n);
-    for (std::size_t j = 0; j < k; ++j) {
-      const std::size_t i = by_pre[j];
-      if (grasps[i].contacts.empty()) continue;
-      // grasp_index 0 for every grasp: common random numbers (see the header).
-      const RobustnessResult r = evaluateRobustness(simulator, grasps[i], rp, 0);
+    auto trustOf = [&](std::size_t i) { return trust.empty() ? 1.0 : trust[i]; };
+    const std::size_t top_k = params.top_k == 0 ? n : std::min(params.top_k, n);
+    const std::size_t screen_k = params.screen_k == 0 ? n : std::min(params.screen_k, n);
+    // The candidates for scoring, best first: by pre-score, or by the screening score.
+    std::vector<std::size_t> candidates;
+    for (std::size_t i : by_pre)
+      if (!grasps[i].contacts.empty()) candidates.push_back(i);
+    if (screen_k > top_k) {
+      if (candidates.size() > screen_k) candidates.resize(screen_k);
+      RobustnessParams screen = rp;
+      screen.samples = params.screen_samples;
+      for (std::size_t i : candidates) {
+        const RobustnessResult r = evaluateRobustness(simulator, grasps[i], screen, kScreenStream);
+        rank_score[i] = r.score * trustOf(i);
+        level[i] = 1;
+        ++out.screened;
+      }
+      std::stable_sort(candidates.begin(), candidates.end(),
+                       [&](std::size_t a, std::size_t b) { return rank_score[a] > rank_score[b]; });
+    }
+    if (candidates.size() > top_k) candidates.resize(top_k);
+    for (std::size_t i : candidates) {
+      const RobustnessResult r = evaluateRobustness(simulator, grasps[i], rp, kScoreStream);
       grasps[i].robustness = graspRobustness(r, rp);
-      rank_score[i] = r.score * (trust.empty() ? 1.0 : trust[i]);
-      scored[i] = 1;
+      rank_score[i] = r.score * trustOf(i);
+      level[i] = 2;
       ++out.scored;
     }
   }
   out.order = by_pre;
   std::stable_sort(out.order.begin(), out.order.end(), [&](std::size_t a, std::size_t b) {
-    if (scored[a] != scored[b]) return scored[a] > scored[b];
+    if (level[a] != level[b]) return level[a] > level[b];
     if (rank_score[a] != rank_score[b]) return rank_score[a] > rank_score[b];
     return pre_score[a] > pre_score[b];
   });
@@ -82,7 +110,8 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
     out.grasps.back().id = static_cast<int>(out.grasps.size() - 1);
   }
   out.time_s = watch.seconds();
-  log().debug("robust ranking: {} of {} grasps scored in {:.2f} s", out.scored, n, out.time_s);
+  log().debug("robust ranking: {} of {} grasps screened, {} scored in {:.2f} s", out.screened, n,
+              out.scored, out.time_s);
   return out;
 }
 

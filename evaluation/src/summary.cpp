@@ -33,6 +33,14 @@ double Stat::std() const {
   return std::sqrt(s / (values.size() - 1));
 }
 
+double Stat::median() const {
+  if (values.empty()) return 0;
+  std::vector<double> sorted = values;
+  std::sort(sorted.begin(), sorted.end());
+  const std::size_t n = sorted.size();
+  return n % 2 ? sorted[n / 2] : (sorted[n / 2 - 1] + sorted[n / 2]) / 2;
+}
+
 int robustnessBin(double r) {
   const int bin = static_cast<int>(std::ceil(r * kRobustnessBins - kBinEdgeTolerance)) - 1;
   return std::clamp(bin, 0, kRobustnessBins - 1);
@@ -61,6 +69,13 @@ BatchSummary aggregateSummary(const BatchRecords& records) {
     g.planning_s += m.planning_s;
     g.robustness_s += m.robustness_s;
     g.robustness_grasps += m.robustness_grasps;
+    if (m.ranked) {
+      ++g.ranked_runs;
+      if (m.kept > 0) ++g.ranked_with_grasps;
+      // An object left without a grasp counts as r = 0: the user gets nothing that holds.
+      g.ranked_r.add(m.ranked_r_mean.value_or(0.0));
+      g.plan_s.add(m.regularise_s + m.skeleton_s + m.planning_s + m.ranking_s);
+    }
   }
   for (const auto& [key, list] : records.results) {
     for (const auto& grasp : list) {

@@ -21,6 +21,7 @@ struct Stat {
   void add(double v) { values.push_back(v); }
   double mean() const;
   double std() const;
+  double median() const;  // 0 when empty
 };
 
 // What the summary shows of the runs and scored grasps of one hand and planner.
@@ -34,6 +35,11 @@ struct PlannerSummary {
   Stat robustness;  // r of every scored grasp
   double regularise_s = 0, skeleton_s = 0, planning_s = 0, robustness_s = 0;  // summed over runs
   std::vector<int> histogram = std::vector<int>(kRobustnessBins, 0);  // scored grasps per bin
+  // Robust ranking (runs made with BatchParams::ranking): the grasps a user of `plan` gets.
+  std::size_t ranked_runs = 0;
+  std::size_t ranked_with_grasps = 0;  // of ranked_runs: at least one grasp returned
+  Stat ranked_r;  // per ranked run: mean r of the scored (top) grasps, 0 without any grasp
+  Stat plan_s;    // per ranked run: regularise + skeleton + planning + ranking seconds
 };
 
 struct BatchSummary {

@@ -11,6 +11,28 @@ double robustnessThroughput(std::size_t grasps, double seconds) {
   return seconds > 0 ? grasps / seconds : 0.0;
 }
 
+// The grasps as `plan` returns them (runs with robust ranking), empty when no run was ranked.
+std::string rankedTable(const BatchSummary& summary) {
+  std::string md;
+  for (const auto& [key, g] : summary.groups) {
+    if (g.ranked_runs == 0) continue;
+    md += fmt::format("| {} | {} | {} | {:.1f}% ({}) | {:.1f}% | {:.1f}% | {:.2f} |\n", key.first,
+                      toString(key.second), g.ranked_runs,
+                      100.0 * g.ranked_with_grasps / g.ranked_runs, g.ranked_with_grasps,
+                      100 * g.ranked_r.median(), 100 * g.ranked_r.mean(), g.plan_s.median());
+  }
+  if (md.empty()) return md;
+  return "\n## Returned grasps (robust ranking)\n\n"
+         "The grasps `skelgrasp plan` returns: ranked by robustness, r on the best "
+         "(docs/planning.md, "
+         "\"Robust ranking\"). Top r: the mean r of each object's scored grasps, median and mean "
+         "over objects, an object without any grasp counted as 0. Time: median over objects of "
+         "regularisation, skeleton, planning and ranking.\n\n"
+         "| hand | planner | objects | with a grasp | top r, median | top r, mean | plan s, median "
+         "|\n|---|---|---|---|---|---|---|\n" +
+         md;
+}
+
 }  // namespace
 
 std::string summaryCsv(const BatchSummary& summary) {
@@ -60,6 +82,7 @@ std::string summaryMarkdown(const BatchSummary& summary,
     all_robustness_s += g.robustness_s;
     all_robustness_grasps += g.robustness_grasps;
   }
+  md += rankedTable(summary);
   md += timings;
   md += fmt::format(
       "\nBatch throughput: {:.2f} grasps evaluated for robustness per second per core.\n",

@@ -94,7 +94,7 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
           const std::string& regularisation, double alpha_divisor, double offset_divisor,
           double spur_radius_factor, bool robustness, int robustness_samples,
           const std::string& robustness_variant, std::size_t robustness_top_k,
-          std::optional<double> robustness_mu) {
+          std::size_t robustness_screen, std::optional<double> robustness_mu) {
   if (planner != "skeleton" && planner != "surface")
     throw InvalidArgument("planner: '" + planner + "' is not skeleton or surface");
   grasping::HypothesisParams hypothesis;
@@ -107,8 +107,9 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
   skeleton_params.regularisation.offset_divisor = offset_divisor;
   skeleton_params.spur_radius_factor = spur_radius_factor;
 
-  const auto ranking = robustRankingParams(robustness, robustness_samples, robustness_variant,
-                                           robustness_top_k, robustness_mu, seed);
+  const auto ranking =
+      robustRankingParams(robustness, robustness_samples, robustness_variant, robustness_top_k,
+                          robustness_screen, robustness_mu, seed);
   Plan out{{}, hand, mesh.name, std::nullopt};
   py::gil_scoped_release release;
   const grasping::GraspObject object(mesh.mesh);
@@ -421,14 +422,16 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
       py::arg("robustness") = ranking.enabled,
       py::arg("robustness_samples") = ranking.robustness.samples,
       py::arg("robustness_variant") = std::string(evaluation::toString(ranking.robustness.variant)),
-      py::arg("robustness_top_k") = ranking.top_k, py::arg("robustness_mu") = ranking.friction,
+      py::arg("robustness_top_k") = ranking.top_k, py::arg("robustness_screen") = ranking.screen_k,
+      py::arg("robustness_mu") = ranking.friction,
       R"doc(
 Plans grasps for ``mesh`` with ``hand`` (``skelgrasp plan``): planner 'skeleton' (paper Alg. 1)
 or 'surface' (surface-normal baseline). Deterministic for a seed. The defaults are the library's
 SkeletonPlannerParams / SurfacePlannerParams (no time limit: ``timeout_s=0``; the command line
 sets 30 s) and RobustRankingParams. ``max_hypotheses`` is the surface planner's. Robust ranking
-(docs/planning.md): the best ``robustness_top_k`` grasps by epsilon (0: all) get a robustness r
-from ``robustness_samples`` perturbed executions (``robustness_variant`` 'paper' or 'reference',
+(docs/planning.md): the best ``robustness_screen`` grasps by epsilon (0: all) are screened with a
+cheap r, and the best ``robustness_top_k`` of them (0: all) get a robustness r from
+``robustness_samples`` perturbed executions (``robustness_variant`` 'paper' or 'reference',
 friction ``robustness_mu`` or ``mu``, samples seeded by ``seed``) and are ranked first by r;
 ``robustness=False`` keeps the epsilon order. A mesh the skeleton stage cannot process raises
 ValueError.)doc");

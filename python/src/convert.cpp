@@ -155,7 +155,8 @@ py::dict jointsDict(const grasping::HandModel& hand, const Eigen::VectorXd& q) {
 
 evaluation::RobustRankingParams robustRankingParams(bool robustness, int samples,
                                                     const std::string& variant, std::size_t top_k,
-                                                    std::optional<double> mu, std::uint64_t seed) {
+                                                    std::size_t screen_k, std::optional<double> mu,
+                                                    std::uint64_t seed) {
   if (samples < 1) throw InvalidArgument("robustness_samples: must be >= 1");
   if (mu && !(std::isfinite(*mu) && *mu >= 0))
     throw InvalidArgument("robustness_mu: must be finite and >= 0");
@@ -165,6 +166,7 @@ evaluation::RobustRankingParams robustRankingParams(bool robustness, int samples
   p.robustness.variant = evaluation::parseRobustnessVariant(variant);
   p.robustness.seed = seed;
   p.top_k = top_k;
+  p.screen_k = screen_k;
   p.friction = mu;
   return p;
 }

@@ -83,7 +83,8 @@ py::object fromJson(const nlohmann::json& j);
 // seeds the robustness samples. Throws InvalidArgument for samples < 1 or an unknown variant.
 evaluation::RobustRankingParams robustRankingParams(bool robustness, int samples,
                                                     const std::string& variant, std::size_t top_k,
-                                                    std::optional<double> mu, std::uint64_t seed);
+                                                    std::size_t screen_k, std::optional<double> mu,
+                                                    std::uint64_t seed);
 
 // {joint name: value} for the movable joints of `hand` in configuration `q`.
 py::dict jointsDict(const grasping::HandModel& hand, const Eigen::VectorXd& q);

@@ -28,10 +28,15 @@ std::vector<nlohmann::json> lines(const std::string& path) {
   return out;
 }
 
+std::string textOf(const std::string& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
 // Everything except wall-clock times, which differ between runs by nature.
 nlohmann::json withoutTimes(nlohmann::json j) {
   for (const char* key : {"planning_s", "regularise_s", "skeleton_s", "robustness_s",
-                          "ms_per_valid_grasp", "time_ms", "timed_out"}) {
+                          "ms_per_valid_grasp", "time_ms", "timed_out", "ranking_s"}) {
     j.erase(key);
   }
   return j;
@@ -301,6 +306,52 @@ TEST_F(BatchTest, AResumeWithOtherOptionsRefusesUnlessRestarted) {
   EXPECT_EQ(readJsonFile(out + "/batch.json")["options"]["mu"], 0.5);
   p.restart = false;
   EXPECT_EQ(runBatch(p).objects_skipped, 3u);  // the new options are now the batch's
+}
+
+TEST_F(BatchTest, RobustRankingRecordsTheReturnedGraspsRAndIsPartOfTheOptions) {
+  const std::string out = test::tempDir("batch_ranking");
+  auto p = params(out);
+  p.planners = {Planner::kSkeleton};
+  p.ranking.enabled = true;
+  p.ranking.top_k = 2;
+  p.ranking.screen_k = 4;
+  p.ranking.screen_samples = 4;
+  p.ranking.robustness.samples = 6;
+  runBatch(p);
+  const auto runs = lines(out + "/runs.jsonl");
+  ASSERT_EQ(runs.size(), objects_.size());
+  std::size_t ranked_with_grasps = 0;
+  for (const auto& run : runs) {
+    ASSERT_EQ(run["status"] != "error", true) << run.dump();
+    EXPECT_TRUE(run["ranked"].get<bool>());
+    const std::size_t kept = run["kept"];
+    EXPECT_EQ(run["ranked_grasps"].get<std::size_t>(), std::min<std::size_t>(kept, 2));
+    if (kept == 0) {
+      EXPECT_TRUE(run["ranked_r_mean"].is_null());
+      continue;
+    }
+    ++ranked_with_grasps;
+    const double r = run["ranked_r_mean"];
+    EXPECT_GE(r, 0.0);
+    EXPECT_LE(r, 1.0);
+  }
+  EXPECT_GT(ranked_with_grasps, 0u);
+  // The summary shows the returned grasps' table; the options record the ranking, so a resume
+  // without it is refused.
+  const std::string summary = textOf(out + "/summary.md");
+  EXPECT_NE(summary.find("## Returned grasps (robust ranking)"), std::string::npos);
+  EXPECT_EQ(readJsonFile(out + "/batch.json")["options"]["ranking"]["top_k"], 2);
+  p.ranking.enabled = false;
+  EXPECT_THROW(runBatch(p), InvalidArgument);
+  // A batch without ranking records no ranking options and no such table.
+  const std::string plain = test::tempDir("batch_no_ranking");
+  auto q = params(plain);
+  q.planners = {Planner::kSkeleton};
+  q.max_objects = 1;
+  runBatch(q);
+  EXPECT_FALSE(readJsonFile(plain + "/batch.json")["options"].contains("ranking"));
+  EXPECT_EQ(textOf(plain + "/summary.md").find("Returned grasps"), std::string::npos);
+  for (const auto& run : lines(plain + "/runs.jsonl")) EXPECT_FALSE(run["ranked"].get<bool>());
 }
 
 TEST_F(BatchTest, MergeRefusesShardsRunWithOtherOptions) {

@@ -40,11 +40,23 @@ const Planned& cylinder() {
   return planned;
 }
 
+// Scores the best top_k by epsilon, without screening.
 RobustRankingParams fewSamples(int samples, std::size_t top_k) {
   RobustRankingParams params;
   params.robustness.samples = samples;
   params.top_k = top_k;
+  params.screen_k = top_k;
   return params;
+}
+
+// The robustness parameters rankByRobustness judges with, for `planned`.
+RobustnessParams judgedAs(const Planned& p, const RobustRankingParams& ranking) {
+  RobustnessParams rp = ranking.robustness;
+  rp.quality = p.params.hypothesis.quality;
+  if (ranking.friction) rp.quality.friction = *ranking.friction;
+  rp.quality.torsional_friction_m = p.hand.closingDefaults().torsional_friction_m;
+  rp.closing = p.params.hypothesis.closing;
+  return rp;
 }
 
 TEST(RobustRanking, ScoresTheTopKAndRanksThemFirstByR) {
@@ -85,6 +97,57 @@ TEST(RobustRanking, ScoresTheTopKAndRanksThemFirstByR) {
   }
   // The scored grasps are the three best by epsilon.
   for (std::size_t i = 0; i < 3; ++i) EXPECT_LT(result.order[i], 3u);
+}
+
+TEST(RobustRanking, ScreeningChoosesTheScoredGraspsByAScreeningROnItsOwnSamples) {
+  const Planned& p = cylinder();
+  const std::size_t n = p.plan.grasps.size();
+  ASSERT_GE(n, 6u);
+  auto params = fewSamples(12, 2);
+  params.screen_k = 6;
+  params.screen_samples = 8;
+  params.robustness.seed = 3;
+  const auto result =
+      rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params);
+  EXPECT_EQ(result.screened, 6u);
+  ASSERT_EQ(result.scored, 2u);
+  grasping::GraspSimulator sim(p.hand, *p.object);
+  const RobustnessParams rp = judgedAs(p, params);
+  RobustnessParams screen = rp;
+  screen.samples = 8;
+  // The candidates are the six best by epsilon (the planner's order); the two scored have the
+  // highest screening r, drawn from the screening stream (grasp_index 1).
+  double lowest_chosen = 1, highest_other = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& g = result.grasps[i];
+    if (i < 6) {
+      EXPECT_LT(result.order[i], 6u) << i;
+      const double screening_r = evaluateRobustness(sim, g, screen, 1).score;
+      if (i < 2) {
+        lowest_chosen = std::min(lowest_chosen, screening_r);
+      } else {
+        highest_other = std::max(highest_other, screening_r);
+        EXPECT_DOUBLE_EQ(result.scores[i], screening_r) << i;
+      }
+    } else {
+      EXPECT_GE(result.order[i], 6u) << i;
+      EXPECT_DOUBLE_EQ(result.scores[i], g.epsilon) << i;
+    }
+    // Only the scored grasps carry a robustness, from the scoring stream (grasp_index 0).
+    ASSERT_EQ(g.robustness.has_value(), i < 2) << i;
+    if (g.robustness) {
+      EXPECT_EQ(g.robustness->samples, 12);
+      EXPECT_EQ(g.robustness->r, evaluateRobustness(sim, g, rp, 0).score) << i;
+    }
+  }
+  EXPECT_GE(lowest_chosen, highest_other);
+  // screen_k at most top_k: no screening.
+  params.screen_k = 2;
+  EXPECT_EQ(
+      rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params).screened, 0u);
+  params.screen_samples = 0;
+  EXPECT_THROW(rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params),
+               InvalidArgument);
 }
 
 TEST(RobustRanking, DisabledKeepsTheEpsilonOrderWithoutRobustness) {

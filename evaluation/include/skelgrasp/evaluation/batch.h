@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "skelgrasp/common/mesh_io.h"
+#include "skelgrasp/evaluation/robust_ranking.h"
 #include "skelgrasp/evaluation/robustness.h"
 #include "skelgrasp/grasping/planners.h"
 #include "skelgrasp/skeleton/extraction.h"
@@ -38,7 +39,16 @@ struct BatchParams {
   // Robustness for up to this many grasps per run, drawn uniformly (seeded) from the kept grasps;
   // 0 = all of them.
   std::size_t robustness_grasps = 20;
-  RobustnessParams robustness;      // samples (100), variant
+  RobustnessParams robustness;  // samples (100), variant
+  // The grasps a user of `plan` gets: each run's grasps ranked by robustness as `plan` ranks them
+  // (robust_ranking.h; its samples, variant and seed as set here, the run's seed, friction and
+  // closing), and the mean r of the top_k returned grasps recorded per run. Off by default:
+  // the paper's protocol scores a random sample of the planner's grasps (above) and nothing else.
+  RobustRankingParams ranking = [] {
+    RobustRankingParams p;
+    p.enabled = false;
+    return p;
+  }();
   grasping::QualityParams quality;  // mu, reference_compat
   skeleton::SkeletonParams skeleton;
   MeshLoadOptions load;

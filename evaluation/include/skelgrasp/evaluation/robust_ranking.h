@@ -11,10 +11,13 @@
 
 namespace skelgrasp::evaluation {
 
-// Defaults chosen so that ranking one object costs about a second with the paper hands on the
-// YCB meshes (docs/planning.md has the measurements): 10 grasps x 50 samples.
+// Defaults chosen so that ranking one object costs one to two seconds with the paper hands on the
+// YCB meshes (docs/planning.md has the measurements): up to 60 grasps screened with 10 samples
+// each, the best 10 of them scored with 50.
 inline constexpr std::size_t kDefaultRobustTopK = 10;
 inline constexpr int kDefaultRankingSamples = 50;
+inline constexpr std::size_t kDefaultScreenK = 60;
+inline constexpr int kDefaultScreenSamples = 10;
 
 inline RobustnessParams defaultRankingRobustness() {
   RobustnessParams params;
@@ -24,8 +27,15 @@ inline RobustnessParams defaultRankingRobustness() {
 
 struct RobustRankingParams {
   bool enabled = true;  // false: the grasps keep the pre-score order and get no robustness
-  // The grasps scored: the best top_k by the pre-score (epsilon x trust); 0 scores all of them.
+  // The grasps scored: the best top_k by the screening (below); 0 scores all of them.
   std::size_t top_k = kDefaultRobustTopK;
+  // Screening: the best screen_k grasps by the pre-score (epsilon x trust; 0: all of them) get a
+  // cheap r from screen_samples perturbed executions, and the top_k are chosen by it. The
+  // pre-score alone says little about robustness (epsilon favours fingertip pinches that fall
+  // apart under pose error), so screening more candidates than are scored is what lifts the r of
+  // the returned grasps. No screening when screen_k (0 read as all) is at most top_k.
+  std::size_t screen_k = kDefaultScreenK;
+  int screen_samples = kDefaultScreenSamples;
   // Samples, variant, pose error sigmas and seed of r. Its `quality` and `closing` are NOT used:
   // r is judged as the planner judged the grasp (rankByRobustness's `planner` argument), with the
   // friction replaced by `friction` when that is set.
@@ -38,22 +48,29 @@ struct RobustRankingResult {
   std::vector<grasping::Grasp> grasps;  // best first, ids renumbered 0..n-1 (id = rank)
   std::vector<double> scores;           // each grasp's rank score (see rankByRobustness)
   std::vector<std::size_t> order;       // grasps[i] was input grasp order[i]
+  std::size_t screened = 0;             // grasps given a screening r (0 without screening)
   std::size_t scored = 0;               // grasps that got a robustness
   double time_s = 0;
 };
 
-// Scores the best `params.top_k` grasps by robustness and re-ranks all of them:
+// Screens the best `params.screen_k` grasps, scores the best `params.top_k` of them by robustness
+// and re-ranks all grasps:
 //  * pre-score = epsilon x trust[i] (trust empty: 1; scans: 1 - w + w x observed contact ratio);
-//  * rank score of a scored grasp = r x trust[i]; of an unscored one (beyond top_k, or ranking
-//    disabled) = its pre-score;
-//  * order: scored grasps first by rank score, ties by pre-score; then the unscored ones by
-//    pre-score (the planner's order when trust is empty). The sort is stable.
+//  * screening score = screening r x trust[i]; the top_k by it (ties: pre-score) are scored;
+//  * rank score of a scored grasp = r x trust[i]; of a screened one = its screening score; of
+//    the others (beyond screen_k, or ranking disabled) = its pre-score;
+//  * order: scored grasps first by rank score, ties by pre-score; then the screened ones, then
+//    the rest, each by rank score (the planner's order when trust is empty). The sort is stable.
+// Only scored grasps carry a robustness (Grasp::robustness): the screening r, from a handful of
+// samples, is used for choosing and not reported.
 // Common random numbers: every grasp is scored with evaluateRobustness(..., grasp_index = 0) and
 // params.robustness.seed, so all grasps face the same perturbations and the differences in r
 // between them are not sampling noise (`skelgrasp score` relies on this convention to reproduce
-// plan's numbers). The result does not depend on the thread count. Grasps without contacts stay
-// unscored. Throws InvalidArgument for samples < 1 (when enabled), a negative or non-finite
-// friction, or a trust vector whose size is not the grasps'.
+// plan's numbers). Screening draws its own stream (grasp_index = 1), so the reported r of a grasp
+// chosen for a lucky screening is not biased by that luck. The result does not depend on the
+// thread count. Grasps without contacts stay unscored. Throws InvalidArgument for samples or
+// screen_samples < 1 (when enabled), a negative or non-finite friction, or a trust vector whose
+// size is not the grasps'.
 RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
                                      const grasping::GraspObject& object,
                                      std::vector<grasping::Grasp> grasps,
