@@ -162,6 +162,16 @@ INSTANTIATE_TEST_SUITE_P(
                  "property uint8 z\nelement face 1\nproperty list uchar int vertex_indices\n"
                  "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
                  "PLY vertex property 'z' is of type uint8, expected float or double"},
+        // CGAL reads every element of a name (fuzz/regressions/mesh_reader/
+        // ply_second_vertex_element).
+        BadInput{"ply_vertex_element_twice", "two_vertex.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                 "property float z\nelement vertex 1\nproperty uint8 x\nend_header\n0 0 0\n0\n",
+                 "element 'vertex' declared twice"},
+        BadInput{"ply_property_twice", "two_x.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                 "property float z\nproperty uint8 x\nend_header\n0 0 0 0\n",
+                 "property 'x' declared twice in element 'vertex'"},
         BadInput{"ply_without_face_indices", "faces.ply",
                  "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                  "property float z\nelement face 1\nproperty uchar flags\nend_header\n"
