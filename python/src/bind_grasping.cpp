@@ -202,8 +202,10 @@ py::list score(const Mesh& mesh, const HandPtr& hand, const py::object& grasps, 
         throw InvalidArgument("grasps: grasp " + std::to_string(i) + " was planned for hand '" +
                               list[i].hand->name() + "', not '" + hand->name() + "'");
       judged[i] = grasping::evaluateGrasp(list[i].grasp.contacts, object, quality);
+      // grasp_index 0 for every grasp: the common random numbers plan's ranking and `skelgrasp
+      // score` use (robust_ranking.h), so plan's r is reproduced for the same seed and samples.
       if (robustness_samples > 0)
-        robust[i] = evaluation::evaluateRobustness(simulator, list[i].grasp, robustness, i);
+        robust[i] = evaluation::evaluateRobustness(simulator, list[i].grasp, robustness, 0);
     }
   }
   py::list out;
@@ -486,7 +488,8 @@ Re-scores grasps (a Grasp, a list of them or a PlanResult) planned with ``hand``
 force closure, epsilon, closure margin and volume of their contacts with these quality
 parameters, and the robustness r (paper Sec. V-B: the share of ``robustness_samples`` perturbed
 hand poses that still close to force closure, with its 95 % Wilson interval; 0 samples skips
-it). Returns one dict per grasp.)doc");
+it). Every grasp faces the same perturbations (as in :func:`plan`'s ranking), so a planned grasp's
+r is reproduced with plan's seed and sample count. Returns one dict per grasp.)doc");
 
   const evaluation::ScoreParams score_params;
   m.def("score_grasps", &scoreGraspsFile, py::arg("mesh"), py::arg("hand"), py::arg("grasps"),

@@ -137,6 +137,15 @@ def test_score_recomputes_quality_and_robustness(capsule, sdh, capsule_plan):
                                                            mu=0.8, robustness_samples=0))
 
 
+def test_score_reproduces_the_r_plan_ranked_by(capsule, sdh):
+    planned = skelgrasp.plan(capsule, sdh, seed=5, max_grasps=3, robustness_samples=6)
+    scores = skelgrasp.score(capsule, sdh, planned, robustness_samples=6, seed=5)
+    scored = [(s, g) for s, g in zip(scores, planned.grasps) if g.robustness is not None]
+    assert scored
+    for s, g in scored:
+        assert s["robustness"] == g.robustness["r"]
+
+
 def test_score_grasps_closes_again_at_each_mu(capsule, sdh, capsule_plan):
     doc = skelgrasp.score_grasps(capsule, sdh, capsule_plan.to_dict(), mu=[0.35, 0.5],
                                  robustness_samples=4, seed=3)
