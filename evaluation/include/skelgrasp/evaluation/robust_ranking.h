@@ -67,7 +67,9 @@ struct RobustRankingResult {
 // params.robustness.seed, so all grasps face the same perturbations and the differences in r
 // between them are not sampling noise (`skelgrasp score` relies on this convention to reproduce
 // plan's numbers). Screening draws its own stream (grasp_index = 1), so the reported r of a grasp
-// chosen for a lucky screening is not biased by that luck. The result does not depend on the
+// chosen for a lucky screening is not biased by that luck (except in the reference variant, which
+// draws one sequence whatever the grasp_index: there the screening samples are the first scoring
+// ones). The result does not depend on the
 // thread count. Grasps without contacts stay unscored. Throws InvalidArgument for samples or
 // screen_samples < 1 (when enabled), a negative or non-finite friction, or a trust vector whose
 // size is not the grasps'.
