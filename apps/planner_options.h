@@ -38,6 +38,7 @@ struct PlannerOptions {
   std::string closing = defaultClosingMethod();
   int refine_evaluations = grasping::RefinementParams{}.max_evaluations;
   bool refine = grasping::RefinementParams{}.enabled;
+  double precision_retreat_m = grasping::SkeletonPlannerParams{}.precision_retreat_m;
 
   // `choice`: also --planner and --hypotheses (commands that can run either planner).
   void addTo(CLI::App& cmd, bool choice = true) {
@@ -79,6 +80,12 @@ struct PlannerOptions {
         ->check(finiteIn(0, kMaxRatio));
     cmd.add_flag("--reference-compat", reference_compat,
                  "Quality as the reference code (docs/hands.md)");
+    cmd.add_option("--precision-retreat", precision_retreat_m,
+                   "Skeleton planner: back precision grasps' open hand off this much further "
+                   "than the first collision-free pose, in metres (0 = as the paper; 0.008 gave "
+                   "more robust grasps, docs/planning.md)")
+        ->check(lengthOrZero())
+        ->capture_default_str();
     cmd.add_flag("--no-fallback", no_fallback,
                  "Skeleton planner: no fallback strategies for objects whose skeleton gives few "
                  "grasps (docs/planning.md)");
@@ -112,6 +119,7 @@ struct PlannerOptions {
     p.vertex_distance_m = vertex_distance_m;
     p.round_ratio = round_ratio;
     p.fallback = !no_fallback;
+    p.precision_retreat_m = precision_retreat_m;
     p.hypothesis = hypothesis();
     p.refinement.enabled = refine;
     p.refinement.max_evaluations = refine_evaluations;

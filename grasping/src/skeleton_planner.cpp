@@ -120,6 +120,8 @@ PlanResult planSkeletonGrasps(const HandModel& hand, const GraspObject& object,
       params.round_endpoint_rolls < 1) {
     throw InvalidArgument("planSkeletonGrasps: negative vertex distance or no approach directions");
   }
+  if (!(params.precision_retreat_m >= 0) || !std::isfinite(params.precision_retreat_m))
+    throw InvalidArgument("planSkeletonGrasps: precision retreat must be finite and >= 0");
   for (const auto& v : skel.vertices) {
     for (int p : v.surface_points) {
       if (p < 0 || static_cast<std::size_t>(p) >= object.mesh().numVertices()) {
@@ -187,7 +189,8 @@ PlanResult planSkeletonGrasps(const HandModel& hand, const GraspObject& object,
       // The hand's contact model unless the caller chose one (0 = point contacts).
       if (!hp.quality.torsional_friction_m)
         hp.quality.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
-      hp.extra_retreat_m = precision ? 0.0 : hand.thresholds().power_retreat_m;
+      hp.extra_retreat_m =
+          precision ? params.precision_retreat_m : hand.thresholds().power_retreat_m;
       const RefinementFrame local{shape.tangent, localCentroid(skel, object.mesh(), shape)};
       for (const Pose& frame : hypothesisFrames(v.position, shape, endpoint, params)) {
         if (stop()) break;

@@ -83,6 +83,22 @@ TEST(SkeletonPlanner, ThinRodGetsOnlyPrecisionGrasps) {
   EXPECT_GT(p.result.summary.rejections.at(reason::kThicknessOutOfRange), 0u);  // no power
 }
 
+TEST(SkeletonPlanner, PrecisionRetreatBacksPrecisionGraspsOffFurther) {
+  const HandModel hand = loadBuiltinHand("armar3");
+  const TriangleMesh rod = primitives::makeCylinder(0.005, 0.16, 16, 20);
+  SkeletonPlannerParams params;
+  params.precision_retreat_m = 0.008;
+  params.fallback = false;
+  const auto p = planOn(rod, hand, params);
+  ASSERT_FALSE(p.result.grasps.empty());
+  expectConsistent(p.result, hand, *p.object);
+  // Moving away from a convex rod along the approach stays free, so every grasp takes the whole
+  // extra back-off on top of its first free pose.
+  for (const auto& g : p.result.grasps) EXPECT_GE(g.retreat_m, 0.008 - 1e-12) << g.id;
+  params.precision_retreat_m = -0.001;
+  EXPECT_THROW(planSkeletonGrasps(hand, *p.object, p.skeleton.skeleton, params), InvalidArgument);
+}
+
 TEST(SkeletonPlanner, BoxGetsRectangularGraspsAlongItsPrincipalAxes) {
   const HandModel hand = loadBuiltinHand("armar3");
   const auto p = planOn(primitives::makeBox({0.05, 0.09, 0.26}, 6), hand);
