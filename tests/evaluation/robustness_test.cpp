@@ -4,6 +4,7 @@
 #include <tbb/global_control.h>
 
 #include "skelgrasp/common/constants.h"
+#include "skelgrasp/common/pose.h"
 #include "skelgrasp/common/primitives.h"
 #include "skelgrasp/grasping/planners.h"
 #include "skelgrasp/skeleton/extraction.h"
@@ -26,14 +27,6 @@ Grasp graspAt(grasping::GraspSimulator& sim, const Pose& gcp, const std::string&
   return g;
 }
 
-Pose frame(const Eigen::Vector3d& position, const Eigen::Vector3d& approach,
-           const Eigen::Vector3d& spread) {
-  Pose p = Pose::Identity();
-  p.linear() = frameFromZY(approach, spread);
-  p.translation() = position;
-  return p;
-}
-
 TEST(Robustness, WilsonIntervalBracketsTheRate) {
   const auto [low, high] = wilsonInterval(90, 100);
   EXPECT_LT(low, 0.9);
@@ -48,7 +41,7 @@ TEST(Robustness, UnsetSigmasAreTheVariantsDefaults) {
   const auto hand = grasping::loadBuiltinHand("parallel_gripper");
   const grasping::GraspObject box(primitives::makeBox({0.05, 0.09, 0.16}, 2));
   grasping::GraspSimulator sim(hand, box);
-  const Grasp g = graspAt(sim, frame({0, 0.035, 0}, {0, -1, 0}, {0, 0, 1}), "precision");
+  const Grasp g = graspAt(sim, poseFromZY({0, 0.035, 0}, {0, -1, 0}, {0, 0, 1}), "precision");
   RobustnessParams unset;
   unset.samples = 12;
   RobustnessParams paper = unset;  // the paper variant's 10 mm and 5 degrees, stated
@@ -89,8 +82,8 @@ TEST(Robustness, FingertipGraspOnAThinEdgeIsFragile) {
   const grasping::GraspObject plate(primitives::makeBox({0.12, 0.12, 0.006}, 4));
   grasping::GraspSimulator sim(hand, plate);
   const double tip_beyond_gcp = 0.1121 - 0.1034;  // fingertip reach past the gcp (m)
-  const Grasp g = graspAt(sim, frame({0.06 - 0.004 + tip_beyond_gcp, 0, 0}, {-1, 0, 0}, {0, 1, 0}),
-                          "precision");
+  const Grasp g = graspAt(
+      sim, poseFromZY({0.06 - 0.004 + tip_beyond_gcp, 0, 0}, {-1, 0, 0}, {0, 1, 0}), "precision");
   ASSERT_EQ(g.contacts.size(), 2u);
   grasping::QualityParams soft;
   soft.torsional_friction_m = hand.closingDefaults().torsional_friction_m;

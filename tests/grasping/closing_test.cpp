@@ -1,6 +1,7 @@
 // Finger closing and contacts on generated shapes with known geometry.
 #include <gtest/gtest.h>
 
+#include "skelgrasp/common/pose.h"
 #include "skelgrasp/common/primitives.h"
 #include "skelgrasp/grasping/grasp_simulator.h"
 #include "skelgrasp/grasping/quality.h"
@@ -8,23 +9,13 @@
 namespace skelgrasp::grasping {
 namespace {
 
-// Grasp centre point at `position` with approach direction `approach` and finger-spread axis
-// close to `spread`.
-Pose gcpPose(const Eigen::Vector3d& position, const Eigen::Vector3d& approach,
-             const Eigen::Vector3d& spread) {
-  Pose pose = Pose::Identity();
-  pose.linear() = frameFromZY(approach, spread);
-  pose.translation() = position;
-  return pose;
-}
-
 TEST(Closing, ParallelGripperStopsAtTheBoxWidthWithOpposedContacts) {
   const HandModel gripper = loadBuiltinHand("parallel_gripper");
   const GraspObject box(primitives::makeBox({0.05, 0.09, 0.16}, 2));
   GraspSimulator sim(gripper, box);
   const auto& preshape = gripper.preshape("precision");
   // Approach along -y onto the 9 cm face, jaws closing along x across the 5 cm width.
-  const Pose hand = sim.handPoseForGcp(gcpPose({0, 0.035, 0}, {0, -1, 0}, {0, 0, 1}), preshape);
+  const Pose hand = sim.handPoseForGcp(poseFromZY({0, 0.035, 0}, {0, -1, 0}, {0, 0, 1}), preshape);
   const auto r = sim.close(hand, preshape);
   ASSERT_TRUE(r.status.ok()) << r.status.message;
   const double opening = 2 * r.joints[gripper.jointIndex("finger_left")];
@@ -48,7 +39,7 @@ TEST(Closing, RejectsAHandThatStartsInCollision) {
   const GraspObject box(primitives::makeBox({0.05, 0.09, 0.16}, 2));
   GraspSimulator sim(gripper, box);
   const auto& preshape = gripper.preshape("precision");
-  const Pose hand = sim.handPoseForGcp(gcpPose({0, 0, 0}, {0, -1, 0}, {0, 0, 1}), preshape);
+  const Pose hand = sim.handPoseForGcp(poseFromZY({0, 0, 0}, {0, -1, 0}, {0, 0, 1}), preshape);
   const auto r = sim.close(hand, preshape);
   EXPECT_EQ(r.status.code, StatusCode::kNoResult);
   EXPECT_EQ(r.reason, "start_collision");
@@ -71,7 +62,8 @@ TEST(Closing, ReportsTooFewContactsWhenClosingOnNothing) {
   const GraspObject box(primitives::makeBox({0.02, 0.02, 0.02}));
   GraspSimulator sim(gripper, box);
   const auto& preshape = gripper.preshape("precision");
-  const Pose hand = sim.handPoseForGcp(gcpPose({0.5, 0.5, 0.5}, {0, -1, 0}, {0, 0, 1}), preshape);
+  const Pose hand =
+      sim.handPoseForGcp(poseFromZY({0.5, 0.5, 0.5}, {0, -1, 0}, {0, 0, 1}), preshape);
   const auto r = sim.close(hand, preshape);
   EXPECT_EQ(r.reason, "too_few_contacts");
   EXPECT_TRUE(r.contacts.empty());
@@ -88,7 +80,7 @@ TEST(Closing, HandsWrapACylinderWithinTheirJointLimits) {
     ClosingResult r;
     Pose placed = Pose::Identity();
     for (double x = 0.0; x < 0.15; x += 0.001) {
-      placed = sim.handPoseForGcp(gcpPose({x, 0, 0}, {-1, 0, 0}, {0, 0, 1}), preshape);
+      placed = sim.handPoseForGcp(poseFromZY({x, 0, 0}, {-1, 0, 0}, {0, 0, 1}), preshape);
       if (sim.inCollision(placed, preshape.joints)) continue;
       r = sim.close(placed, preshape);
       break;
@@ -135,7 +127,7 @@ TEST(Closing, UnsetStepsAreTheHandsDefaultsAndSetStepsAreUsed) {
   const GraspObject box(primitives::makeBox({0.05, 0.09, 0.16}, 2));
   GraspSimulator sim(gripper, box);
   const auto& preshape = gripper.preshape("precision");
-  const Pose hand = sim.handPoseForGcp(gcpPose({0, 0.035, 0}, {0, -1, 0}, {0, 0, 1}), preshape);
+  const Pose hand = sim.handPoseForGcp(poseFromZY({0, 0.035, 0}, {0, -1, 0}, {0, 0, 1}), preshape);
   const int jaw = gripper.jointIndex("finger_left");
   ClosingParams explicit_defaults;
   explicit_defaults.step_m = gripper.closingDefaults().step_m;
@@ -160,7 +152,7 @@ TEST(Closing, IsDeterministic) {
   const GraspObject capsule(primitives::makeCapsule(0.025, 0.12));
   GraspSimulator a(hand, capsule), b(hand, capsule);
   const auto& preshape = hand.preshape("power");
-  const Pose pose = a.handPoseForGcp(gcpPose({0.02, 0, 0}, {-1, 0, 0}, {0, 0, 1}), preshape);
+  const Pose pose = a.handPoseForGcp(poseFromZY({0.02, 0, 0}, {-1, 0, 0}, {0, 0, 1}), preshape);
   const auto ra = a.close(pose, preshape), rb = b.close(pose, preshape);
   EXPECT_EQ(ra.joints, rb.joints);
   ASSERT_EQ(ra.contacts.size(), rb.contacts.size());
