@@ -157,7 +157,6 @@ class ObjectEvaluator {
     }
     // The grasps as `plan` returns them: ranked by robustness, r on the best (same seed).
     RankingMeasures ranking;
-    ranking.ran = p_.ranking.enabled;
     if (p_.ranking.enabled) {
       RobustRankingParams rp = p_.ranking;
       rp.robustness.seed = seed;
@@ -176,7 +175,6 @@ class ObjectEvaluator {
 
   // What robust ranking measured in a run (BatchParams::ranking).
   struct RankingMeasures {
-    bool ran = false;
     std::size_t scored = 0;
     std::optional<double> r_mean;  // of the scored grasps
     double time_s = 0;
@@ -229,7 +227,7 @@ class ObjectEvaluator {
     m.robustness_samples = rp.samples;
     m.robustness_s = robustness_s;
     if (!chosen.empty()) m.robustness_mean = robustness_sum / chosen.size();
-    m.ranked = ranking.ran;
+    m.ranked = p_.ranking.enabled;
     m.ranked_grasps = ranking.scored;
     m.ranked_r_mean = ranking.r_mean;
     m.ranking_s = ranking.time_s;

@@ -47,9 +47,9 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
   Stopwatch watch;
   RobustRankingResult out;
   const std::size_t n = grasps.size();
+  auto trustOf = [&](std::size_t i) { return trust.empty() ? 1.0 : trust[i]; };
   std::vector<double> pre_score(n);
-  for (std::size_t i = 0; i < n; ++i)
-    pre_score[i] = grasps[i].epsilon * (trust.empty() ? 1.0 : trust[i]);
+  for (std::size_t i = 0; i < n; ++i) pre_score[i] = grasps[i].epsilon * trustOf(i);
   // The candidates for scoring: the best by pre-score (stable: the planner's order on ties).
   std::vector<std::size_t> by_pre(n);
   std::iota(by_pre.begin(), by_pre.end(), 0);
@@ -69,7 +69,6 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
       rp.quality.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
     rp.closing = planner.closing;
     grasping::GraspSimulator simulator(hand, object);
-    auto trustOf = [&](std::size_t i) { return trust.empty() ? 1.0 : trust[i]; };
     const std::size_t top_k = params.top_k == 0 ? n : std::min(params.top_k, n);
     const std::size_t screen_k = params.screen_k == 0 ? n : std::min(params.screen_k, n);
     // The candidates for scoring, best first: by pre-score, or by the screening score.
