@@ -11,6 +11,7 @@
 #include "option_checks.h"
 #include "output_paths.h"
 #include "quality_options.h"
+#include "robustness_options.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/evaluation/batch.h"
 
@@ -158,10 +159,7 @@ void registerEvaluateCommands(CLI::App& app, Action& action) {
                   "Grasps per run scored for robustness (0 = all)")
       ->transform(countIn(0, kMaxCount))
       ->capture_default_str();
-  cmd->add_option("--robustness-variant", a->variant,
-                  "paper (hand moved, 10 mm / 5 deg) or reference (object moved, 5 mm / 2.5 deg)")
-      ->check(CLI::IsMember({"paper", "reference"}))
-      ->capture_default_str();
+  addRobustnessVariantOption(*cmd, a->variant);
   cmd->add_option("--jobs", a->jobs, "Objects evaluated in parallel")
       ->transform(threadCount(1))
       ->capture_default_str();

@@ -10,6 +10,7 @@
 #include "option_checks.h"
 #include "output_paths.h"
 #include "quality_options.h"
+#include "robustness_options.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/evaluation/score.h"
@@ -120,10 +121,7 @@ void registerScoreCommand(CLI::App& app, Action& action) {
   cmd->add_option("--robustness-samples", a->samples, "Perturbed poses per grasp and mu")
       ->transform(countIn(1, kMaxScoreRobustnessSamples))
       ->capture_default_str();
-  cmd->add_option("--robustness-variant", a->variant,
-                  "paper (hand moved, 10 mm / 5 deg) or reference (object moved, 5 mm / 2.5 deg)")
-      ->check(CLI::IsMember({"paper", "reference"}))
-      ->capture_default_str();
+  addRobustnessVariantOption(*cmd, a->variant);
   cmd->add_option("--seed", a->seed, "Robustness seed (plan's default reproduces plan's r)")
       ->transform(countIn(0, UINT64_MAX))
       ->capture_default_str();

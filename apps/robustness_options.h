@@ -16,6 +16,17 @@ namespace skelgrasp::cli {
 // Most perturbed poses per grasp a command accepts (a million closings is hours).
 constexpr std::uint64_t kMaxRankingSamples = 1'000'000;
 
+// --robustness-variant, the same on every command that scores robustness.
+inline CLI::Option* addRobustnessVariantOption(CLI::App& cmd, std::string& variant) {
+  return cmd
+      .add_option("--robustness-variant", variant,
+                  "paper (hand moved, 10 mm / 5 deg; a start in collision fails), guarded (the "
+                  "paper's samples, a start in collision backs off along the approach) or "
+                  "reference (object moved, 5 mm / 2.5 deg)")
+      ->check(CLI::IsMember({"paper", "guarded", "reference"}))
+      ->capture_default_str();
+}
+
 // Defaults are the library's RobustRankingParams (never a typed copy of a number).
 struct RobustnessOptions {
   bool disabled = !evaluation::RobustRankingParams{}.enabled;
@@ -32,10 +43,7 @@ struct RobustnessOptions {
     cmd.add_option("--robustness-samples", samples, "Perturbed executions per scored grasp")
         ->transform(countIn(1, kMaxRankingSamples))
         ->capture_default_str();
-    cmd.add_option("--robustness-variant", variant,
-                   "paper (hand moved, 10 mm / 5 deg) or reference (object moved, 5 mm / 2.5 deg)")
-        ->check(CLI::IsMember({"paper", "reference"}))
-        ->capture_default_str();
+    addRobustnessVariantOption(cmd, variant);
     cmd.add_option("--robustness-top-k", top_k,
                    "Grasps scored for robustness, the best by the screening (0 = all)")
         ->transform(countIn(0, kMaxCount))

@@ -9,17 +9,28 @@
 
 #include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/logging.h"
+#include "skelgrasp/grasping/hypothesis.h"
 
 namespace skelgrasp::evaluation {
 
 RobustnessVariant parseRobustnessVariant(const std::string& text) {
   if (text == "paper") return RobustnessVariant::kPaper;
   if (text == "reference") return RobustnessVariant::kReference;
-  throw InvalidArgument("unknown robustness variant '" + text + "' (use paper or reference)");
+  if (text == "guarded") return RobustnessVariant::kGuarded;
+  throw InvalidArgument("unknown robustness variant '" + text +
+                        "' (use paper, reference or guarded)");
 }
 
 const char* toString(RobustnessVariant variant) {
-  return variant == RobustnessVariant::kPaper ? "paper" : "reference";
+  switch (variant) {
+    case RobustnessVariant::kPaper:
+      return "paper";
+    case RobustnessVariant::kReference:
+      return "reference";
+    case RobustnessVariant::kGuarded:
+      return "guarded";
+  }
+  return "?";
 }
 
 std::pair<double, double> wilsonInterval(int successes, int trials, double z) {
@@ -39,15 +50,15 @@ constexpr double kReferenceOrientationSigmaDeg = 2.5;
 }  // namespace
 
 double positionSigmaM(const RobustnessParams& params) {
-  return params.position_sigma_m.value_or(params.variant == RobustnessVariant::kPaper
-                                              ? kPaperPositionSigmaM
-                                              : kReferencePositionSigmaM);
+  return params.position_sigma_m.value_or(params.variant == RobustnessVariant::kReference
+                                              ? kReferencePositionSigmaM
+                                              : kPaperPositionSigmaM);
 }
 
 double orientationSigmaRad(const RobustnessParams& params) {
   return params.orientation_sigma_rad.value_or(radiansFromDegrees(
-      params.variant == RobustnessVariant::kPaper ? kPaperOrientationSigmaDeg
-                                                  : kReferenceOrientationSigmaDeg));
+      params.variant == RobustnessVariant::kReference ? kReferenceOrientationSigmaDeg
+                                                      : kPaperOrientationSigmaDeg));
 }
 
 RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
@@ -56,7 +67,9 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
   if (params.samples < 1) throw InvalidArgument("robustness: need at least one sample");
   if (grasp.contacts.empty()) throw InvalidArgument("robustness: the grasp has no contacts");
   Stopwatch watch;
-  const bool paper = params.variant == RobustnessVariant::kPaper;
+  // The guarded variant draws and applies the paper's samples; only their execution differs.
+  const bool paper_samples = params.variant != RobustnessVariant::kReference;
+  const bool guarded = params.variant == RobustnessVariant::kGuarded;
   if ((params.position_sigma_m && !(*params.position_sigma_m >= 0)) ||
       (params.orientation_sigma_rad && !(*params.orientation_sigma_rad >= 0))) {
     throw InvalidArgument("robustness: pose error sigmas must be >= 0");
@@ -68,7 +81,7 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
     centre += c.point / static_cast<double>(grasp.contacts.size());
   const auto& preshape = simulator.hand().preshape(grasp.preshape);
   grasping::ClosingParams closing = params.closing;
-  if (!paper) closing.palm_contacts = false;  // the reference adds no palm contacts here
+  if (!paper_samples) closing.palm_contacts = false;  // the reference adds no palm contacts here
   grasping::QualityParams quality = params.quality;
   // Only the verdict counts: with the LP test (default) no hull is built at all.
   quality.compute_volume = false;
@@ -77,8 +90,13 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
   // sample draws from its own generator (base seed + sample index), so the samples, and the
   // score, do not depend on how many threads run them.
   const std::uint64_t base_seed =
-      paper ? params.seed * 0x9E3779B97F4A7C15ULL + grasp_index : params.seed;
-  enum Outcome : char { kFailed, kCollision, kForceClosure };
+      paper_samples ? params.seed * 0x9E3779B97F4A7C15ULL + grasp_index : params.seed;
+  // Guarded execution places the perturbed grasp centre as the planner places a hypothesis: back
+  // off along its approach direction (1 mm steps, at most 150 mm) to the first free pose, close.
+  grasping::HypothesisParams guarded_approach;
+  guarded_approach.closing = closing;
+  const Pose gcp_in_hand = simulator.handPoseForGcp(Pose::Identity(), preshape).inverse();
+  enum Outcome : char { kFailed, kCollision, kForceClosure, kGuardedForceClosure };
   std::vector<char> outcomes(params.samples, kFailed);
   // A simulator moves its hand's collision objects: one per thread, sharing hand and object.
   tbb::enumerable_thread_specific<std::unique_ptr<grasping::GraspSimulator>> simulators([&] {
@@ -101,10 +119,16 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
     // The error acts about the contact centre: x -> c + R (x - c) + dp. Moving the object by that
     // error is moving the hand by its inverse.
     const Pose about = Eigen::Translation3d(centre) * error * Eigen::Translation3d(-centre);
-    const Pose hand_pose = paper ? about * grasp.hand_pose : about.inverse() * grasp.hand_pose;
+    const Pose hand_pose = paper_samples ? about * grasp.hand_pose : about.inverse() * grasp.hand_pose;
     auto& local = *simulators.local();
     if (local.inCollision(hand_pose, preshape.joints)) {
       outcomes[i] = kCollision;
+      if (!guarded) return;
+      const auto placed =
+          grasping::closeHypothesis(local, hand_pose * gcp_in_hand, preshape, guarded_approach);
+      if (placed.grasp &&
+          grasping::evaluateGrasp(placed.grasp->contacts, local.object(), quality).force_closure)
+        outcomes[i] = kGuardedForceClosure;
       return;
     }
     const auto closed = local.close(hand_pose, preshape, closing);
@@ -116,8 +140,9 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
   RobustnessResult result;
   result.samples = params.samples;
   for (char outcome : outcomes) {
-    result.collisions += outcome == kCollision;
-    result.force_closure += outcome == kForceClosure;
+    result.collisions += outcome == kCollision || outcome == kGuardedForceClosure;
+    result.guarded_holds += outcome == kGuardedForceClosure;
+    result.force_closure += outcome == kForceClosure || outcome == kGuardedForceClosure;
   }
   result.score = static_cast<double>(result.force_closure) / result.samples;
   std::tie(result.wilson_low, result.wilson_high) =

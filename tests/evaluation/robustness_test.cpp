@@ -165,5 +165,73 @@ TEST(Robustness, IsIdenticalAtOneAndTwoThreadsAndTheClosingsAgree) {
   EXPECT_LE(stepwise.score, one.wilson_high);
 }
 
+// The guarded variant executes the paper's samples; the ones whose open hand starts clear are
+// closed exactly as in the paper variant, so it can only add holding samples, never lose one.
+TEST(Robustness, GuardedHoldsWhereverThePaperVariantHolds) {
+  const TriangleMesh mesh = primitives::makeCapsule(0.03, 0.14);
+  const grasping::GraspObject object(mesh);
+  const auto skeleton = skeleton::extractSkeleton(mesh).skeleton;
+  for (const std::string hand_name : {"shadow", "sdh"}) {
+    SCOPED_TRACE(hand_name);
+    const auto hand = grasping::loadBuiltinHand(hand_name);
+    grasping::SkeletonPlannerParams params;
+    params.max_grasps = 3;
+    const auto plan = grasping::planSkeletonGrasps(hand, object, skeleton, params);
+    ASSERT_FALSE(plan.grasps.empty());
+    grasping::GraspSimulator sim(hand, object);
+    for (std::size_t i = 0; i < plan.grasps.size(); ++i) {
+      RobustnessParams rp;
+      rp.samples = 30;
+      rp.seed = 9;
+      const auto paper = evaluateRobustness(sim, plan.grasps[i], rp, i);
+      rp.variant = RobustnessVariant::kGuarded;
+      const auto guarded = evaluateRobustness(sim, plan.grasps[i], rp, i);
+      EXPECT_EQ(guarded.collisions, paper.collisions);  // the same samples
+      EXPECT_EQ(paper.guarded_holds, 0);
+      EXPECT_EQ(guarded.force_closure, paper.force_closure + guarded.guarded_holds);
+      EXPECT_LE(guarded.guarded_holds, guarded.collisions);
+    }
+  }
+}
+
+TEST(Robustness, GuardedBacksAHandStartingInsideTheObjectOffAndHolds) {
+  // A kept grasp pushed along its approach 5 mm past where its open hand first touches the
+  // capsule: most perturbed open hands start in collision. The paper variant counts those as
+  // failures; the guarded approach stops where the hand touches, as the planner placed the grasp.
+  const auto hand = grasping::loadBuiltinHand("armar3");
+  const TriangleMesh mesh = primitives::makeCapsule(0.03, 0.14);
+  const grasping::GraspObject object(mesh);
+  grasping::SkeletonPlannerParams params;
+  params.max_grasps = 1;
+  const auto plan =
+      grasping::planSkeletonGrasps(hand, object, skeleton::extractSkeleton(mesh).skeleton, params);
+  ASSERT_FALSE(plan.grasps.empty());
+  grasping::GraspSimulator sim(hand, object);
+  const auto& preshape = hand.preshape(plan.grasps.front().preshape);
+  const auto pushedBy = [&](double push_m) {
+    Grasp pushed = plan.grasps.front();
+    pushed.gcp_pose.translation() += push_m * pushed.gcp_pose.rotation().col(2);
+    pushed.hand_pose = sim.handPoseForGcp(pushed.gcp_pose, preshape);
+    return pushed;
+  };
+  constexpr double kStepM = 0.001, kPastTouchM = 0.005, kMaxPushM = 0.1;
+  double touch_m = 0;
+  while (touch_m < kMaxPushM && !sim.inCollision(pushedBy(touch_m).hand_pose, preshape.joints))
+    touch_m += kStepM;
+  ASSERT_LT(touch_m, kMaxPushM);
+  const Grasp pushed = pushedBy(touch_m + kPastTouchM);
+  RobustnessParams rp;
+  rp.samples = 40;
+  const auto paper = evaluateRobustness(sim, pushed, rp);
+  rp.variant = RobustnessVariant::kGuarded;
+  const auto guarded = evaluateRobustness(sim, pushed, rp);
+  EXPECT_GE(paper.collisions, 30);
+  EXPECT_GT(guarded.guarded_holds, 10);
+  EXPECT_GT(guarded.score, paper.score + 0.25);
+  EXPECT_EQ(parseRobustnessVariant("guarded"), RobustnessVariant::kGuarded);
+  EXPECT_STREQ(toString(RobustnessVariant::kGuarded), "guarded");
+  EXPECT_THROW(parseRobustnessVariant("gaurded"), InvalidArgument);
+}
+
 }  // namespace
 }  // namespace skelgrasp::evaluation

@@ -144,6 +144,12 @@ def test_score_reproduces_the_r_plan_ranked_by(capsule, sdh):
     assert scored
     for s, g in scored:
         assert s["robustness"] == g.robustness["r"]
+    # The guarded approach runs the same samples and only rescues those that start in collision.
+    guarded = skelgrasp.score(capsule, sdh, planned, robustness_samples=6, seed=5,
+                              robustness_variant="guarded")
+    assert all(gs["robustness"] >= s["robustness"] for gs, s in zip(guarded, scores))
+    with pytest.raises(ValueError, match="guarded"):
+        skelgrasp.score(capsule, sdh, planned, robustness_variant="guardd")
 
 
 def test_score_grasps_closes_again_at_each_mu(capsule, sdh, capsule_plan):

@@ -14,8 +14,14 @@ enum class RobustnessVariant {
   kPaper,      // the hand is moved; sigma 10 mm and 5 degrees; fresh samples per grasp
   kReference,  // the reference code: the object is moved; sigma 5 mm and 2.5 degrees; the same
                // samples for every grasp (fact sheet §11)
+  kGuarded,    // the paper's samples, executed with a guarded approach: a perturbed pose whose
+               // open hand hits the object backs off along its approach direction to the first
+               // free pose (as the planner places hypotheses) instead of failing. The paper's
+               // Sec. V-B names this as the more detailed alternative ("considering the approach
+               // movement"). Every sample that holds in kPaper holds here too.
 };
-RobustnessVariant parseRobustnessVariant(const std::string& text);  // "paper" | "reference"
+// "paper" | "reference" | "guarded"
+RobustnessVariant parseRobustnessVariant(const std::string& text);
 const char* toString(RobustnessVariant variant);
 
 struct RobustnessParams {
@@ -37,7 +43,10 @@ double orientationSigmaRad(const RobustnessParams& params);
 struct RobustnessResult {
   int samples = 0;
   int force_closure = 0;  // samples that closed to force closure
-  int collisions = 0;     // samples whose perturbed preshape pose hit the object (failures)
+  // Samples whose perturbed preshape pose hit the object: failures, except in kGuarded, which
+  // backs them off and closes (guarded_holds of them then reached force closure).
+  int collisions = 0;
+  int guarded_holds = 0;
   double score = 0;       // r = force_closure / samples
   double wilson_low = 0, wilson_high = 0;  // 95 % Wilson score interval of r
   double time_s = 0;

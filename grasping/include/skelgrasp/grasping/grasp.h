@@ -25,7 +25,7 @@ struct GraspRobustness {
   double mu = 0;         // friction coefficient of the force-closure test
   double sigma_m = 0;    // position error, standard deviation (m)
   double sigma_rad = 0;  // orientation error, standard deviation (rad)
-  std::string variant;   // "paper" (the hand moves) or "reference" (the object moves)
+  std::string variant;   // "paper" or "guarded" (the hand moves), "reference" (the object moves)
 };
 
 // How local refinement (refinement.h) changed a grasp: the moves of the pose it kept, relative to
