@@ -31,6 +31,7 @@ nlohmann::json parametersJson(const perception::IngestParams& p) {
   return {{"voxel_leaf_m", p.filters.voxel_leaf_m},
           {"cluster_tolerance_m", s.cluster_tolerance_m},
           {"min_cluster_points", s.min_cluster_points},
+          {"plane_hull_margin_m", s.plane_hull_margin_m},
           {"lccp",
            {{"voxel_resolution_m", s.lccp.voxel_resolution_m},
             {"seed_resolution_m", s.lccp.seed_resolution_m},
@@ -187,6 +188,10 @@ void registerBenchSegmentCommand(CLI::App& app, Action& action) {
       ->capture_default_str();
   cmd->add_option("--min-points", scene.min_cluster_points, "Fewest points of an object")
       ->transform(countIn(1, kMaxCount))
+      ->capture_default_str();
+  cmd->add_option("--hull-margin", scene.plane_hull_margin_m,
+                  "Objects lie inside the table points' hull grown by this (m, 0 = the hull)")
+      ->check(lengthOrZero())
       ->capture_default_str();
   cmd->add_option("--min-segment-points", lccp.min_segment_points,
                   "LCCP: smaller segments are merged into a neighbour or dropped")

@@ -123,7 +123,7 @@ std::optional<SupportPlane> fitPlane(const PointCloud& cloud, const std::vector<
 }
 
 // Indices (into `cloud`) of candidate points inside the prism over the convex hull of the plane
-// inliers, between the height limits.
+// inliers grown by plane_hull_margin_m, between the height limits.
 std::vector<int> prismAbove(const PointCloud& cloud, const std::vector<int>& candidates,
                             const std::vector<int>& plane_inliers, const SupportPlane& plane,
                             const SceneParams& params) {
@@ -145,6 +145,26 @@ std::vector<int> prismAbove(const PointCloud& cloud, const std::vector<int>& can
   XyzCloud::Ptr hull_points(new XyzCloud);
   hull.reconstruct(*hull_points);
   if (hull_points->size() < 3) return {};
+  const double margin = params.plane_hull_margin_m;
+  if (margin > 0) {
+    // The hull grown by the margin: the hull of discs (inscribed polygons of kDiscCorners corners,
+    // so at least 98 % of the margin) about its corners, i.e. its Minkowski sum with a disc.
+    constexpr int kDiscCorners = 16;
+    const Eigen::Vector3d n = plane.normal.normalized();
+    const Eigen::Vector3d u = n.unitOrthogonal(), v = n.cross(u);
+    XyzCloud::Ptr grown(new XyzCloud);
+    for (const auto& corner : hull_points->points) {
+      for (int k = 0; k < kDiscCorners; ++k) {
+        const double angle = 2 * M_PI * k / kDiscCorners;
+        const Eigen::Vector3d q = corner.getVector3fMap().cast<double>() +
+                                  margin * (std::cos(angle) * u + std::sin(angle) * v);
+        grown->push_back(pcl::PointXYZ(q.x(), q.y(), q.z()));
+      }
+    }
+    hull.setInputCloud(grown);
+    hull_points.reset(new XyzCloud);
+    hull.reconstruct(*hull_points);
+  }
 
   const auto candidate_xyz = internal::toPclXyz(gather(cloud, candidates));
   pcl::ExtractPolygonalPrismData<pcl::PointXYZ> prism;
@@ -198,11 +218,13 @@ void validate(const SceneParams& p) {
       !(p.lccp.concavity_tolerance_deg >= 0) || !(p.lccp.concavity_tolerance_deg < 180) ||
       !(p.lccp.color_importance >= 0) || !(p.lccp.spatial_importance >= 0) ||
       !(p.lccp.normal_importance >= 0) || !(p.lccp.smoothness_threshold >= 0) ||
-      p.lccp.k_factor < 0) {
+      p.lccp.k_factor < 0 || !(p.plane_hull_margin_m >= 0 && p.plane_hull_margin_m < 1e3)) {
     throw InvalidArgument(
         "parseScene: plane distance, iterations, plane fraction in [0, 1], candidates, cluster "
-        "tolerance, height limits (max > min) and LCCP parameters (seed resolution > voxel "
-        "resolution > 0, concavity tolerance in [0, 180) degrees, importances >= 0) must be valid");
+        "tolerance, height limits (max > min), hull margin in [0, 1000) m and LCCP parameters "
+        "(seed "
+        "resolution > voxel resolution > 0, concavity tolerance in [0, 180) degrees, importances "
+        ">= 0) must be valid");
   }
 }
 

@@ -2,6 +2,7 @@
 // bad input.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -76,6 +77,35 @@ TEST(ReconstructCli, AllObjectsAndIngest) {
   const PointCloud box = perception::loadPointCloud(dir + "/box.pcd");
   EXPECT_TRUE(box.hasNormals());
   EXPECT_NEAR(box.bounds().center().y(), 0.10, 0.02);
+}
+
+TEST(ReconstructCli, BenchSegmentScoresALabelledScanAndRefusesAnUnlabelledOne) {
+  const std::string dir = test::tempDir("cli_bench_segment");
+  // The generated scene carries no object labels: refused before anything runs.
+  const std::string unlabelled = writeScene(dir);
+  const CliRun refused = runCli("bench segment " + unlabelled, dir);
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_EQ(countLines(refused.err), 1) << refused.err;
+  EXPECT_NE(lastLine(refused.err).find("scene.pcd"), std::string::npos) << refused.err;
+  SKELGRASP_REQUIRE_SHARED_DATA();
+  const auto files = test::sharedFiles("scans/pcd", {".pcd"});
+  const auto osd = std::find_if(files.begin(), files.end(), [](const std::string& f) {
+    return f.find("/osd_test2.pcd") != std::string::npos;
+  });
+  if (osd == files.end()) GTEST_SKIP() << "osd_test2.pcd not in ../shared/data/scans/pcd";
+  const CliRun r = runCli("-q bench segment " + *osd + " --method lccp --hull-margin 0.05 --json " +
+                              dir + "/segment.json",
+                          dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = readJsonFile(dir + "/segment.json");
+  EXPECT_EQ(j["schema"], "skelgrasp.bench_segment");
+  EXPECT_EQ(j["method"], "lccp");
+  EXPECT_EQ(j["parameters"]["plane_hull_margin_m"].get<double>(), 0.05);
+  ASSERT_EQ(j["scenes"].size(), 1u);
+  // Two boxes standing apart (docs/reconstruction.md: both found, precision 1.000).
+  EXPECT_EQ(j["scenes"][0]["objects_labelled"], 2);
+  EXPECT_EQ(j["scenes"][0]["objects_found"], 2);
+  EXPECT_GT(j["scenes"][0]["mean_precision"].get<double>(), 0.99);
 }
 
 TEST(ReconstructCli, CaptureDescriptionAndYcbRawFolder) {

@@ -2,6 +2,7 @@
 // mOSD scenes, whose points carry ground-truth object labels.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 
 #include "skelgrasp/perception/cloud_io.h"
@@ -35,12 +36,12 @@ TEST(RealScans, MugSceneYieldsTheTableAndTheMug) {
 }
 
 // LCCP floors: measured with the defaults (docs/reconstruction.md: every scene's count within 1,
-// worst scene precision 0.927 and recall 0.800, overall 0.969 / 0.896) less a margin.
+// worst scene precision 0.989 and recall 0.800, overall 0.992 / 0.935) less a margin.
 constexpr long kMaxCountError = 1;
-constexpr double kMinScenePrecision = 0.88;
+constexpr double kMinScenePrecision = 0.95;
 constexpr double kMinSceneRecall = 0.75;
-constexpr double kMinPrecision = 0.94;
-constexpr double kMinRecall = 0.86;
+constexpr double kMinPrecision = 0.97;
+constexpr double kMinRecall = 0.90;
 
 struct OsdScene {
   std::string name;
@@ -98,10 +99,10 @@ TEST(RealScans, OsdEuclideanClustersMatchTheLabelledObjects) {
   const auto [precision, recall] = overall(scenes);
   RecordProperty("osd_euclidean_precision", std::to_string(precision));
   RecordProperty("osd_euclidean_recall", std::to_string(recall));
-  // Measured: precision 0.665, recall 0.921 over 42 objects. Precision is what Euclidean
+  // Measured: precision 0.641, recall 0.957 over 42 objects. Precision is what Euclidean
   // clustering loses on touching objects (stacked boxes become one cluster).
-  EXPECT_GT(precision, 0.62);
-  EXPECT_GT(recall, 0.88);
+  EXPECT_GT(precision, 0.60);
+  EXPECT_GT(recall, 0.92);
 }
 
 TEST(RealScans, OsdLccpSegmentsSeparateTouchingObjects) {
@@ -128,6 +129,41 @@ TEST(RealScans, OsdLccpSegmentsSeparateTouchingObjects) {
   RecordProperty("osd_lccp_recall", std::to_string(recall));
   EXPECT_GT(precision, kMinPrecision);
   EXPECT_GT(recall, kMinRecall);
+}
+
+// Objects at the edge of the visible table stand partly or wholly outside the hull of the
+// table's points: in mOSD scan 58 one object (label 60, 6 000 points) is wholly outside it. The
+// hull margin keeps them (docs/reconstruction.md, "Hull margin").
+TEST(RealScans, OsdObjectsAtTheTableEdgeAreKeptByTheHullMargin) {
+  SKELGRASP_REQUIRE_SHARED_DATA();
+  const auto files = test::sharedFiles("scans/pcd", {".pcd"});
+  const auto file = std::find_if(files.begin(), files.end(), [](const std::string& f) {
+    return f.find("/osd_test58.pcd") != std::string::npos;
+  });
+  if (file == files.end()) GTEST_SKIP() << "osd_test58.pcd not in ../shared/data/scans/pcd";
+  Scan scan;
+  scan.cloud = loadPointCloud(*file);
+  const auto scoreWithMargin = [&](double margin_m) {
+    IngestParams params;
+    params.scene.target = TargetSpec::parse("all");
+    params.scene.segmentation = SegmentationMethod::kLccp;
+    params.scene.plane_hull_margin_m = margin_m;
+    const IngestResult r = ingestScan(scan, params);
+    EXPECT_TRUE(r.status.ok()) << r.status.message;
+    return scoreAgainstLabels(scan.cloud, r.scene.clusters);
+  };
+  const auto unmatched = [](const LabelScore& score) {
+    return std::count_if(score.objects.begin(), score.objects.end(),
+                         [](const LabelledObjectScore& o) { return o.segment < 0; });
+  };
+  const LabelScore tight = scoreWithMargin(0.0);
+  const LabelScore grown = scoreWithMargin(SceneParams{}.plane_hull_margin_m);
+  // Measured: recall 0.828 with one object in no segment; 0.929 and none with the margin.
+  EXPECT_GE(unmatched(tight), 1);
+  EXPECT_EQ(unmatched(grown), 0);
+  EXPECT_GT(grown.mean_recall, 0.9);
+  EXPECT_GT(grown.mean_recall, tight.mean_recall + 0.05);
+  EXPECT_GE(grown.mean_precision, tight.mean_precision);
 }
 
 }  // namespace
