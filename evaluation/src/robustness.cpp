@@ -119,7 +119,8 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
     // The error acts about the contact centre: x -> c + R (x - c) + dp. Moving the object by that
     // error is moving the hand by its inverse.
     const Pose about = Eigen::Translation3d(centre) * error * Eigen::Translation3d(-centre);
-    const Pose hand_pose = paper_samples ? about * grasp.hand_pose : about.inverse() * grasp.hand_pose;
+    const Pose hand_pose =
+        paper_samples ? about * grasp.hand_pose : about.inverse() * grasp.hand_pose;
     auto& local = *simulators.local();
     if (local.inCollision(hand_pose, preshape.joints)) {
       outcomes[i] = kCollision;

@@ -47,7 +47,7 @@ struct RobustnessResult {
   // backs them off and closes (guarded_holds of them then reached force closure).
   int collisions = 0;
   int guarded_holds = 0;
-  double score = 0;       // r = force_closure / samples
+  double score = 0;                        // r = force_closure / samples
   double wilson_low = 0, wilson_high = 0;  // 95 % Wilson score interval of r
   double time_s = 0;
 };
