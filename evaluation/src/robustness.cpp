@@ -5,11 +5,11 @@
 
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <random>
 
 #include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/logging.h"
-#include "skelgrasp/grasping/hypothesis.h"
 
 namespace skelgrasp::evaluation {
 
@@ -42,6 +42,46 @@ std::pair<double, double> wilsonInterval(int successes, int trials, double z) {
 }
 
 namespace {
+// The guarded approach starts this far out along the approach direction (the planner's largest
+// back-off, HypothesisParams::max_retreat_m) and comes in by coarse steps, then fine steps within
+// the last coarse one, as the planner backs a hypothesis off. A hand link is thicker than a
+// coarse step along its approach, so no coarse step passes through an obstacle unseen.
+constexpr double kGuardedStartM = 0.150;
+constexpr int kGuardedFineSteps = 150;  // of kGuardedStartM / kGuardedFineSteps = 1 mm
+constexpr int kGuardedCoarseStep = 8;   // fine steps per coarse step
+
+// Where a guarded approach aimed at `target` (a hand pose whose open hand intersects the object)
+// stops: the last free pose before the first touch, coming in along `approach` (object frame,
+// unit, into the object). Searching outwards from `target` instead could end in a free pocket
+// (inside a mug, between a handle and the body) that no approach from outside reaches. nullopt
+// when even the start pose collides.
+std::optional<Pose> guardedApproachStop(grasping::GraspSimulator& simulator, const Pose& target,
+                                        const Eigen::Vector3d& approach,
+                                        const grasping::Preshape& preshape) {
+  const auto poseAt = [&](int fine_steps_out) {
+    const double out_m = kGuardedStartM * fine_steps_out / kGuardedFineSteps;
+    return Pose(Eigen::Translation3d(-out_m * approach) * target);
+  };
+  const auto touches = [&](int fine_steps_out) {
+    return simulator.inCollision(poseAt(fine_steps_out), preshape.joints);
+  };
+  if (touches(kGuardedFineSteps)) return std::nullopt;
+  int last_free = kGuardedFineSteps;
+  int first_touch = 0;  // the target itself touches
+  for (int i = kGuardedFineSteps - kGuardedCoarseStep; i > 0; i -= kGuardedCoarseStep) {
+    if (touches(i)) {
+      first_touch = i;
+      break;
+    }
+    last_free = i;
+  }
+  for (int i = last_free - 1; i > first_touch; --i) {
+    if (touches(i)) break;
+    last_free = i;
+  }
+  return poseAt(last_free);
+}
+
 // The variants' pose errors (standard deviations) when RobustnessParams leaves them unset.
 constexpr double kPaperPositionSigmaM = 0.010;
 constexpr double kPaperOrientationSigmaDeg = 5.0;
@@ -91,11 +131,9 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
   // score, do not depend on how many threads run them.
   const std::uint64_t base_seed =
       paper_samples ? params.seed * 0x9E3779B97F4A7C15ULL + grasp_index : params.seed;
-  // Guarded execution places the perturbed grasp centre as the planner places a hypothesis: back
-  // off along its approach direction (1 mm steps, at most 150 mm) to the first free pose, close.
-  grasping::HypothesisParams guarded_approach;
-  guarded_approach.closing = closing;
-  const Pose gcp_in_hand = simulator.handPoseForGcp(Pose::Identity(), preshape).inverse();
+  // Guarded execution: the hand comes in along the perturbed pose's approach direction.
+  const Eigen::Vector3d approach_in_hand =
+      simulator.handPoseForGcp(Pose::Identity(), preshape).inverse().linear().col(2);
   enum Outcome : char { kFailed, kCollision, kForceClosure, kGuardedForceClosure };
   std::vector<char> outcomes(params.samples, kFailed);
   // A simulator moves its hand's collision objects: one per thread, sharing hand and object.
@@ -125,10 +163,12 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
     if (local.inCollision(hand_pose, preshape.joints)) {
       outcomes[i] = kCollision;
       if (!guarded) return;
-      const auto placed =
-          grasping::closeHypothesis(local, hand_pose * gcp_in_hand, preshape, guarded_approach);
-      if (placed.grasp &&
-          grasping::evaluateGrasp(placed.grasp->contacts, local.object(), quality).force_closure)
+      const auto stop =
+          guardedApproachStop(local, hand_pose, hand_pose.linear() * approach_in_hand, preshape);
+      if (!stop) return;
+      const auto closed = local.close(*stop, preshape, closing);
+      if (closed.status.ok() &&
+          grasping::evaluateGrasp(closed.contacts, local.object(), quality).force_closure)
         outcomes[i] = kGuardedForceClosure;
       return;
     }

@@ -101,6 +101,7 @@ nlohmann::json robustnessJson(const std::optional<RobustnessResult>& r) {
           {"samples", r->samples},
           {"force_closure", r->force_closure},
           {"collisions", r->collisions},
+          {"guarded_holds", r->guarded_holds},
           {"time_s", r->time_s}};
 }
 

@@ -14,11 +14,12 @@ enum class RobustnessVariant {
   kPaper,      // the hand is moved; sigma 10 mm and 5 degrees; fresh samples per grasp
   kReference,  // the reference code: the object is moved; sigma 5 mm and 2.5 degrees; the same
                // samples for every grasp (fact sheet §11)
-  kGuarded,    // the paper's samples, executed with a guarded approach: a perturbed pose whose
-               // open hand hits the object backs off along its approach direction to the first
-               // free pose (as the planner places hypotheses) instead of failing. The paper's
-               // Sec. V-B names this as the more detailed alternative ("considering the approach
-               // movement"). Every sample that holds in kPaper holds here too.
+  kGuarded,    // the paper's samples, executed with a guarded approach: for a perturbed pose
+               // whose open hand hits the object the hand comes in along its approach direction
+               // from 150 mm out and stops before the first touch, then closes, instead of the
+               // sample failing. The paper's Sec. V-B names this as the more detailed alternative
+               // ("considering the approach movement"). Every sample that holds in kPaper holds
+               // here too.
 };
 // "paper" | "reference" | "guarded"
 RobustnessVariant parseRobustnessVariant(const std::string& text);
@@ -27,8 +28,9 @@ const char* toString(RobustnessVariant variant);
 struct RobustnessParams {
   int samples = 100;
   RobustnessVariant variant = RobustnessVariant::kPaper;
-  // Standard deviations of the pose error (>= 0); unset: the variant's defaults (paper: 10 mm and
-  // 5 degrees, reference: 5 mm and 2.5 degrees), resolved in evaluateRobustness.
+  // Standard deviations of the pose error (>= 0); unset: the variant's defaults (paper and
+  // guarded: 10 mm and 5 degrees, reference: 5 mm and 2.5 degrees), resolved in
+  // evaluateRobustness.
   std::optional<double> position_sigma_m;
   std::optional<double> orientation_sigma_rad;
   std::uint64_t seed = 1;
