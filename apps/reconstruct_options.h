@@ -26,6 +26,7 @@ struct ReconstructOptions {
   double cluster_tolerance_m = perception::SceneParams{}.cluster_tolerance_m;
   std::string segmentation = perception::toString(perception::SceneParams{}.segmentation);
   double plane_distance_m = perception::SceneParams{}.plane_distance_m;
+  double hull_margin_m = perception::SceneParams{}.plane_hull_margin_m;
   double normal_radius_m = perception::NormalParams{}.radius_m;
   int threads = 1;
   int poisson_depth = reconstruction::PoissonParams{}.depth;
@@ -72,6 +73,10 @@ struct ReconstructOptions {
         ->capture_default_str();
     cmd.add_option("--plane-distance", plane_distance_m, "RANSAC plane inlier distance (m)")
         ->check(positiveLength())
+        ->capture_default_str();
+    cmd.add_option("--hull-margin", hull_margin_m,
+                   "Objects lie inside the table points' hull grown by this (m, 0 = the hull)")
+        ->check(lengthOrZero())
         ->capture_default_str();
     cmd.add_option("--segmentation", segmentation,
                    "Objects above the support: euclidean (connected components) or lccp "
@@ -150,6 +155,7 @@ struct ReconstructOptions {
     s.cluster_tolerance_m = cluster_tolerance_m;
     s.segmentation = perception::parseSegmentationMethod(segmentation);
     s.plane_distance_m = plane_distance_m;
+    s.plane_hull_margin_m = hull_margin_m;
     p.ingest.normals.radius_m = normal_radius_m;
     p.ingest.normals.threads = threads;
     auto& m = p.meshing;

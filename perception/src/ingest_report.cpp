@@ -63,6 +63,9 @@ nlohmann::json toJson(const Scan& scan, const IngestParams& params, const Ingest
                 {"candidate_points", scene.candidate_points},
                 {"other_points", scene.other_points.size()},
                 {"cluster_tolerance_m", params.scene.cluster_tolerance_m},
+                {"plane_hull_margin_m", params.scene.restrict_to_plane_hull
+                                            ? json(params.scene.plane_hull_margin_m)
+                                            : json(nullptr)},
                 {"segmentation", toString(scene.segmentation)},
                 {"merged_fragments", scene.merged_fragments},
                 {"dropped", dropped}};

@@ -13,6 +13,7 @@
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/perception/cloud_io.h"
 #include "skelgrasp/perception/image_io.h"
+#include "skelgrasp/perception/scene.h"
 #include "skelgrasp/reconstruction/meshing.h"
 #include "test_support.h"
 
@@ -51,6 +52,8 @@ TEST(ReconstructCli, WritesMeshFlagsAndReport) {
   EXPECT_EQ(j["clusters"].size(), 2u);
   EXPECT_GT(j["plane"]["coefficients"][2].get<double>(), 0.99);
   EXPECT_EQ(j["filters"]["steps"][0]["name"], "non_finite");
+  EXPECT_EQ(j["scene"]["plane_hull_margin_m"].get<double>(),
+            perception::SceneParams{}.plane_hull_margin_m);
   const auto& object = j["objects"][0];
   EXPECT_TRUE(object["mesh"]["closed"].get<bool>());
   EXPECT_EQ(object["mesh"]["vertices"], mesh.numVertices());
@@ -71,12 +74,15 @@ TEST(ReconstructCli, AllObjectsAndIngest) {
   EXPECT_EQ(countLines(all.out), 2);
   EXPECT_TRUE(std::filesystem::exists(dir + "/m_0.ply"));
   EXPECT_TRUE(std::filesystem::exists(dir + "/m_1.ply"));
-  const CliRun ingest = runCli(
-      "-q ingest " + scene + " --object nearest:-0.06,0.1,0.04 --out " + dir + "/box.pcd", dir);
+  const CliRun ingest =
+      runCli("-q ingest " + scene + " --object nearest:-0.06,0.1,0.04 --hull-margin 0.05 --out " +
+                 dir + "/box.pcd --report " + dir + "/ingest.json",
+             dir);
   ASSERT_EQ(ingest.exit_code, 0) << ingest.err;
   const PointCloud box = perception::loadPointCloud(dir + "/box.pcd");
   EXPECT_TRUE(box.hasNormals());
   EXPECT_NEAR(box.bounds().center().y(), 0.10, 0.02);
+  EXPECT_EQ(readJsonFile(dir + "/ingest.json")["scene"]["plane_hull_margin_m"].get<double>(), 0.05);
 }
 
 TEST(ReconstructCli, BenchSegmentScoresALabelledScanAndRefusesAnUnlabelledOne) {

@@ -143,6 +143,46 @@ TEST(Scene, ReportsMissingPlaneAndMissingObjects) {
   EXPECT_FALSE(alone.plane);
 }
 
+// The visible table ends where objects at its edge hide it; objects lie inside the hull of the
+// table's points grown by plane_hull_margin_m (10 cm by default), measured as a Minkowski sum.
+TEST(Scene, ObjectsJustOutsideTheTablesHullAreKeptFarOnesAreNot) {
+  constexpr double kTableHalfM = 0.2, kGridM = 0.005, kCubeM = 0.04;
+  PointCloud cloud;
+  cloud.sensor_origin = Eigen::Vector3d(0, 0, 1);
+  for (double x = -kTableHalfM; x <= kTableHalfM + 1e-9; x += kGridM)
+    for (double y = -kTableHalfM; y <= kTableHalfM + 1e-9; y += kGridM)
+      cloud.points.emplace_back(x, y, 0);
+  // A cube's top and the upper part of its sides (points 5 mm apart) at (x, 0). The sides start
+  // above the plane's inlier distance so that no cube point widens the table's hull.
+  constexpr double kLowestSideM = 0.015;
+  const auto addCube = [&](double centre_x) {
+    for (double a = -kCubeM / 2; a <= kCubeM / 2 + 1e-9; a += kGridM) {
+      for (double b = -kCubeM / 2; b <= kCubeM / 2 + 1e-9; b += kGridM)
+        cloud.points.emplace_back(centre_x + a, b, kCubeM);
+      for (double h = kLowestSideM; h < kCubeM; h += kGridM)
+        for (double side : {-kCubeM / 2, kCubeM / 2}) {
+          cloud.points.emplace_back(centre_x + side, a, h);
+          cloud.points.emplace_back(centre_x + a, side, h);
+        }
+    }
+  };
+  addCube(kTableHalfM + 0.05);  // 3-7 cm beyond the table's edge: kept
+  addCube(kTableHalfM + 0.18);  // 16-20 cm beyond: not on this table
+  SceneParams params;
+  params.target = TargetSpec::parse("all");
+  const SceneResult grown = parseScene(cloud, params);
+  ASSERT_TRUE(grown.status.ok()) << grown.status.message;
+  ASSERT_EQ(grown.clusters.size(), 1u);
+  EXPECT_NEAR(grown.clusters[0].bounds().center().x(), kTableHalfM + 0.05, 0.005);
+  params.plane_hull_margin_m = 0;
+  const SceneResult tight = parseScene(cloud, params);
+  EXPECT_EQ(tight.status.code, StatusCode::kNoResult);
+  params.plane_hull_margin_m = 0.25;
+  EXPECT_EQ(parseScene(cloud, params).clusters.size(), 2u);
+  params.plane_hull_margin_m = -0.01;
+  EXPECT_THROW(parseScene(cloud, params), InvalidArgument);
+}
+
 TEST(Scene, AnObjectMaskReplacesThePrism) {
   const auto scene = test::renderTableScene(25);
   Scan scan;
