@@ -60,18 +60,17 @@ std::string scanName(const perception::Scan& scan) {
   return name.empty() ? scan.source : name;
 }
 
-pipeline::ReconstructionParams reconstructionParams(const py::object& objects,
-                                                    const std::string& plane, double voxel_leaf_m,
-                                                    double cluster_tolerance_m,
-                                                    double plane_distance_m, int poisson_depth,
-                                                    double samples_per_node,
-                                                    double observed_distance_m, bool completion) {
+pipeline::ReconstructionParams reconstructionParams(
+    const py::object& objects, const std::string& plane, double voxel_leaf_m,
+    double cluster_tolerance_m, double plane_distance_m, double plane_hull_margin_m,
+    int poisson_depth, double samples_per_node, double observed_distance_m, bool completion) {
   pipeline::ReconstructionParams p;
   p.ingest.filters.voxel_leaf_m = voxel_leaf_m;
   p.ingest.scene.plane = perception::parsePlaneRequirement(plane);
   p.ingest.scene.target = targetOf(objects);
   p.ingest.scene.cluster_tolerance_m = cluster_tolerance_m;
   p.ingest.scene.plane_distance_m = plane_distance_m;
+  p.ingest.scene.plane_hull_margin_m = plane_hull_margin_m;
   p.meshing.poisson.depth = poisson_depth;
   p.meshing.poisson.samples_per_node = samples_per_node;
   p.meshing.observed_distance_m = observed_distance_m;
@@ -81,12 +80,12 @@ pipeline::ReconstructionParams reconstructionParams(const py::object& objects,
 
 Reconstruction reconstruct(const Cloud& cloud, const py::object& objects, const std::string& plane,
                            double voxel_leaf_m, double cluster_tolerance_m, double plane_distance_m,
-                           int poisson_depth, double samples_per_node, double observed_distance_m,
-                           bool completion) {
+                           double plane_hull_margin_m, int poisson_depth, double samples_per_node,
+                           double observed_distance_m, bool completion) {
   Reconstruction out;
-  out.params =
-      reconstructionParams(objects, plane, voxel_leaf_m, cluster_tolerance_m, plane_distance_m,
-                           poisson_depth, samples_per_node, observed_distance_m, completion);
+  out.params = reconstructionParams(objects, plane, voxel_leaf_m, cluster_tolerance_m,
+                                    plane_distance_m, plane_hull_margin_m, poisson_depth,
+                                    samples_per_node, observed_distance_m, completion);
   out.scan = cloud.scan;
   py::gil_scoped_release release;
   out.result = pipeline::reconstructScan(out.scan, out.params);
@@ -183,12 +182,14 @@ void bindPipeline(py::module_& m) {
         py::arg("voxel_leaf_m") = rec.ingest.filters.voxel_leaf_m,
         py::arg("cluster_tolerance_m") = rec.ingest.scene.cluster_tolerance_m,
         py::arg("plane_distance_m") = rec.ingest.scene.plane_distance_m,
+        py::arg("plane_hull_margin_m") = rec.ingest.scene.plane_hull_margin_m,
         py::arg("poisson_depth") = rec.meshing.poisson.depth,
         py::arg("samples_per_node") = rec.meshing.poisson.samples_per_node,
         py::arg("observed_distance_m") = rec.meshing.observed_distance_m,
         py::arg("completion") = rec.meshing.completion.support_plane, R"doc(
 Scan to closed meshes (``skelgrasp reconstruct``): filters, support plane ('required',
-'optional', 'none'), object clusters, Poisson meshing with observed flags. ``objects``:
+'optional', 'none'), object clusters (inside the table points' hull grown by
+``plane_hull_margin_m``), Poisson meshing with observed flags. ``objects``:
 'largest', 'all', 'nearest:x,y,z' or a point (x, y, z). Defaults are the library's
 ReconstructionParams (docs/reconstruction.md). No plane, no object or an all-NaN cloud raise
 ValueError with the command line's message.)doc");

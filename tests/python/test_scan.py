@@ -29,6 +29,12 @@ def test_reconstruct_and_run_on_the_mug_scan():
     centre = mesh.bounds.mean(axis=0)
     near = skelgrasp.reconstruct(cloud, objects=centre)
     assert np.allclose(near.objects[0].bounds, mesh.bounds)
+    # The mug stands well inside the table: the hull margin does not change it, and is reported.
+    tight = skelgrasp.reconstruct(cloud, plane_hull_margin_m=0.0)
+    assert tight.to_dict()["scene"]["plane_hull_margin_m"] == 0.0
+    assert np.allclose(tight.objects[0].bounds, mesh.bounds)
+    with pytest.raises(ValueError, match="hull margin"):
+        skelgrasp.reconstruct(cloud, plane_hull_margin_m=-0.01)
 
     run = skelgrasp.run(cloud, skelgrasp.hand("armar3"), max_grasps=2)
     document = run.to_dict()
