@@ -10,6 +10,7 @@
 
 #include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/logging.h"
+#include "skelgrasp/grasping/hypothesis.h"
 
 namespace skelgrasp::evaluation {
 
@@ -42,13 +43,12 @@ std::pair<double, double> wilsonInterval(int successes, int trials, double z) {
 }
 
 namespace {
-// The guarded approach starts this far out along the approach direction (the planner's largest
-// back-off, HypothesisParams::max_retreat_m) and comes in by coarse steps, then fine steps within
-// the last coarse one, as the planner backs a hypothesis off. A hand link is thicker than a
-// coarse step along its approach, so no coarse step passes through an obstacle unseen.
-constexpr double kGuardedStartM = 0.150;
-constexpr int kGuardedFineSteps = 150;  // of kGuardedStartM / kGuardedFineSteps = 1 mm
-constexpr int kGuardedCoarseStep = 8;   // fine steps per coarse step
+// The guarded approach starts as far out as the planner backs a hypothesis off at most and comes
+// in by its retreat steps (HypothesisParams::max_retreat_m, retreat_step_m: 150 mm, 1 mm), coarse
+// steps of kGuardedCoarseSteps first and then fine ones within the last coarse step, as the
+// planner searches. A hand link is thicker than a coarse step (8 mm) along its approach, so no
+// coarse step passes through an obstacle unseen.
+constexpr int kGuardedCoarseSteps = 8;
 
 // Where a guarded approach aimed at `target` (a hand pose whose open hand intersects the object)
 // stops: the last free pose before the first touch, coming in along `approach` (object frame,
@@ -58,17 +58,19 @@ constexpr int kGuardedCoarseStep = 8;   // fine steps per coarse step
 std::optional<Pose> guardedApproachStop(grasping::GraspSimulator& simulator, const Pose& target,
                                         const Eigen::Vector3d& approach,
                                         const grasping::Preshape& preshape) {
-  const auto poseAt = [&](int fine_steps_out) {
-    const double out_m = kGuardedStartM * fine_steps_out / kGuardedFineSteps;
-    return Pose(Eigen::Translation3d(-out_m * approach) * target);
+  const grasping::HypothesisParams placement;
+  const int steps =
+      static_cast<int>(std::floor(placement.max_retreat_m / placement.retreat_step_m + 1e-9));
+  const auto poseAt = [&](int steps_out) {
+    return Pose(Eigen::Translation3d(-steps_out * placement.retreat_step_m * approach) * target);
   };
-  const auto touches = [&](int fine_steps_out) {
-    return simulator.inCollision(poseAt(fine_steps_out), preshape.joints);
+  const auto touches = [&](int steps_out) {
+    return simulator.inCollision(poseAt(steps_out), preshape.joints);
   };
-  if (touches(kGuardedFineSteps)) return std::nullopt;
-  int last_free = kGuardedFineSteps;
+  if (touches(steps)) return std::nullopt;
+  int last_free = steps;
   int first_touch = 0;  // the target itself touches
-  for (int i = kGuardedFineSteps - kGuardedCoarseStep; i > 0; i -= kGuardedCoarseStep) {
+  for (int i = steps - kGuardedCoarseSteps; i > 0; i -= kGuardedCoarseSteps) {
     if (touches(i)) {
       first_touch = i;
       break;
@@ -160,22 +162,19 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
     const Pose hand_pose =
         paper_samples ? about * grasp.hand_pose : about.inverse() * grasp.hand_pose;
     auto& local = *simulators.local();
-    if (local.inCollision(hand_pose, preshape.joints)) {
+    std::optional<Pose> start = hand_pose;
+    const bool collides = local.inCollision(hand_pose, preshape.joints);
+    if (collides) {
       outcomes[i] = kCollision;
       if (!guarded) return;
-      const auto stop =
+      start =
           guardedApproachStop(local, hand_pose, hand_pose.linear() * approach_in_hand, preshape);
-      if (!stop) return;
-      const auto closed = local.close(*stop, preshape, closing);
-      if (closed.status.ok() &&
-          grasping::evaluateGrasp(closed.contacts, local.object(), quality).force_closure)
-        outcomes[i] = kGuardedForceClosure;
-      return;
+      if (!start) return;
     }
-    const auto closed = local.close(hand_pose, preshape, closing);
-    if (!closed.status.ok()) return;
-    if (grasping::evaluateGrasp(closed.contacts, local.object(), quality).force_closure)
-      outcomes[i] = kForceClosure;
+    const auto closed = local.close(*start, preshape, closing);
+    if (closed.status.ok() &&
+        grasping::evaluateGrasp(closed.contacts, local.object(), quality).force_closure)
+      outcomes[i] = collides ? kGuardedForceClosure : kForceClosure;
   });
 
   RobustnessResult result;

@@ -2,7 +2,6 @@
 // bad input.
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -94,12 +93,9 @@ TEST(ReconstructCli, BenchSegmentScoresALabelledScanAndRefusesAnUnlabelledOne) {
   EXPECT_EQ(countLines(refused.err), 1) << refused.err;
   EXPECT_NE(lastLine(refused.err).find("scene.pcd"), std::string::npos) << refused.err;
   SKELGRASP_REQUIRE_SHARED_DATA();
-  const auto files = test::sharedFiles("scans/pcd", {".pcd"});
-  const auto osd = std::find_if(files.begin(), files.end(), [](const std::string& f) {
-    return f.find("/osd_test2.pcd") != std::string::npos;
-  });
-  if (osd == files.end()) GTEST_SKIP() << "osd_test2.pcd not in ../shared/data/scans/pcd";
-  const CliRun r = runCli("-q bench segment " + *osd + " --method lccp --hull-margin 0.05 --json " +
+  const std::string osd = test::sharedDataDir() + "/scans/pcd/osd_test2.pcd";
+  if (!std::filesystem::exists(osd)) GTEST_SKIP() << osd << " not in the shared data";
+  const CliRun r = runCli("-q bench segment " + osd + " --method lccp --hull-margin 0.05 --json " +
                               dir + "/segment.json",
                           dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;

@@ -29,6 +29,17 @@ Grasp graspAt(grasping::GraspSimulator& sim, const Pose& gcp, const std::string&
   return g;
 }
 
+// The skeleton planner's best `max_grasps` grasps of `hand` on `mesh` (`object` built from it).
+std::vector<Grasp> plannedGrasps(const grasping::HandModel& hand,
+                                 const grasping::GraspObject& object, const TriangleMesh& mesh,
+                                 std::size_t max_grasps) {
+  grasping::SkeletonPlannerParams params;
+  params.max_grasps = max_grasps;
+  return grasping::planSkeletonGrasps(hand, object, skeleton::extractSkeleton(mesh).skeleton,
+                                      params)
+      .grasps;
+}
+
 TEST(Robustness, WilsonIntervalBracketsTheRate) {
   const auto [low, high] = wilsonInterval(90, 100);
   EXPECT_LT(low, 0.9);
@@ -119,13 +130,10 @@ TEST(Robustness, IsIdenticalForTheSameSeed) {
   const auto hand = grasping::loadBuiltinHand("armar3");
   const TriangleMesh mesh = primitives::makeCapsule(0.025, 0.12);
   const grasping::GraspObject object(mesh);
-  grasping::SkeletonPlannerParams params;
-  params.max_grasps = 1;
-  const auto plan =
-      grasping::planSkeletonGrasps(hand, object, skeleton::extractSkeleton(mesh).skeleton, params);
-  ASSERT_FALSE(plan.grasps.empty());
+  const auto grasps = plannedGrasps(hand, object, mesh, 1);
+  ASSERT_FALSE(grasps.empty());
   grasping::GraspSimulator sim(hand, object);
-  const Grasp& g = plan.grasps.front();
+  const Grasp& g = grasps.front();
   RobustnessParams rp;
   rp.samples = 30;
   rp.seed = 11;
@@ -143,18 +151,15 @@ TEST(Robustness, IsIdenticalAtOneAndTwoThreadsAndTheClosingsAgree) {
   const auto hand = grasping::loadBuiltinHand("armar3");
   const TriangleMesh mesh = primitives::makeCapsule(0.025, 0.12);
   const grasping::GraspObject object(mesh);
-  grasping::SkeletonPlannerParams params;
-  params.max_grasps = 1;
-  const auto plan =
-      grasping::planSkeletonGrasps(hand, object, skeleton::extractSkeleton(mesh).skeleton, params);
-  ASSERT_FALSE(plan.grasps.empty());
+  const auto grasps = plannedGrasps(hand, object, mesh, 1);
+  ASSERT_FALSE(grasps.empty());
   grasping::GraspSimulator sim(hand, object);
   RobustnessParams rp;
   rp.samples = 40;
   rp.seed = 5;
   const auto run = [&](int threads) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-    return evaluateRobustness(sim, plan.grasps.front(), rp, 2);
+    return evaluateRobustness(sim, grasps.front(), rp, 2);
   };
   const auto one = run(1), two = run(2);
   EXPECT_EQ(one.force_closure, two.force_closure);
@@ -162,7 +167,7 @@ TEST(Robustness, IsIdenticalAtOneAndTwoThreadsAndTheClosingsAgree) {
   EXPECT_EQ(one.score, two.score);
   // The stepwise closing (the old path) gives r within the fast closing's Wilson interval.
   rp.closing.method = grasping::ClosingMethod::kStepwise;
-  const auto stepwise = evaluateRobustness(sim, plan.grasps.front(), rp, 2);
+  const auto stepwise = evaluateRobustness(sim, grasps.front(), rp, 2);
   EXPECT_GE(stepwise.score, one.wilson_low);
   EXPECT_LE(stepwise.score, one.wilson_high);
 }
@@ -172,23 +177,20 @@ TEST(Robustness, IsIdenticalAtOneAndTwoThreadsAndTheClosingsAgree) {
 TEST(Robustness, GuardedHoldsWhereverThePaperVariantHolds) {
   const TriangleMesh mesh = primitives::makeCapsule(0.03, 0.14);
   const grasping::GraspObject object(mesh);
-  const auto skeleton = skeleton::extractSkeleton(mesh).skeleton;
   int collisions = 0, guarded_holds = 0;
   for (const std::string hand_name : {"shadow", "sdh"}) {
     SCOPED_TRACE(hand_name);
     const auto hand = grasping::loadBuiltinHand(hand_name);
-    grasping::SkeletonPlannerParams params;
-    params.max_grasps = 3;
-    const auto plan = grasping::planSkeletonGrasps(hand, object, skeleton, params);
-    ASSERT_FALSE(plan.grasps.empty());
+    const auto grasps = plannedGrasps(hand, object, mesh, 3);
+    ASSERT_FALSE(grasps.empty());
     grasping::GraspSimulator sim(hand, object);
-    for (std::size_t i = 0; i < plan.grasps.size(); ++i) {
+    for (std::size_t i = 0; i < grasps.size(); ++i) {
       RobustnessParams rp;
       rp.samples = 30;
       rp.seed = 9;
-      const auto paper = evaluateRobustness(sim, plan.grasps[i], rp, i);
+      const auto paper = evaluateRobustness(sim, grasps[i], rp, i);
       rp.variant = RobustnessVariant::kGuarded;
-      const auto guarded = evaluateRobustness(sim, plan.grasps[i], rp, i);
+      const auto guarded = evaluateRobustness(sim, grasps[i], rp, i);
       EXPECT_EQ(guarded.collisions, paper.collisions);  // the same samples
       EXPECT_EQ(paper.guarded_holds, 0);
       EXPECT_EQ(guarded.force_closure, paper.force_closure + guarded.guarded_holds);
@@ -212,15 +214,12 @@ TEST(Robustness, GuardedBacksAHandStartingInsideTheObjectOffAndHolds) {
   const auto hand = grasping::loadBuiltinHand("armar3");
   const TriangleMesh mesh = primitives::makeCapsule(0.03, 0.14);
   const grasping::GraspObject object(mesh);
-  grasping::SkeletonPlannerParams params;
-  params.max_grasps = 1;
-  const auto plan =
-      grasping::planSkeletonGrasps(hand, object, skeleton::extractSkeleton(mesh).skeleton, params);
-  ASSERT_FALSE(plan.grasps.empty());
+  const auto grasps = plannedGrasps(hand, object, mesh, 1);
+  ASSERT_FALSE(grasps.empty());
   grasping::GraspSimulator sim(hand, object);
-  const auto& preshape = hand.preshape(plan.grasps.front().preshape);
+  const auto& preshape = hand.preshape(grasps.front().preshape);
   const auto pushedBy = [&](double push_m) {
-    Grasp pushed = plan.grasps.front();
+    Grasp pushed = grasps.front();
     pushed.gcp_pose.translation() += push_m * pushed.gcp_pose.rotation().col(2);
     pushed.hand_pose = sim.handPoseForGcp(pushed.gcp_pose, preshape);
     return pushed;

@@ -136,13 +136,10 @@ TEST(RealScans, OsdLccpSegmentsSeparateTouchingObjects) {
 // hull margin keeps them (docs/reconstruction.md, "Hull margin").
 TEST(RealScans, OsdObjectsAtTheTableEdgeAreKeptByTheHullMargin) {
   SKELGRASP_REQUIRE_SHARED_DATA();
-  const auto files = test::sharedFiles("scans/pcd", {".pcd"});
-  const auto file = std::find_if(files.begin(), files.end(), [](const std::string& f) {
-    return f.find("/osd_test58.pcd") != std::string::npos;
-  });
-  if (file == files.end()) GTEST_SKIP() << "osd_test58.pcd not in ../shared/data/scans/pcd";
+  const std::string path = test::sharedDataDir() + "/scans/pcd/osd_test58.pcd";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not in the shared data";
   Scan scan;
-  scan.cloud = loadPointCloud(*file);
+  scan.cloud = loadPointCloud(path);
   const auto scoreWithMargin = [&](double margin_m) {
     IngestParams params;
     params.scene.target = TargetSpec::parse("all");
