@@ -7,10 +7,12 @@
 #include <pcl/segmentation/lccp_segmentation.h>
 #include <pcl/segmentation/supervoxel_clustering.h>
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
+#include <set>
 
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/internal/pcl_conversions.h"
@@ -50,13 +52,18 @@ void keepBySize(const PointCloud& cloud, std::vector<std::vector<int>> found,
                    [](const auto& a, const auto& b) { return a.size() > b.size(); });
 }
 
+// The candidates in a frame whose origin is the sensor: PCL's supervoxels orient every normal
+// toward (0, 0, 0) (flipNormalTowardsViewpoint with a fixed origin), and LCCP reads convexity from
+// those normals. In a world frame (a fused or registered scan, the demo scene) the origin lies
+// under the table, so surfaces facing away from it got inverted normals, convex edges read as
+// concave and objects fell apart into faces.
 pcl::PointCloud<SvPoint>::Ptr toSupervoxelInput(const PointCloud& cloud,
                                                 const std::vector<int>& candidates) {
   auto out = std::make_shared<pcl::PointCloud<SvPoint>>();
   out->points.resize(candidates.size());
   const bool colors = cloud.hasColors();
   for (std::size_t k = 0; k < candidates.size(); ++k) {
-    const auto& p = cloud.points[candidates[k]];
+    const Eigen::Vector3d p = cloud.points[candidates[k]] - cloud.sensor_origin;
     SvPoint& q = out->points[k];
     q.x = static_cast<float>(p.x());
     q.y = static_cast<float>(p.y());
@@ -105,6 +112,53 @@ void adoptOrphans(const pcl::PointCloud<SvPoint>& input, std::vector<std::uint32
       seg[k] = before[labelled[nearest[0]]];
     }
   }
+}
+
+// A much smaller part rests on its neighbour above this fraction of the neighbour's own height (a
+// bottle's neck: 0.97; the demo ball pushed against the bottle, 0.18 of its points: 0.06).
+constexpr double kPartRestsAbove = 0.5;
+
+// How a segment stands on the support: its lowest point above the plane, its own height (top
+// above its lowest point) and its widest horizontal extent (along the main axis of its points
+// projected on the plane). The part rule reads from these whether the segment could stand alone.
+struct Stance {
+  double lowest_m = 0;
+  double height_m = 0;
+  double width_m = 0;
+};
+
+Stance stanceOf(const PointCloud& cloud, const std::vector<int>& members,
+                const perception::SupportPlane& plane) {
+  Stance s;
+  if (members.empty()) return s;
+  const Eigen::Vector3d across = plane.normal.unitOrthogonal();
+  const Eigen::Vector3d along = plane.normal.cross(across);
+  std::vector<Eigen::Vector2d> flat;
+  flat.reserve(members.size());
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  double top = -std::numeric_limits<double>::infinity();
+  s.lowest_m = std::numeric_limits<double>::infinity();
+  for (int i : members) {
+    const Eigen::Vector3d& p = cloud.points[i];
+    const double h = plane.signedDistance(p);
+    s.lowest_m = std::min(s.lowest_m, h);
+    top = std::max(top, h);
+    flat.emplace_back(across.dot(p), along.dot(p));
+    mean += flat.back();
+  }
+  s.height_m = top - s.lowest_m;
+  mean /= static_cast<double>(flat.size());
+  Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+  for (const auto& q : flat) scatter += (q - mean) * (q - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> axes(scatter);
+  const Eigen::Vector2d major = axes.eigenvectors().col(1);  // eigenvalues ascend
+  double low = std::numeric_limits<double>::infinity(), high = -low;
+  for (const auto& q : flat) {
+    low = std::min(low, major.dot(q));
+    high = std::max(high, major.dot(q));
+  }
+  s.width_m = high - low;
+  return s;
 }
 
 }  // namespace
@@ -193,13 +247,15 @@ Segmentation lccpSegments(const PointCloud& cloud, const std::vector<int>& candi
     ++edges[sa->second + 1][sb->second + 1];
   }
 
-  // The neighbour a segment shares most supervoxel edges with (ties: the larger one); 0 = none.
-  auto mostConnected = [&](std::uint32_t label) {
+  // The neighbour a segment shares most supervoxel edges with (ties: the larger one) among those
+  // `eligible` accepts; 0 = none.
+  const auto any = [](std::uint32_t) { return true; };
+  auto mostConnected = [&](std::uint32_t label, const auto& eligible) {
     std::uint32_t target = 0;
     std::size_t target_edges = 0, target_size = 0;
     for (const auto& [neighbour, count] : edges[label]) {
       const auto it = members.find(neighbour);
-      if (it == members.end()) continue;
+      if (it == members.end() || !eligible(neighbour)) continue;
       const std::size_t size = it->second.size();
       if (count > target_edges || (count == target_edges && size > target_size)) {
         target = neighbour;
@@ -230,40 +286,68 @@ Segmentation lccpSegments(const PointCloud& cloud, const std::vector<int>& candi
     ++out.merged;
   };
 
-  // Small segments, smallest first, join their most connected neighbour; a small segment without
-  // neighbours is an isolated fragment and dropped.
+  // Small segments, smallest first, join their most connected neighbour. A small segment without
+  // neighbours is an object of its own from min_isolated_points on and an isolated fragment,
+  // dropped, below that.
+  std::set<std::uint32_t> isolated;
   for (;;) {
     std::uint32_t smallest = 0;
     std::size_t smallest_size = std::max(lp.min_segment_points, params.min_cluster_points);
     for (const auto& [label, m] : members) {
-      if (m.size() < smallest_size) {
+      if (m.size() < smallest_size && !isolated.count(label)) {
         smallest = label;
         smallest_size = m.size();
       }
     }
     if (smallest == 0) break;
-    absorb(smallest, mostConnected(smallest), "isolated_fragment");
+    const std::uint32_t target = mostConnected(smallest, any);
+    if (target == 0 &&
+        smallest_size >= std::max(lp.min_isolated_points, params.min_cluster_points)) {
+      isolated.insert(smallest);
+    } else {
+      absorb(smallest, target, "isolated_fragment");
+    }
   }
 
-  // Parts: a segment that does not reach down to the support and is much smaller than the
-  // neighbour it hangs on is a part of it cut off at a concave edge (a mug's handle, a bottle's
-  // neck, a noisy box top), not an object of its own. A box stacked on a box is about as large
-  // as the one below and stays.
-  const double part_lift = params.min_height_m + lp.part_min_lift_m;
+  // Parts: a segment that hangs on a neighbour (its lowest point part_min_lift_m above the
+  // neighbour's) and either could not stand on its own (taller than part_max_aspect times its
+  // widest horizontal extent: a hammer's handle standing on its head) or is much smaller than
+  // that neighbour (part_max_fraction: a bottle's neck) is a part of it cut off at a concave
+  // edge, not an object of its own. A box stacked on a box, a lid on a can or an object leaning
+  // on another is wider than it is tall and not much smaller than what it rests on, and stays.
   for (bool changed = true; changed;) {
     changed = false;
     std::vector<std::pair<std::size_t, std::uint32_t>> by_size;
     for (const auto& [label, m] : members) by_size.emplace_back(m.size(), label);
     std::sort(by_size.begin(), by_size.end());
     for (const auto& [size, label] : by_size) {
-      double lowest = std::numeric_limits<double>::infinity();
-      for (int i : members[label]) lowest = std::min(lowest, plane.signedDistance(cloud.points[i]));
-      if (lowest <= part_lift) continue;
-      const std::uint32_t target = mostConnected(label);
-      if (target == 0 || static_cast<double>(size) >=
-                             lp.part_max_fraction * static_cast<double>(members[target].size())) {
-        continue;
+      // A part hangs on the neighbour it belongs to: its lowest point is part_min_lift_m above
+      // the neighbour's. A flat object lying beside a larger one reaches lower and stays.
+      const Stance stance = stanceOf(cloud, members[label], plane);
+      const auto hangsOn = [&](std::uint32_t neighbour, double rests_above) {
+        const Stance below = stanceOf(cloud, members[neighbour], plane);
+        return stance.lowest_m >
+               below.lowest_m + std::max(lp.part_min_lift_m, rests_above * below.height_m);
+      };
+      std::uint32_t target = 0;
+      if (stance.height_m > lp.part_max_aspect * stance.width_m) {
+        target = mostConnected(label, [&](std::uint32_t n) { return hangsOn(n, 0.0); });
       }
+      if (target == 0) {
+        // A much smaller part also rests on the upper half of its neighbour (a bottle's neck); a
+        // ball pushed against a bottle rests on the table however high its lowest visible point.
+        const std::uint32_t below =
+            mostConnected(label, [&](std::uint32_t n) { return hangsOn(n, kPartRestsAbove); });
+        if (below != 0 && static_cast<double>(size) <
+                              lp.part_max_fraction * static_cast<double>(members[below].size())) {
+          target = below;
+        }
+      }
+      if (target == 0) continue;
+      log().debug(
+          "scene: a segment of {} points {:.3f} m up ({:.3f} m tall, {:.3f} m wide) is a "
+          "part of its neighbour",
+          size, stance.lowest_m, stance.height_m, stance.width_m);
       absorb(label, target, "");
       changed = true;
       break;

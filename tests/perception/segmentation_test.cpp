@@ -41,9 +41,7 @@ IngestResult ingestDemo(const DemoScene& scene, SegmentationMethod method) {
   return ingestScan(scan, params);
 }
 
-// Open (issue 17): LCCP cuts the demo scene's fused three-view objects into parts (11 segments
-// here, 12 on the default scene: mug handle, bottle neck, box top), so this goal is not met yet.
-TEST(Segmentation, DISABLED_DemoSceneWithTwoObjectsInContactStillYieldsFiveObjects) {
+TEST(Segmentation, DemoSceneWithTwoObjectsInContactStillYieldsFiveObjects) {
   const DemoScene scene = makeDemoScene(1, 3, ballAgainstBottle());
   // The contact is real: Euclidean clustering welds the ball to the bottle.
   const IngestResult euclidean = ingestDemo(scene, SegmentationMethod::kEuclidean);
@@ -74,9 +72,9 @@ TEST(Segmentation, DISABLED_DemoSceneWithTwoObjectsInContactStillYieldsFiveObjec
   }
 }
 
-TEST(Segmentation, DefaultDemoSceneYieldsFiveObjectsWithTheDefaultMethod) {
+TEST(Segmentation, DefaultDemoSceneYieldsFiveObjectsWithEitherMethod) {
   const DemoScene scene = makeDemoScene(1, 3);
-  for (const auto method : {SceneParams{}.segmentation}) {
+  for (const auto method : {SegmentationMethod::kLccp, SegmentationMethod::kEuclidean}) {
     SCOPED_TRACE(toString(method));
     const IngestResult r = ingestDemo(scene, method);
     ASSERT_TRUE(r.status.ok()) << r.status.message;

@@ -53,18 +53,24 @@ struct LccpParams {
   double smoothness_threshold = 0.1;
   // Extended convexity: an edge is convex only when k of its neighbours' edges agree (0 = off).
   int k_factor = 0;
-  // Segments with fewer points are fragments (an object's face cut off at a concave edge, a rim):
-  // merged into the adjacent segment they share most supervoxel edges with, dropped (and
-  // recorded) when nothing is adjacent.
-  std::size_t min_segment_points = 200;
-  // Parts: a segment whose lowest point is more than part_min_lift_m above the lowest object
-  // points (min_height_m) and that has fewer than part_max_fraction of the points of the
-  // neighbour it shares most edges with is merged into it (handles, necks, box tops cut off at a
-  // concave edge of noisy multi-view data). Off by default (0): at 0.35 it took the demo scene
-  // from 12 to 8 segments but merged objects lying on others in mOSD scenes 46 and 50 (precision
-  // 0.83 and 0.71).
+  // Segments with fewer points are fragments (an object's face cut off at a concave edge, a rim, a
+  // mug's handle): merged into the adjacent segment they share most supervoxel edges with. 500
+  // folds the demo mug's handle (about 380 points from three views) into the mug; the smallest
+  // object segment in the eight mOSD scans has 616 points, and their scores are the same as at 200.
+  std::size_t min_segment_points = 500;
+  // A segment below min_segment_points with no adjacent segment is an object of its own from this
+  // many points on, and an isolated fragment (dropped and recorded) below.
+  std::size_t min_isolated_points = 200;
+  // Parts (docs/reconstruction.md): a segment whose lowest point is more than part_min_lift_m
+  // above that of a neighbour is merged into the one it shares most edges with when it could not
+  // stand on its own there (its own height over its widest horizontal extent above
+  // part_max_aspect: a hammer's handle standing on its head; the tallest lifted object in the
+  // eight mOSD scans is 2.4 times as tall as it is wide), or when it rests on that neighbour's
+  // upper half and has fewer than part_max_fraction of its points (a bottle's neck; at 0.35 this
+  // merged objects lying on others in mOSD 46 and 50, whose fractions are 0.27-0.32).
   double part_min_lift_m = 0.015;
-  double part_max_fraction = 0.0;
+  double part_max_aspect = 3.0;
+  double part_max_fraction = 0.2;
 };
 
 struct TargetSpec {
@@ -116,9 +122,11 @@ struct SceneParams {
   double masked_min_height_m = 0.003;
   // Segmentation of the points above the support (a mask or no plane: always Euclidean, the
   // mask says what belongs together and without a support there is nothing to stand on).
-  // Euclidean stays the default: LCCP is far better on the real mOSD scans (precision 0.992 vs
-  // 0.641) but cuts the demo scene's noisy three-view objects into parts (12 segments for 5
-  // objects), which `run` would then plan on. docs/reconstruction.md has the measurements.
+  // Euclidean stays the default. LCCP is far better on the real mOSD scans (precision 0.992 vs
+  // 0.641 at about the same recall) and gives the demo scene its five objects also with two of
+  // them pushed into contact, but it cuts the mug of PCL's noisy stereo scan into two segments
+  // (1568 and 719 points: its side face starts 3 cm above the table, halfway up the mug), which
+  // `run` would then plan on. docs/reconstruction.md has the measurements.
   SegmentationMethod segmentation = SegmentationMethod::kEuclidean;
   LccpParams lccp;
   // Euclidean clustering: points closer than the tolerance join a cluster. Over the mOSD scenes
