@@ -43,7 +43,11 @@ nlohmann::json parametersJson(const perception::IngestParams& p) {
             {"smoothness_check", s.lccp.smoothness_check},
             {"smoothness_threshold", s.lccp.smoothness_threshold},
             {"k_factor", s.lccp.k_factor},
-            {"min_segment_points", s.lccp.min_segment_points}}}};
+            {"min_segment_points", s.lccp.min_segment_points},
+            {"min_isolated_points", s.lccp.min_isolated_points},
+            {"part_min_lift_m", s.lccp.part_min_lift_m},
+            {"part_max_aspect", s.lccp.part_max_aspect},
+            {"part_max_fraction", s.lccp.part_max_fraction}}}};
 }
 
 int runBenchSegment(BenchSegmentArgs args) {

@@ -218,7 +218,9 @@ void validate(const SceneParams& p) {
       !(p.lccp.concavity_tolerance_deg >= 0) || !(p.lccp.concavity_tolerance_deg < 180) ||
       !(p.lccp.color_importance >= 0) || !(p.lccp.spatial_importance >= 0) ||
       !(p.lccp.normal_importance >= 0) || !(p.lccp.smoothness_threshold >= 0) ||
-      p.lccp.k_factor < 0 || !(p.plane_hull_margin_m >= 0 && p.plane_hull_margin_m < 1e3)) {
+      p.lccp.k_factor < 0 || !(p.lccp.part_min_lift_m >= 0) || !(p.lccp.part_max_aspect >= 0) ||
+      !(p.lccp.part_max_fraction >= 0) ||
+      !(p.plane_hull_margin_m >= 0 && p.plane_hull_margin_m < 1e3)) {
     throw InvalidArgument(
         "parseScene: plane distance, iterations, plane fraction in [0, 1], candidates, cluster "
         "tolerance, height limits (max > min), hull margin in [0, 1000) m and LCCP parameters "

@@ -54,16 +54,19 @@ void keepBySize(const PointCloud& cloud, std::vector<std::vector<int>> found,
 
 // The candidates in a frame whose origin is the sensor: PCL's supervoxels orient every normal
 // toward (0, 0, 0) (flipNormalTowardsViewpoint with a fixed origin), and LCCP reads convexity from
-// those normals. In a world frame (a fused or registered scan, the demo scene) the origin lies
-// under the table, so surfaces facing away from it got inverted normals, convex edges read as
-// concave and objects fell apart into faces.
+// those normals. In a world frame (the demo scene) the origin lies under the table, so surfaces
+// facing away from it got inverted normals, convex edges read as concave and objects fell apart
+// into faces. A fused scan has one recorded origin: a surface only another view saw, facing away
+// from that origin, can still be inverted. A non-finite origin (bad metadata) leaves the frame.
 pcl::PointCloud<SvPoint>::Ptr toSupervoxelInput(const PointCloud& cloud,
                                                 const std::vector<int>& candidates) {
   auto out = std::make_shared<pcl::PointCloud<SvPoint>>();
   out->points.resize(candidates.size());
   const bool colors = cloud.hasColors();
+  const Eigen::Vector3d origin =
+      cloud.sensor_origin.allFinite() ? cloud.sensor_origin : Eigen::Vector3d::Zero();
   for (std::size_t k = 0; k < candidates.size(); ++k) {
-    const Eigen::Vector3d p = cloud.points[candidates[k]] - cloud.sensor_origin;
+    const Eigen::Vector3d p = cloud.points[candidates[k]] - origin;
     SvPoint& q = out->points[k];
     q.x = static_cast<float>(p.x());
     q.y = static_cast<float>(p.y());
@@ -313,7 +316,7 @@ Segmentation lccpSegments(const PointCloud& cloud, const std::vector<int>& candi
   // neighbour's) and either could not stand on its own (taller than part_max_aspect times its
   // widest horizontal extent: a hammer's handle standing on its head) or is much smaller than
   // that neighbour (part_max_fraction: a bottle's neck) is a part of it cut off at a concave
-  // edge, not an object of its own. A box stacked on a box, a lid on a can or an object leaning
+  // edge, not an object of its own. A box stacked on a box or an object leaning
   // on another is wider than it is tall and not much smaller than what it rests on, and stays.
   for (bool changed = true; changed;) {
     changed = false;

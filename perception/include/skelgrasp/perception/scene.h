@@ -125,8 +125,8 @@ struct SceneParams {
   // Euclidean stays the default. LCCP is far better on the real mOSD scans (precision 0.992 vs
   // 0.641 at about the same recall) and gives the demo scene its five objects also with two of
   // them pushed into contact, but it cuts the mug of PCL's noisy stereo scan into two segments
-  // (1568 and 719 points: its side face starts 3 cm above the table, halfway up the mug), which
-  // `run` would then plan on. docs/reconstruction.md has the measurements.
+  // (1568 and 719 points: the smaller starts 3 cm above the table, a third of the way up the mug),
+  // which `run` would then plan on. docs/reconstruction.md has the measurements.
   SegmentationMethod segmentation = SegmentationMethod::kEuclidean;
   LccpParams lccp;
   // Euclidean clustering: points closer than the tolerance join a cluster. Over the mOSD scenes

@@ -19,10 +19,11 @@ struct Segmentation {
 Segmentation euclideanSegments(const PointCloud& cloud, const std::vector<int>& candidates,
                                const perception::SceneParams& params);
 
-// Supervoxels + LCCP (params.lccp), colour where the cloud has it; segments below
-// params.lccp.min_segment_points merged into their most connected neighbour or dropped when
-// isolated. Parts (segments not reaching down to the support, much smaller than their neighbour)
-// are merged.
+// Supervoxels + LCCP (params.lccp) on the points relative to the sensor origin, colour where the
+// cloud has it; segments below params.lccp.min_segment_points merged into their most connected
+// neighbour, or kept (from min_isolated_points) or dropped when isolated. Parts (segments hanging
+// on a neighbour that could not stand alone or are much smaller and rest on its upper half) are
+// merged.
 Segmentation lccpSegments(const PointCloud& cloud, const std::vector<int>& candidates,
                           const perception::SceneParams& params,
                           const perception::SupportPlane& plane);
