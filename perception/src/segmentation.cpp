@@ -268,10 +268,21 @@ Segmentation lccpSegments(const PointCloud& cloud, const std::vector<int>& candi
     }
     return target;
   };
+  // Stances of the current segments, computed once per segment and forgotten when it changes:
+  // the part rules below ask for a segment's and its neighbours' stances on every pass.
+  std::map<std::uint32_t, Stance> stances;
+  auto stanceFor = [&](std::uint32_t label) {
+    auto it = stances.find(label);
+    if (it == stances.end())
+      it = stances.emplace(label, stanceOf(cloud, members[label], plane)).first;
+    return it->second;
+  };
   // Moves `small` into `target` (0: drops it with `reason`).
   auto absorb = [&](std::uint32_t small_label, std::uint32_t target, const char* reason) {
     auto small = std::move(members[small_label]);
     members.erase(small_label);
+    stances.erase(small_label);
+    stances.erase(target);
     const auto small_edges = std::move(edges[small_label]);
     edges.erase(small_label);
     for (auto& [label, e] : edges) e.erase(small_label);
@@ -326,9 +337,9 @@ Segmentation lccpSegments(const PointCloud& cloud, const std::vector<int>& candi
     for (const auto& [size, label] : by_size) {
       // A part hangs on the neighbour it belongs to: its lowest point is part_min_lift_m above
       // the neighbour's. A flat object lying beside a larger one reaches lower and stays.
-      const Stance stance = stanceOf(cloud, members[label], plane);
+      const Stance stance = stanceFor(label);
       const auto hangsOn = [&](std::uint32_t neighbour, double rests_above) {
-        const Stance below = stanceOf(cloud, members[neighbour], plane);
+        const Stance below = stanceFor(neighbour);
         return stance.lowest_m >
                below.lowest_m + std::max(lp.part_min_lift_m, rests_above * below.height_m);
       };
