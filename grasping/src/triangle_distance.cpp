@@ -126,7 +126,19 @@ double boxTriangleDistance(const Eigen::Vector3d& half, const Eigen::Vector3d& a
   }
   if (boxTriangleOverlap(half, a, b, c)) return 0;
   // Disjoint convex polytopes: the closest pair is a vertex against the other's solid, or two
-  // edges.
+  // edges. A box corner or the inside of a box edge is the closest box point only to points in its
+  // Voronoi region (beyond the box on the corner's three axes, on the edge's two), so a feature
+  // whose region no vertex of the triangle (for an edge pair: of the triangle's edge) reaches is
+  // skipped: about nine in ten of the 8 corner and 36 edge-pair tests near a finger pad.
+  const Eigen::Vector3d tri[3] = {a, b, c};
+  // reach[k][side]: bit e set if vertex e lies on or beyond the box's face `side` of axis k.
+  int reach[3][2] = {{0, 0}, {0, 0}, {0, 0}};
+  for (int e = 0; e < 3; ++e) {
+    for (int k = 0; k < 3; ++k) {
+      if (tri[e][k] >= half[k]) reach[k][1] |= 1 << e;
+      if (tri[e][k] <= -half[k]) reach[k][0] |= 1 << e;
+    }
+  }
   double best =
       std::min({pointBoxDistance(half, a), pointBoxDistance(half, b), pointBoxDistance(half, c)});
   double best_squared = best * best;
@@ -134,15 +146,19 @@ double boxTriangleDistance(const Eigen::Vector3d& half, const Eigen::Vector3d& a
   for (int i = 0; i < 8; ++i) {
     corners[i] = Eigen::Vector3d((i & 1) ? half.x() : -half.x(), (i & 2) ? half.y() : -half.y(),
                                  (i & 4) ? half.z() : -half.z());
+    if (!reach[0][i & 1] || !reach[1][(i >> 1) & 1] || !reach[2][(i >> 2) & 1]) continue;
     best_squared = std::min(
         best_squared, (closestOnTriangle(corners[i], a, b, c).point - corners[i]).squaredNorm());
   }
-  const Eigen::Vector3d tri[3] = {a, b, c};
   for (int i = 0; i < 8; ++i) {
     for (int k = 0; k < 3; ++k) {
       const int j = i | (1 << k);
       if (j == i) continue;  // each box edge once: from the corner with bit k clear
+      const int u = (k + 1) % 3, v = (k + 2) % 3;
+      const int reach_u = reach[u][(i >> u) & 1], reach_v = reach[v][(i >> v) & 1];
       for (int e = 0; e < 3; ++e) {
+        const int ends = (1 << e) | (1 << ((e + 1) % 3));
+        if (!(reach_u & ends) || !(reach_v & ends)) continue;
         best_squared = std::min(
             best_squared,
             segmentSegmentDistanceSquared(corners[i], corners[j], tri[e], tri[(e + 1) % 3]));
