@@ -30,7 +30,7 @@ class FingerAdvance {
       : hand_(hand),
         geometry_(geometry),
         grasp_object_(object),
-        object_(*object.collisionData().object),
+        object_(object.collisionData()),
         hand_pose_(hand_pose),
         allowed_(allowed),
         queries_(queries),
@@ -40,10 +40,12 @@ class FingerAdvance {
 
   // What blocks finger `finger` at its current placement (object contacts are noted).
   // `check_object` false: the object is known to be out of reach (fast closing's budget).
-  Blocker blocked(int finger, bool check_object = true) {
+  // `change`: the joint change that placed the finger, for the fast closing's gap bounds.
+  Blocker blocked(int finger, bool check_object = true, const Eigen::VectorXd* change = nullptr) {
     auto& shapes = geometry_.shapes;
     for (int l : geometry_.links_of_finger[finger]) {
-      if (check_object && linkHitsObject(shapes[l], object_, queries_)) {
+      if (check_object && !provablyClearOfObject(l, change) &&
+          linkHitsObject(shapes[l], object_, queries_)) {
         touched_[l] = 1;
         return Blocker::kObject;
       }
@@ -78,7 +80,8 @@ class FingerAdvance {
     hand_.normalise(candidate);
     if ((candidate - q_).cwiseAbs().maxCoeff() < kNoJointMove) return false;  // at the limits
     placeFinger(finger, candidate);
-    if (blocked(finger, check_object) != Blocker::kNone) {
+    const Eigen::VectorXd change = candidate - q_;
+    if (blocked(finger, check_object, &change) != Blocker::kNone) {
       placeFinger(finger, q_);
       return false;
     }
@@ -100,7 +103,8 @@ class FingerAdvance {
   }
 
   AdvanceResult run(const AdvanceSettings& settings) {
-    return settings.method == ClosingMethod::kFast ? runFast(settings) : runStepwise(settings);
+    fast_ = settings.method == ClosingMethod::kFast;
+    return fast_ ? runFast(settings) : runStepwise(settings);
   }
 
   // Fast closing: the stepwise closing's steps, but steps that provably keep every link clear of
@@ -171,6 +175,11 @@ class FingerAdvance {
   // A lower bound of the distance from a link to the object (the object's distance field).
   double objectGap(int link, double needed);
 
+  // Fast closing: whether a gap bound kept from a jump attempt, less this move's displacement
+  // bound, still proves the placed link clear of the object, so that its collision test would
+  // find nothing (the stepwise closing tests every link).
+  bool provablyClearOfObject(int link, const Eigen::VectorXd* change) const;
+
   // Adds the displacement bound of the move to `config` to every link of `finger` (called before
   // q_ becomes `config`): the cached gaps stay lower bounds.
   void noteMove(int finger, const Eigen::VectorXd& config);
@@ -193,12 +202,13 @@ class FingerAdvance {
   const HandModel& hand_;
   HandGeometry& geometry_;
   const GraspObject& grasp_object_;
-  const fcl::CollisionObjectd& object_;
+  const GraspObject::CollisionData& object_;
   const Pose hand_pose_;
   const AllowedPairs& allowed_;
   std::size_t& queries_;
   Eigen::VectorXd q_;
   std::vector<char> touched_;
+  bool fast_ = false;  // the fast closing: checked steps may use the kept gap bounds
 
   // Gap lower bounds kept valid while links move: a gap found once, less the displacement bounds
   // (motion_bounds.cpp) both links have moved since. A jump attempt recomputes a gap only when its

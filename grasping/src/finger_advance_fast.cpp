@@ -12,7 +12,7 @@ namespace skelgrasp::grasping::internal {
 namespace {
 
 // Kept between a link and an obstacle after a jump: covers the tolerance of FCL's distances.
-constexpr double kClearanceMarginM = 1e-5;
+constexpr double kClearanceMarginM = kProvablyClearM;
 // Longest pause (iterations) between jump attempts of a lockstep group that could not jump.
 constexpr int kMaxBackoffIterations = 16;
 
@@ -156,6 +156,14 @@ double FingerAdvance::objectGap(int link, double needed) {
   const double gap = linkObjectGap(geometry_.shapes[link], grasp_object_.distanceField(), needed);
   object_gaps_[link] = {gap, moved_[link], 0.0};
   return gap;
+}
+
+bool FingerAdvance::provablyClearOfObject(int link, const Eigen::VectorXd* change) const {
+  if (!fast_ || change == nullptr) return false;
+  const auto cached = object_gaps_.find(link);
+  if (cached == object_gaps_.end()) return false;
+  const double moved = moved_[link] + geometry_.motion.displacement(link, *change);
+  return cached->second.current(moved, 0.0) > kClearanceMarginM;
 }
 
 void FingerAdvance::noteMove(int finger, const Eigen::VectorXd& config) {
