@@ -95,10 +95,11 @@ bool linksCollide(const std::vector<ShapeInstance>& a, const std::vector<ShapeIn
   return false;
 }
 
-bool linkHitsObject(const std::vector<ShapeInstance>& link, const fcl::CollisionObjectd& object,
-                    std::size_t& queries) {
+bool linkHitsObject(const std::vector<ShapeInstance>& link,
+                    const GraspObject::CollisionData& object, std::size_t& queries) {
   for (const auto& s : link) {
-    if (collide(*s.object, object, queries)) return true;
+    const bool mesh = s.geometry->getObjectType() == fcl::OT_BVH;
+    if (collide(*s.object, mesh ? *object.object : *object.obb_object, queries)) return true;
   }
   return false;
 }

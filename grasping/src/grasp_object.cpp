@@ -61,6 +61,10 @@ GraspObject::GraspObject(TriangleMesh mesh) : mesh_(std::move(mesh)) {
   collision_->object =
       std::make_unique<fcl::CollisionObjectd>(collision_->bvh, fcl::Transform3d::Identity());
   collision_->object->computeAABB();
+  collision_->obb_bvh = internal::toFclBvh<fcl::OBBd>(mesh_);
+  collision_->obb_object =
+      std::make_unique<fcl::CollisionObjectd>(collision_->obb_bvh, fcl::Transform3d::Identity());
+  collision_->obb_object->computeAABB();
 }
 
 GraspObject::~GraspObject() = default;

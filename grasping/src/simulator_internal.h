@@ -35,6 +35,10 @@ inline Pose shapePose(const ShapeInstance& shape) {
 double linkObjectGap(const std::vector<ShapeInstance>& link, const DistanceField& field,
                      double needed);
 
+// Fast closing: a distance bound above this proves a shape clear of the object as far as FCL's
+// collision test can tell (covers the tolerance of its GJK/EPA results).
+constexpr double kProvablyClearM = 1e-5;
+
 // Upper bound of how far any point of a link moves when the joints change by a given amount along
 // a straight path in joint space: sum over the joints above the link of |change| times the
 // joint's lever (revolute: the largest distance of the link's geometry from the axis, through the
@@ -65,8 +69,8 @@ struct HandGeometry {
 void placeLink(const Pose& link_pose, std::vector<ShapeInstance>& shapes);
 bool linksCollide(const std::vector<ShapeInstance>& a, const std::vector<ShapeInstance>& b,
                   std::size_t& queries);
-bool linkHitsObject(const std::vector<ShapeInstance>& link, const fcl::CollisionObjectd& object,
-                    std::size_t& queries);
+bool linkHitsObject(const std::vector<ShapeInstance>& link,
+                    const GraspObject::CollisionData& object, std::size_t& queries);
 
 // Link pairs (finger-finger of different fingers, finger-static) that are not checked while
 // closing: those already intersecting in the preshape are attached by design (a finger mounted
