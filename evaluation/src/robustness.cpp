@@ -162,16 +162,17 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
     const Pose hand_pose =
         paper_samples ? about * grasp.hand_pose : about.inverse() * grasp.hand_pose;
     auto& local = *simulators.local();
-    std::optional<Pose> start = hand_pose;
-    const bool collides = local.inCollision(hand_pose, preshape.joints);
+    // close() starts with the collision test of the open hand: one test per sample, not two.
+    auto closed = local.close(hand_pose, preshape, closing);
+    const bool collides = closed.reason == grasping::reason::kStartCollision;
     if (collides) {
       outcomes[i] = kCollision;
       if (!guarded) return;
-      start =
+      const std::optional<Pose> start =
           guardedApproachStop(local, hand_pose, hand_pose.linear() * approach_in_hand, preshape);
       if (!start) return;
+      closed = local.close(*start, preshape, closing);
     }
-    const auto closed = local.close(*start, preshape, closing);
     if (closed.status.ok() &&
         grasping::evaluateGrasp(closed.contacts, local.object(), quality).force_closure)
       outcomes[i] = collides ? kGuardedForceClosure : kForceClosure;
