@@ -115,10 +115,10 @@ double linkObjectGap(const std::vector<ShapeInstance>& link, const DistanceField
     double shape_gap = std::numeric_limits<double>::infinity();
     for (const auto& [centre, radius] : s.sphere_cover)
       shape_gap = std::min(shape_gap, field.lowerBound(pose * centre) - radius);
-    if (shape_gap < needed && s.box_half) {
-      shape_gap = std::max(shape_gap,
-                           field.boxDistance(pose, *s.box_half, std::min(needed, kExactGapReachM)));
-    }
+    // The exact gap is asked only up to kExactGapReachM: beyond it, it cannot raise the bound.
+    const double exact_upper = std::min(needed, kExactGapReachM);
+    if (shape_gap < exact_upper && s.box_half)
+      shape_gap = std::max(shape_gap, field.boxDistance(pose, *s.box_half, exact_upper));
     gap = std::min(gap, shape_gap);
   }
   return gap;
