@@ -73,6 +73,19 @@ void BM_QualityOnly(benchmark::State& state, const std::string& hand_name) {
   const auto closing = sim.close(sideGrasp(sim, preshape), preshape);
   for (auto _ : state) benchmark::DoNotOptimize(evaluateGrasp(closing.contacts, benchObject()));
 }
+// What a closing needs once per object: the FCL trees (OBBRSS for distances, OBB for collisions),
+// and the distance field of the fast closing.
+void BM_GraspObjectSetup(benchmark::State& state) {
+  setLogLevel(spdlog::level::warn);
+  const TriangleMesh& mesh = benchObject().mesh();
+  for (auto _ : state) {
+    const GraspObject object(mesh);
+    if (state.range(0)) benchmark::DoNotOptimize(&object.distanceField());
+  }
+  state.counters["triangles"] = static_cast<double>(mesh.faces.size());
+}
+BENCHMARK(BM_GraspObjectSetup)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
 BENCHMARK_CAPTURE(BM_CloseOnly, armar3, std::string("armar3"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_CloseOnly, shadow, std::string("shadow"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_QualityOnly, armar3, std::string("armar3"))->Unit(benchmark::kMillisecond);

@@ -116,7 +116,7 @@ struct FclGap {
 
 FclGap fclGap(const std::vector<ShapeInstance>& shapes, const GraspObject& object,
               std::size_t& queries) {
-  const auto& fcl_object = *object.collisionData().object;
+  const auto& fcl_object = object.collisionData().distanceObject();
   fcl::DistanceRequestd request(true);
   FclGap gap;
   for (const auto& s : shapes) {

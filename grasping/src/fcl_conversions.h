@@ -11,6 +11,7 @@
 #include <fcl/narrowphase/distance.h>
 
 #include <memory>
+#include <mutex>
 
 #include "skelgrasp/grasping/grasp_object.h"
 #include "skelgrasp/grasping/hand_model.h"
@@ -20,24 +21,45 @@ namespace skelgrasp::grasping {
 using FclMesh = fcl::BVHModel<fcl::OBBRSSd>;
 using FclCollisionMesh = fcl::BVHModel<fcl::OBBd>;
 
-// The object twice: FCL's distance queries need RSS volumes, and its collision test of a primitive
-// against OBBRSS volumes refits the primitive's volume (two 3x3 eigen decompositions) on every
-// call, which an OBB tree does not (a third of a closing's collision time). FCL tests meshes only
-// against meshes of the same volume type: hand link meshes use the OBBRSS tree.
-struct GraspObject::CollisionData {
-  std::shared_ptr<FclMesh> bvh;
-  std::unique_ptr<fcl::CollisionObjectd> object;  // at the identity (object frame)
-  std::shared_ptr<FclCollisionMesh> obb_bvh;
-  std::unique_ptr<fcl::CollisionObjectd> obb_object;  // the same mesh, for primitives' collisions
-};
-
 namespace internal {
-
 template <typename BV>
 std::shared_ptr<fcl::BVHModel<BV>> toFclBvh(const TriangleMesh& mesh);
 inline std::shared_ptr<FclMesh> toFclMesh(const TriangleMesh& mesh) {
   return toFclBvh<fcl::OBBRSSd>(mesh);
 }
+}  // namespace internal
+
+// The object in two FCL trees. Collision tests of hand primitives use an OBB tree: against
+// OBBRSS volumes FCL refits the primitive's volume (two 3x3 eigen decompositions) on every call, a
+// third of a closing's collision time. Distances need RSS volumes, and FCL tests meshes only
+// against meshes of the same volume type: the OBBRSS tree serves both and is built on first use,
+// since the fast closing of a hand made of boxes never asks (each tree costs 40-50 ms on a
+// 16k-triangle mesh).
+struct GraspObject::CollisionData {
+  explicit CollisionData(const TriangleMesh& object_mesh) : mesh(object_mesh) {}
+
+  // At the identity (object frame).
+  const fcl::CollisionObjectd& distanceObject() const {
+    std::call_once(distance_once, [this] {
+      bvh = internal::toFclMesh(mesh);
+      object = std::make_unique<fcl::CollisionObjectd>(bvh, fcl::Transform3d::Identity());
+      object->computeAABB();
+    });
+    return *object;
+  }
+
+  const TriangleMesh& mesh;  // the owning GraspObject's (it is neither copied nor moved)
+  std::shared_ptr<FclCollisionMesh> obb_bvh;
+  std::unique_ptr<fcl::CollisionObjectd> obb_object;  // the same mesh, for primitives' collisions
+
+ private:
+  mutable std::once_flag distance_once;
+  mutable std::shared_ptr<FclMesh> bvh;
+  mutable std::unique_ptr<fcl::CollisionObjectd> object;
+};
+
+namespace internal {
+
 std::shared_ptr<fcl::CollisionGeometryd> toFclGeometry(const CollisionShape& shape);
 inline fcl::Transform3d toFcl(const Pose& pose) {
   return fcl::Transform3d(pose.matrix());

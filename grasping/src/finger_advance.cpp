@@ -99,7 +99,8 @@ bool linkHitsObject(const std::vector<ShapeInstance>& link,
                     const GraspObject::CollisionData& object, std::size_t& queries) {
   for (const auto& s : link) {
     const bool mesh = s.geometry->getObjectType() == fcl::OT_BVH;
-    if (collide(*s.object, mesh ? *object.object : *object.obb_object, queries)) return true;
+    if (collide(*s.object, mesh ? object.distanceObject() : *object.obb_object, queries))
+      return true;
   }
   return false;
 }

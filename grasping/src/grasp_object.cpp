@@ -56,11 +56,7 @@ GraspObject::GraspObject(TriangleMesh mesh) : mesh_(std::move(mesh)) {
     for (int k = 0; k < 3; ++k) vertex_faces_[mesh_.faces[f][k]].push_back(static_cast<int>(f));
   }
 
-  collision_ = std::make_unique<CollisionData>();
-  collision_->bvh = internal::toFclMesh(mesh_);
-  collision_->object =
-      std::make_unique<fcl::CollisionObjectd>(collision_->bvh, fcl::Transform3d::Identity());
-  collision_->object->computeAABB();
+  collision_ = std::make_unique<CollisionData>(mesh_);
   collision_->obb_bvh = internal::toFclBvh<fcl::OBBd>(mesh_);
   collision_->obb_object =
       std::make_unique<fcl::CollisionObjectd>(collision_->obb_bvh, fcl::Transform3d::Identity());
