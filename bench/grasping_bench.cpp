@@ -73,8 +73,8 @@ void BM_QualityOnly(benchmark::State& state, const std::string& hand_name) {
   const auto closing = sim.close(sideGrasp(sim, preshape), preshape);
   for (auto _ : state) benchmark::DoNotOptimize(evaluateGrasp(closing.contacts, benchObject()));
 }
-// What a closing needs once per object: the FCL trees (OBBRSS for distances, OBB for collisions),
-// and the distance field of the fast closing.
+// What a closing needs once per object: the FCL collision tree (the OBBRSS tree for distances is
+// built on first use) and, with argument 1, the distance field of the fast closing.
 void BM_GraspObjectSetup(benchmark::State& state) {
   setLogLevel(spdlog::level::warn);
   const TriangleMesh& mesh = benchObject().mesh();

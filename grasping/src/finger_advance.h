@@ -41,7 +41,7 @@ class FingerAdvance {
   // What blocks finger `finger` at its current placement (object contacts are noted).
   // `check_object` false: the object is known to be out of reach (fast closing's budget).
   // `change`: the joint change that placed the finger, for the fast closing's gap bounds.
-  Blocker blocked(int finger, bool check_object = true, const Eigen::VectorXd* change = nullptr) {
+  Blocker blocked(int finger, bool check_object, const Eigen::VectorXd& change) {
     auto& shapes = geometry_.shapes;
     for (int l : geometry_.links_of_finger[finger]) {
       if (check_object && !provablyClearOfObject(l, change) &&
@@ -81,11 +81,11 @@ class FingerAdvance {
     if ((candidate - q_).cwiseAbs().maxCoeff() < kNoJointMove) return false;  // at the limits
     placeFinger(finger, candidate);
     const Eigen::VectorXd change = candidate - q_;
-    if (blocked(finger, check_object, &change) != Blocker::kNone) {
+    if (blocked(finger, check_object, change) != Blocker::kNone) {
       placeFinger(finger, q_);
       return false;
     }
-    noteMove(finger, candidate);
+    noteMove(finger, change);
     q_ = candidate;
     return true;
   }
@@ -103,8 +103,7 @@ class FingerAdvance {
   }
 
   AdvanceResult run(const AdvanceSettings& settings) {
-    fast_ = settings.method == ClosingMethod::kFast;
-    return fast_ ? runFast(settings) : runStepwise(settings);
+    return settings.method == ClosingMethod::kFast ? runFast(settings) : runStepwise(settings);
   }
 
   // Fast closing: the stepwise closing's steps, but steps that provably keep every link clear of
@@ -175,14 +174,14 @@ class FingerAdvance {
   // A lower bound of the distance from a link to the object (the object's distance field).
   double objectGap(int link, double needed);
 
-  // Fast closing: whether a gap bound kept from a jump attempt, less this move's displacement
+  // Whether a gap bound kept from a fast closing's jump attempt, less this move's displacement
   // bound, still proves the placed link clear of the object, so that its collision test would
-  // find nothing (the stepwise closing tests every link).
-  bool provablyClearOfObject(int link, const Eigen::VectorXd* change) const;
+  // find nothing. The stepwise closing keeps no bounds and tests every link.
+  bool provablyClearOfObject(int link, const Eigen::VectorXd& change) const;
 
-  // Adds the displacement bound of the move to `config` to every link of `finger` (called before
-  // q_ becomes `config`): the cached gaps stay lower bounds.
-  void noteMove(int finger, const Eigen::VectorXd& config);
+  // Adds the displacement bound of the joint change `change` (about to be applied to q_) to every
+  // link of `finger`: the cached gaps stay lower bounds.
+  void noteMove(int finger, const Eigen::VectorXd& change);
 
   // Per finger, the group it moves in lockstep with: fingers whose links may come within reach
   // of each other before all their drives reach the limits (the bound of the whole remaining
@@ -208,7 +207,6 @@ class FingerAdvance {
   std::size_t& queries_;
   Eigen::VectorXd q_;
   std::vector<char> touched_;
-  bool fast_ = false;  // the fast closing: checked steps may use the kept gap bounds
 
   // Gap lower bounds kept valid while links move: a gap found once, less the displacement bounds
   // (motion_bounds.cpp) both links have moved since. A jump attempt recomputes a gap only when its

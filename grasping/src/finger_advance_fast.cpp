@@ -12,7 +12,7 @@ namespace skelgrasp::grasping::internal {
 namespace {
 
 // Kept between a link and an obstacle after a jump: covers the tolerance of FCL's distances.
-constexpr double kClearanceMarginM = kProvablyClearM;
+constexpr double kClearanceMarginM = 1e-5;
 // Longest pause (iterations) between jump attempts of a lockstep group that could not jump.
 constexpr int kMaxBackoffIterations = 16;
 
@@ -158,16 +158,14 @@ double FingerAdvance::objectGap(int link, double needed) {
   return gap;
 }
 
-bool FingerAdvance::provablyClearOfObject(int link, const Eigen::VectorXd* change) const {
-  if (!fast_ || change == nullptr) return false;
+bool FingerAdvance::provablyClearOfObject(int link, const Eigen::VectorXd& change) const {
   const auto cached = object_gaps_.find(link);
   if (cached == object_gaps_.end()) return false;
-  const double moved = moved_[link] + geometry_.motion.displacement(link, *change);
+  const double moved = moved_[link] + geometry_.motion.displacement(link, change);
   return cached->second.current(moved, 0.0) > kClearanceMarginM;
 }
 
-void FingerAdvance::noteMove(int finger, const Eigen::VectorXd& config) {
-  const Eigen::VectorXd change = config - q_;
+void FingerAdvance::noteMove(int finger, const Eigen::VectorXd& change) {
   for (int l : geometry_.links_of_finger[finger])
     moved_[l] += geometry_.motion.displacement(l, change);
 }
@@ -247,10 +245,11 @@ int FingerAdvance::jumpGroup(std::vector<Drive*>& members, int max_steps, double
     for (const auto& [joint, amount] : d->moves) candidate[joint] += steps * amount;
   }
   hand_.normalise(candidate);
+  const Eigen::VectorXd change = candidate - q_;
   std::vector<int> noted;
   for (Drive* d : members) {
     if (std::find(noted.begin(), noted.end(), d->finger) != noted.end()) continue;
-    noteMove(d->finger, candidate);
+    noteMove(d->finger, change);
     noted.push_back(d->finger);
   }
   q_ = candidate;

@@ -35,10 +35,6 @@ inline Pose shapePose(const ShapeInstance& shape) {
 double linkObjectGap(const std::vector<ShapeInstance>& link, const DistanceField& field,
                      double needed);
 
-// Fast closing: a distance bound above this proves a shape clear of the object as far as FCL's
-// collision test can tell (covers the tolerance of its GJK/EPA results).
-constexpr double kProvablyClearM = 1e-5;
-
 // Upper bound of how far any point of a link moves when the joints change by a given amount along
 // a straight path in joint space: sum over the joints above the link of |change| times the
 // joint's lever (revolute: the largest distance of the link's geometry from the axis, through the
