@@ -97,6 +97,18 @@ CLI::Validator countIn(std::uint64_t min, std::uint64_t max) {
                         countDescription(min, max));
 }
 
+CLI::Validator vertexCountOrZero() {
+  constexpr std::uint64_t kMinClosedMeshVertices = 4;  // a tetrahedron
+  return CLI::Validator(
+      [](std::string& text) {
+        std::string error = checkCount(text, 0, kMaxCount);
+        if (error.empty() && text != "0" && std::stoull(text) < kMinClosedMeshVertices)
+          error = "a vertex budget must be 0 (never) or at least 4, not " + text;
+        return error;
+      },
+      "0 or [4, " + std::to_string(kMaxCount) + "]");
+}
+
 int hardwareThreads() {
   return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
 }

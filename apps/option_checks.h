@@ -39,6 +39,9 @@ CLI::Validator positiveLength();
 // dropped, so "010" means ten (CLI11 alone would read it as octal eight). Rewrites the value:
 // add it with Option::transform (Option::check would discard the rewrite).
 CLI::Validator countIn(std::uint64_t min, std::uint64_t max);
+// A mesh vertex budget: 0 ("never simplify") or at least the 4 vertices a closed mesh needs, up
+// to kMaxCount. Add it with Option::transform, like countIn.
+CLI::Validator vertexCountOrZero();
 // A count of threads or parallel jobs, at least `min` (0 may mean "all cores" where documented).
 // Values above std::thread::hardware_concurrency() are lowered to it with a warning: more
 // threads than cores only add contention, and tens of thousands exhaust the process. Add it

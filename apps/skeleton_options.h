@@ -15,6 +15,7 @@ struct SkeletonOptions {
   double alpha_divisor = geometry::RegularisationParams{}.alpha_divisor;
   double offset_divisor = geometry::RegularisationParams{}.offset_divisor;
   double remesh_edge_m = 0;
+  std::size_t max_vertices = 0;
   double stencil_m = skeleton::GraphAnalysisParams{}.curvature_stencil_m;
   double spur_factor = skeleton::SkeletonParams{}.spur_radius_factor;
   bool write_regularised = false;
@@ -38,6 +39,11 @@ struct SkeletonOptions {
     cmd.add_option("--remesh", remesh_edge_m,
                    "Isotropic remeshing target edge length in metres after wrapping (0 = off)")
         ->check(lengthOrZero())
+        ->capture_default_str();
+    cmd.add_option("--max-vertices", max_vertices,
+                   "Simplify the closed mesh by edge collapse to about this many vertices before "
+                   "contraction when it has more (0 = never; docs/skeleton.md)")
+        ->transform(vertexCountOrZero())
         ->capture_default_str();
     cmd.add_option("--curvature-stencil", stencil_m,
                    "Arc length (m) over which skeleton curvature is differentiated")
@@ -64,6 +70,7 @@ struct SkeletonOptions {
     p.regularisation.alpha_divisor = alpha_divisor;
     p.regularisation.offset_divisor = offset_divisor;
     p.regularisation.remesh_target_edge_m = remesh_edge_m;
+    if (max_vertices > 0) p.regularisation.max_vertices = max_vertices;
     p.graph.curvature_stencil_m = stencil_m;
     p.spur_radius_factor = spur_factor;
     return p;

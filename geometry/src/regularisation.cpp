@@ -1,4 +1,5 @@
-// CGAL translation unit: alpha wrapping, component selection and isotropic remeshing.
+// CGAL translation unit: alpha wrapping, component selection, isotropic remeshing and
+// decimation.
 #include "skelgrasp/geometry/regularisation.h"
 
 #include <CGAL/Polygon_mesh_processing/border.h>
@@ -9,6 +10,11 @@
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 #include <CGAL/Random.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Bounded_normal_change_placement.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Count_stop_predicate.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Edge_length_cost.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Midpoint_placement.h>
+#include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 #include <CGAL/alpha_wrap_3.h>
 
 #include "skelgrasp/common/logging.h"
@@ -96,6 +102,22 @@ bool acceptAsIs(const TriangleMesh& input, const RegularisationParams& params,
   return true;
 }
 
+// Edge collapse down to about `max_vertices` vertices: the shortest edge first, collapsed to its
+// midpoint. A closed triangle mesh of genus g has 3 (V - 2 + 2g) edges, so the edge count is the
+// stop criterion. The collapses keep the link condition (closed, same genus); bounding the change
+// of the normals keeps faces from folding over. Lindstrom-Turk's volume-preserving placement kept
+// the volume better but cost twice the time on scan meshes (0.24 s against 0.10 s for 15k
+// vertices), and the contraction only needs the shape's proportions.
+void decimate(CgalMesh& mesh, std::size_t max_vertices) {
+  namespace SMS = CGAL::Surface_mesh_simplification;
+  constexpr std::size_t kEdgesPerVertex = 3;
+  SMS::Count_stop_predicate<CgalMesh> stop(kEdgesPerVertex * max_vertices);
+  SMS::Edge_length_cost<CgalMesh> cost;
+  SMS::Bounded_normal_change_placement<SMS::Midpoint_placement<CgalMesh>> placement;
+  SMS::edge_collapse(mesh, stop, CGAL::parameters::get_cost(cost).get_placement(placement));
+  mesh.collect_garbage();
+}
+
 // Calibration of the estimates (docs/limits.md, "Regularisation"): `skeleton` on YCB
 // 006_mustard_bottle (0.0455 m^2, 0.225 m diagonal) at alpha divisors 50, 100 and 200 output 4052,
 // 12772 and 48282 triangles (1.8, 1.4, 1.3 x A / alpha^2) and its peak RSS grew by about 2.4-3.2
@@ -143,6 +165,11 @@ RegularisationResult regularise(const TriangleMesh& input, const RegularisationP
   }
   if (params.remesh_target_edge_m < 0 || params.remesh_iterations < 0) {
     throw InvalidArgument("regularise: remeshing parameters must be non-negative");
+  }
+  // Fewer than a tetrahedron's vertices cannot stay closed.
+  constexpr std::size_t kMinClosedVertices = 4;
+  if (params.max_vertices && *params.max_vertices < kMinClosedVertices) {
+    throw InvalidArgument("regularise: max_vertices must be at least 4");
   }
   if (!input.empty() && params.remesh_target_edge_m > 0) {
     checkMemoryEstimate(fmt::format("remeshing to {:g} m edges ({})", params.remesh_target_edge_m,
@@ -255,6 +282,10 @@ RegularisationResult regularise(const TriangleMesh& input, const RegularisationP
                              CGAL::parameters::number_of_iterations(params.remesh_iterations));
     mesh.collect_garbage();
     report.remeshed = true;
+  }
+  if (params.max_vertices && mesh.number_of_vertices() > *params.max_vertices) {
+    report.decimated_from = mesh.number_of_vertices();
+    decimate(mesh, *params.max_vertices);
   }
 
   result.mesh = internal::fromCgalMesh(mesh);

@@ -25,6 +25,7 @@ nlohmann::json toJson(const RegularisationReport& reg) {
           {"alpha_m", reg.alpha_m},
           {"offset_m", reg.offset_m},
           {"remeshed", reg.remeshed},
+          {"decimated_from_vertices", reg.decimated_from},
           {"orientation_flipped", reg.orientation_flipped},
           {"filled_holes", reg.filled_holes},
           {"wrap_components", reg.wrap_components},
