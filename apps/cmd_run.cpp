@@ -22,6 +22,9 @@ pipeline::RunParams RunOptions::params() const {
   p.reconstruction = reconstruction.params();
   p.planner = planner.skeletonParams();
   p.scene_check = !no_scene_check;
+  p.skeleton.regularisation.max_vertices.reset();
+  if (max_contraction_vertices > 0)
+    p.skeleton.regularisation.max_vertices = max_contraction_vertices;
   p.occupancy.resolution_m = octree_resolution_m;
   p.occupancy.unknown =
       unknown == "occupied" ? grasping::UnknownSpace::kOccupied : grasping::UnknownSpace::kFree;
@@ -53,6 +56,11 @@ void RunOptions::addTo(CLI::App& cmd) {
   cmd.add_option("--observed-weight", observed_weight,
                  "Ranking weight of contacts on observed surface (0-1)")
       ->check(finiteIn(0, 1))
+      ->capture_default_str();
+  cmd.add_option("--max-vertices", max_contraction_vertices,
+                 "Simplify each object's mesh by edge collapse to about this many vertices before "
+                 "the skeleton's contraction (0 = never; docs/pipeline.md)")
+      ->transform(vertexCountOrZero())
       ->capture_default_str();
   cmd.add_flag("--no-scene-check", no_scene_check, "Do not check grasps against the scene");
   exports.addTo(cmd);

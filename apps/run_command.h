@@ -21,6 +21,8 @@ struct RunOptions {
   double pregrasp_m = grasping::SceneCheckParams{}.pregrasp_distance_m;
   double observed_weight = pipeline::RunParams{}.observed_weight;
   bool no_scene_check = false;
+  std::size_t max_contraction_vertices =
+      pipeline::RunParams{}.skeleton.regularisation.max_vertices.value_or(0);
   ExportOptions exports;
 
   void addTo(CLI::App& cmd);

@@ -55,6 +55,12 @@ TEST(RunScene, EveryDemoObjectGetsGraspsOnItselfClearOfTheOthers) {
     matched.push_back(truth);
     EXPECT_TRUE(object.status.ok()) << object.reason << ": " << object.status.message;
     EXPECT_TRUE(object.reason.empty());
+    // The contraction ran on the mesh simplified to run's budget when it was larger.
+    ASSERT_TRUE(object.skeleton);
+    const auto& regularisation = object.skeleton->regularisation;
+    EXPECT_LE(object.skeleton->regularised_mesh.numVertices(), kRunMaxContractionVertices + 1);
+    EXPECT_EQ(regularisation.decimated_from > 0,
+              object.mesh.numVertices() > kRunMaxContractionVertices);
     ASSERT_FALSE(object.ranked.empty());
     for (const auto& ranked : object.ranked) {
       const Grasp& g = ranked.grasp;

@@ -24,9 +24,13 @@ constexpr std::size_t kRunMaxGrasps = 20;
 // Reconstructions are closed single-part manifolds already: no second wrap (0.5 s saved). When one
 // is not, runPipeline retries with the regularisation's automatic mode (pinholes filled, else
 // wrapped).
+// A scan's Poisson mesh has ~1 mm cells (3-15k vertices per object); the contraction's cost grows
+// with the vertex count, so it runs on the mesh simplified to this many (docs/pipeline.md).
+constexpr std::size_t kRunMaxContractionVertices = 2000;
 inline skeleton::SkeletonParams runSkeletonParams() {
   skeleton::SkeletonParams params;
   params.regularisation.method = geometry::RegularisationMethod::kNone;
+  params.regularisation.max_vertices = kRunMaxContractionVertices;
   return params;
 }
 inline grasping::SkeletonPlannerParams runPlannerParams() {
