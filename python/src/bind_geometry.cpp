@@ -64,12 +64,14 @@ Cloud loadCloudFile(const std::string& path, const std::string& units) {
 
 SkeletonOutput runSkeleton(const Mesh& mesh, const std::string& regularisation,
                            double alpha_divisor, double offset_divisor, double remesh_target_edge_m,
-                           double spur_radius_factor, double curvature_stencil_m) {
+                           std::optional<std::size_t> max_vertices, double spur_radius_factor,
+                           double curvature_stencil_m) {
   skeleton::SkeletonParams params;
   params.regularisation.method = geometry::parseRegularisationMethod(regularisation);
   params.regularisation.alpha_divisor = alpha_divisor;
   params.regularisation.offset_divisor = offset_divisor;
   params.regularisation.remesh_target_edge_m = remesh_target_edge_m;
+  params.regularisation.max_vertices = max_vertices;
   params.spur_radius_factor = spur_radius_factor;
   params.graph.curvature_stencil_m = curvature_stencil_m;
   SkeletonOutput out{{}, mesh};
@@ -252,12 +254,14 @@ The mean-curvature-flow skeleton of a mesh (paper Sec. III), from :func:`skeleto
         py::arg("alpha_divisor") = defaults.regularisation.alpha_divisor,
         py::arg("offset_divisor") = defaults.regularisation.offset_divisor,
         py::arg("remesh_target_edge_m") = defaults.regularisation.remesh_target_edge_m,
+        py::arg("max_vertices") = defaults.regularisation.max_vertices,
         py::arg("spur_radius_factor") = defaults.spur_radius_factor,
         py::arg("curvature_stencil_m") = defaults.graph.curvature_stencil_m,
         R"doc(
 Skeleton of a mesh: regularisation to a closed 2-manifold ('alpha_wrap', 'auto' or 'none'),
 mean-curvature-flow contraction, vertex classes and segments (``skelgrasp skeleton``; parameters
-as skeleton::SkeletonParams, docs/skeleton.md). A mesh the stage cannot process gives a result
+as skeleton::SkeletonParams, docs/skeleton.md). ``max_vertices``: simplify a larger closed mesh by
+edge collapse to about this many vertices before the contraction (None: never; at least 4). A mesh the stage cannot process gives a result
 whose ``ok`` is False, with the reason in ``status``.)doc");
 }
 

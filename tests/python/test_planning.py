@@ -39,6 +39,21 @@ def test_capsule_skeleton_is_one_segment_between_two_endpoints(capsule):
     assert document["segments"] == s.segments
 
 
+def test_decimated_skeleton_keeps_the_segment_and_maps_every_vertex(capsule):
+    full = skelgrasp.skeleton(capsule)
+    budget = len(full.regularised_mesh.vertices) // 3
+    s = skelgrasp.skeleton(capsule, max_vertices=budget)
+    assert s.ok, s.status
+    assert len(s.regularised_mesh.vertices) <= budget + 1
+    assert s.to_dict()["regularisation"]["decimated_from_vertices"] == len(
+        full.regularised_mesh.vertices)
+    assert s.types.count("endpoint") == 2 and len(s.segments) == 1
+    mapped = np.sort(np.concatenate(s.surface_points))
+    assert np.array_equal(mapped, np.arange(len(capsule.vertices)))
+    with pytest.raises(ValueError, match="max_vertices"):
+        skelgrasp.skeleton(capsule, max_vertices=3)
+
+
 def test_skeleton_defaults_come_from_the_library(capsule):
     import inspect  # noqa: F401  (pybind11 signatures are in the docstring)
     assert "alpha_divisor: float = 50.0" in skelgrasp.skeleton.__doc__
