@@ -127,6 +127,7 @@ nlohmann::json runJson(const RunResult& r, const HandModel& hand, const percepti
       e.reason = object_reason::kNoGrasp;
     }
     e.ranked = &r.ranked;
+    e.plan = &r.plan.summary;
     e.time_s = r.total_s;
     objects.push_back(internal::objectJson(e));
   }
@@ -252,17 +253,7 @@ void writeRunOutputs(const std::string& dir, const RunResult& r, const HandModel
     report.image(file, fmt::format("Grasp #{} with the hand closed", k));
   }
   report.heading("Why hypotheses were rejected");
-  std::vector<std::vector<std::string>> reasons;
-  for (const auto& [why, count] : r.plan.summary.rejections)
-    reasons.push_back({why, std::to_string(count)});
-  for (const auto& [link, count] : r.plan.summary.scene_collision_links) {
-    reasons.push_back({"scene_collision at link " + link, std::to_string(count)});
-  }
-  report.table({"reason", "count"}, reasons);
-  report.paragraph(fmt::format("{} hypotheses, {} generated, {} force closure ({:.1f}%).",
-                               r.plan.summary.hypotheses, r.plan.summary.generated,
-                               r.plan.summary.force_closure,
-                               100 * r.plan.summary.forceClosureRate()));
+  internal::addRejectionTable(report, r.plan.summary);
   report.write(staged("report.html"));
   writeJsonFile(staged("grasps.json"), runJson(r, hand, scan, input_name));
   outputs.commit();

@@ -93,4 +93,17 @@ void addRobustnessHistogram(HtmlReport& report, const std::vector<RankedGrasp>& 
   report.rawHtml(robustnessHistogramSvg(counts));
 }
 
+void addRejectionTable(HtmlReport& report, const grasping::PlanSummary& summary) {
+  std::vector<std::vector<std::string>> reasons;
+  for (const auto& [why, count] : summary.rejections)
+    reasons.push_back({why, std::to_string(count)});
+  for (const auto& [link, count] : summary.scene_collision_links) {
+    reasons.push_back({"scene_collision at link " + link, std::to_string(count)});
+  }
+  report.table({"reason", "count"}, reasons);
+  report.paragraph(fmt::format("{} hypotheses, {} generated, {} force closure ({:.1f}%).",
+                               summary.hypotheses, summary.generated, summary.force_closure,
+                               100 * summary.forceClosureRate()));
+}
+
 }  // namespace skelgrasp::pipeline::internal

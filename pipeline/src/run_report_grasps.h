@@ -17,6 +17,10 @@ void addGraspTable(HtmlReport& report, const std::vector<RankedGrasp>& ranked);
 // 0.1; a sentence instead when no grasp was scored.
 void addRobustnessHistogram(HtmlReport& report, const std::vector<RankedGrasp>& ranked);
 
+// Why the planner's hypotheses were rejected: a table of the rejection reasons and of the first
+// colliding link of scene collisions, and the hypothesis, generated and force-closure counts.
+void addRejectionTable(HtmlReport& report, const grasping::PlanSummary& summary);
+
 // The SVG of that chart (for tests): `counts` per bin of width 1 / counts.size().
 std::string robustnessHistogramSvg(const std::vector<std::size_t>& counts);
 

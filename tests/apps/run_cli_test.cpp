@@ -100,10 +100,15 @@ TEST(RunCli, EveryObjectInOneRun) {
   EXPECT_EQ(j["schema"], "skelgrasp.run/3");
   const auto& objects = j["objects"];
   ASSERT_EQ(objects.size(), 2u) << objects.dump();
-  std::size_t listed = 0;
+  std::size_t listed = 0, hypotheses = 0;
   for (std::size_t k = 0; k < objects.size(); ++k) {
     const auto& o = objects[k];
     EXPECT_EQ(o["id"], k);
+    // What the planner did with the object, and why an object without grasps has none.
+    ASSERT_TRUE(o["planning"].is_object()) << o.dump();
+    EXPECT_GT(o["planning"]["hypotheses"].get<std::size_t>(), 0u);
+    if (o["grasps"].get<std::size_t>() == 0) EXPECT_FALSE(o["planning"]["rejections"].empty());
+    hypotheses += o["planning"]["hypotheses"].get<std::size_t>();
     EXPECT_GT(o["points"].get<std::size_t>(), 100u);
     ASSERT_TRUE(o["mesh"].is_string());
     EXPECT_GT(loadMesh(dir + "/out/" + o["mesh"].get<std::string>()).numVertices(), 100u);
@@ -119,6 +124,8 @@ TEST(RunCli, EveryObjectInOneRun) {
   EXPECT_NEAR(std::max(x0, x1), 0.05, 0.02);
   EXPECT_GT(listed, 0u);
   ASSERT_EQ(j["grasps"].size(), listed);
+  EXPECT_EQ(j["summary"]["hypotheses"].get<std::size_t>(), hypotheses);  // the scene's sums
+  EXPECT_EQ(j["summary"]["kept"].get<std::size_t>(), listed);
   for (std::size_t i = 0; i < j["grasps"].size(); ++i) {
     const auto& g = j["grasps"][i];
     EXPECT_EQ(g["id"], i);  // ids are unique over the scene
@@ -127,7 +134,8 @@ TEST(RunCli, EveryObjectInOneRun) {
   }
   std::ifstream html_file(dir + "/out/report.html");
   const std::string html((std::istreambuf_iterator<char>(html_file)), {});
-  for (const char* text : {"Object 0", "Object 1", "scan.png", "grasps_0.png", "data-status"}) {
+  for (const char* text : {"Object 0", "Object 1", "scan.png", "grasps_0.png", "data-status",
+                           "Object 1: why hypotheses were rejected"}) {
     EXPECT_NE(html.find(text), std::string::npos) << text;
   }
   for (const char* file : {"scene.bt", "scan.png", "skeleton_0.json", "skeleton_1.json"}) {
