@@ -36,7 +36,7 @@ TEST(RealScans, MugSceneYieldsTheTableAndTheMug) {
 }
 
 // LCCP floors: measured with the defaults (docs/reconstruction.md: every scene's count within 1,
-// worst scene precision 0.989 and recall 0.800, overall 0.992 / 0.935) less a margin.
+// worst scene precision 0.989 and recall 0.800, overall 0.992 / 0.946) less a margin.
 constexpr long kMaxCountError = 1;
 constexpr double kMinScenePrecision = 0.95;
 constexpr double kMinSceneRecall = 0.75;
@@ -122,6 +122,12 @@ TEST(RealScans, OsdLccpSegmentsSeparateTouchingObjects) {
       // The stacked boxes are two objects, each nearly whole.
       EXPECT_EQ(s.score.segments, 2u);
       EXPECT_GT(s.score.mean_precision, 0.95);
+    }
+    if (s.name == "osd_test33.pcd") {
+      // The bowl-like object whose inside meets its outside at 24-41 degrees is one segment with a
+      // concavity tolerance of 27 degrees (measured recall 0.972; 0.875 at 20 degrees).
+      EXPECT_EQ(s.score.segments, 4u);
+      EXPECT_GT(s.score.mean_recall, 0.93);
     }
   }
   const auto [precision, recall] = overall(scenes);

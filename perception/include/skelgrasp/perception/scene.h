@@ -45,7 +45,7 @@ struct LccpParams {
   double spatial_importance = 0.4;
   double normal_importance = 1.0;
   // Two adjacent supervoxels join when their connection is convex or concave by less than this.
-  double concavity_tolerance_deg = 20.0;
+  double concavity_tolerance_deg = 27.0;
   // LCCP's sanity criterion (singular connections are not convex) and smoothness check (a step
   // between supervoxels with parallel normals is a cut); threshold as in PCL (fudge factor).
   bool sanity_check = true;
