@@ -8,8 +8,10 @@
 #include <pcl/filters/voxel_grid.h>
 #include <pcl/kdtree/kdtree_flann.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <unordered_map>
 
@@ -37,15 +39,22 @@ bool voxelGridFits(const AxisAlignedBox& box, double leaf) {
   return cells.prod() < static_cast<double>(std::numeric_limits<std::int32_t>::max());
 }
 
-// Integer voxel coordinates as PCL's voxel grid computes them (floats, floor of p / leaf).
-std::array<int, 3> voxelOf(const Eigen::Vector3d& p, float inverse_leaf) {
-  return {static_cast<int>(std::floor(static_cast<float>(p.x()) * inverse_leaf)),
-          static_cast<int>(std::floor(static_cast<float>(p.y()) * inverse_leaf)),
-          static_cast<int>(std::floor(static_cast<float>(p.z()) * inverse_leaf))};
+// Integer voxel coordinates as PCL's voxel grid computes them (floats, floor of p / leaf), in 64
+// bits and clamped so that no coordinate of a finite point overflows the conversion.
+using VoxelKey = std::array<std::int64_t, 3>;
+VoxelKey voxelOf(const Eigen::Vector3d& p, float inverse_leaf) {
+  constexpr float kMaxVoxelIndex = 1e18f;  // below 2^63
+  constexpr double kMaxFloat = 1e38;       // below the largest float
+  const auto axis = [&](double x) {
+    const float cell =
+        std::floor(static_cast<float>(std::clamp(x, -kMaxFloat, kMaxFloat)) * inverse_leaf);
+    return static_cast<std::int64_t>(std::clamp(cell, -kMaxVoxelIndex, kMaxVoxelIndex));
+  };
+  return {axis(p.x()), axis(p.y()), axis(p.z())};
 }
 
 struct VoxelHash {
-  std::size_t operator()(const std::array<int, 3>& v) const {
+  std::size_t operator()(const VoxelKey& v) const {
     // Large odd multipliers spread neighbouring voxels over the buckets.
     return static_cast<std::size_t>(v[0]) * 73856093u ^ static_cast<std::size_t>(v[1]) * 19349663u ^
            static_cast<std::size_t>(v[2]) * 83492791u;
@@ -58,7 +67,7 @@ struct VoxelHash {
 // left without a point of its own voxel takes the label of the nearest input point.
 void assignVoxelLabels(const PointCloud& cloud, double leaf, PointCloud& voxels) {
   const float inverse_leaf = 1.0f / static_cast<float>(leaf);
-  std::unordered_map<std::array<int, 3>, std::size_t, VoxelHash> voxel_index;
+  std::unordered_map<VoxelKey, std::size_t, VoxelHash> voxel_index;
   voxel_index.reserve(voxels.size());
   for (std::size_t i = 0; i < voxels.size(); ++i)
     voxel_index.emplace(voxelOf(voxels.points[i], inverse_leaf), i);

@@ -127,7 +127,7 @@ nlohmann::json runJson(const RunResult& r, const HandModel& hand, const percepti
       e.reason = object_reason::kNoGrasp;
     }
     e.ranked = &r.ranked;
-    e.plan = &r.plan.summary;
+    if (r.skeleton && r.skeleton->status.ok()) e.plan = &r.plan.summary;
     e.time_s = r.total_s;
     objects.push_back(internal::objectJson(e));
   }
