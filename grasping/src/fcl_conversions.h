@@ -19,7 +19,6 @@
 namespace skelgrasp::grasping {
 
 using FclMesh = fcl::BVHModel<fcl::OBBRSSd>;
-using FclCollisionMesh = fcl::BVHModel<fcl::OBBd>;
 
 namespace internal {
 template <typename BV>
@@ -36,25 +35,28 @@ inline std::shared_ptr<FclMesh> toFclMesh(const TriangleMesh& mesh) {
 // since the fast closing of a hand made of boxes never asks (each tree costs 40-50 ms on a
 // 16k-triangle mesh).
 struct GraspObject::CollisionData {
-  explicit CollisionData(const TriangleMesh& object_mesh) : mesh(object_mesh) {}
+  // Both objects sit at the identity (object frame); each holds its tree.
+  explicit CollisionData(const TriangleMesh& object_mesh)
+      : mesh(object_mesh), obb_object(objectAtIdentity(internal::toFclBvh<fcl::OBBd>(mesh))) {}
 
-  // At the identity (object frame).
+  // For distances and hand link meshes; built on the first call.
   const fcl::CollisionObjectd& distanceObject() const {
-    std::call_once(distance_once, [this] {
-      bvh = internal::toFclMesh(mesh);
-      object = std::make_unique<fcl::CollisionObjectd>(bvh, fcl::Transform3d::Identity());
-      object->computeAABB();
-    });
+    std::call_once(distance_once, [this] { object = objectAtIdentity(internal::toFclMesh(mesh)); });
     return *object;
   }
 
   const TriangleMesh& mesh;  // the owning GraspObject's (it is neither copied nor moved)
-  std::shared_ptr<FclCollisionMesh> obb_bvh;
-  std::unique_ptr<fcl::CollisionObjectd> obb_object;  // the same mesh, for primitives' collisions
+  const std::unique_ptr<fcl::CollisionObjectd> obb_object;  // for primitives' collisions
 
  private:
+  static std::unique_ptr<fcl::CollisionObjectd> objectAtIdentity(
+      std::shared_ptr<fcl::CollisionGeometryd> tree) {
+    auto object = std::make_unique<fcl::CollisionObjectd>(tree, fcl::Transform3d::Identity());
+    object->computeAABB();
+    return object;
+  }
+
   mutable std::once_flag distance_once;
-  mutable std::shared_ptr<FclMesh> bvh;
   mutable std::unique_ptr<fcl::CollisionObjectd> object;
 };
 

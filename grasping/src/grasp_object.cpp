@@ -57,10 +57,6 @@ GraspObject::GraspObject(TriangleMesh mesh) : mesh_(std::move(mesh)) {
   }
 
   collision_ = std::make_unique<CollisionData>(mesh_);
-  collision_->obb_bvh = internal::toFclBvh<fcl::OBBd>(mesh_);
-  collision_->obb_object =
-      std::make_unique<fcl::CollisionObjectd>(collision_->obb_bvh, fcl::Transform3d::Identity());
-  collision_->obb_object->computeAABB();
 }
 
 GraspObject::~GraspObject() = default;
