@@ -93,20 +93,10 @@ void validate(const FallbackStrategyParams& p) {
   }
 }
 
-// Counts and grasps of `from` added to `into` (a plan in progress; finishPlan sorts later).
+// Counts and grasps of `from` added to `into` (a plan in progress; finishPlan sorts later and sets
+// the whole plan's time).
 void appendPlan(PlanResult& into, PlanResult&& from) {
-  auto& s = into.summary;
-  const auto& f = from.summary;
-  s.hypotheses += f.hypotheses;
-  s.poses += f.poses;
-  s.generated += f.generated;
-  s.force_closure += f.force_closure;
-  for (const auto& [why, count] : f.rejections) s.rejections[why] += count;
-  for (const auto& [link, count] : f.scene_collision_links) s.scene_collision_links[link] += count;
-  s.precision += f.precision;
-  s.power += f.power;
-  s.timed_out = s.timed_out || f.timed_out;
-  s.max_grasps_reached = s.max_grasps_reached || f.max_grasps_reached;
+  into.summary.add(from.summary);
   for (auto& g : from.grasps) into.grasps.push_back(std::move(g));
 }
 

@@ -130,6 +130,21 @@ std::optional<Grasp> countOutcome(HypothesisOutcome&& outcome, PlanSummary& summ
   return std::move(outcome.grasp);
 }
 
+void PlanSummary::add(const PlanSummary& other) {
+  hypotheses += other.hypotheses;
+  poses += other.poses;
+  generated += other.generated;
+  force_closure += other.force_closure;
+  planning_s += other.planning_s;
+  for (const auto& [why, count] : other.rejections) rejections[why] += count;
+  for (const auto& [link, count] : other.scene_collision_links)
+    scene_collision_links[link] += count;
+  precision += other.precision;
+  power += other.power;
+  timed_out = timed_out || other.timed_out;
+  max_grasps_reached = max_grasps_reached || other.max_grasps_reached;
+}
+
 void finishPlan(PlanResult& result, double planning_s) {
   std::stable_sort(result.grasps.begin(), result.grasps.end(),
                    [](const Grasp& a, const Grasp& b) { return a.epsilon > b.epsilon; });

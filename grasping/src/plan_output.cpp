@@ -53,31 +53,34 @@ nlohmann::json graspToJson(const Grasp& g, const HandModel& hand) {
   return withRefinementJson(g, std::move(out));
 }
 
+nlohmann::json planSummaryJson(const PlanSummary& s) {
+  return {{"hypotheses", s.hypotheses},
+          {"poses", s.poses},
+          {"generated", s.generated},
+          {"force_closure", s.force_closure},
+          {"force_closure_rate", s.forceClosureRate()},
+          {"planning_s", s.planning_s},
+          {"ms_per_valid_grasp",
+           s.force_closure ? nlohmann::json(s.msPerValidGrasp()) : nlohmann::json(nullptr)},
+          {"rejections", s.rejections},
+          {"scene_collision_links", s.scene_collision_links},
+          {"by_type", {{"power", s.power}, {"precision", s.precision}}},
+          {"timed_out", s.timed_out},
+          {"max_grasps_reached", s.max_grasps_reached}};
+}
+
 nlohmann::json planToJson(const PlanResult& r, const HandModel& hand, const std::string& object) {
-  const auto& s = r.summary;
   nlohmann::json grasps = nlohmann::json::array();
   for (const auto& g : r.grasps) grasps.push_back(graspToJson(g, hand));
+  nlohmann::json summary = planSummaryJson(r.summary);
+  summary["kept"] = r.grasps.size();
   return {{"schema", "skelgrasp.grasps/2"},
           {"object", object},
           {"hand", hand.name()},
           {"planner", r.planner},
           {"units", "m"},
           {"status", {{"code", toString(r.status.code)}, {"message", r.status.message}}},
-          {"summary",
-           {{"hypotheses", s.hypotheses},
-            {"poses", s.poses},
-            {"generated", s.generated},
-            {"force_closure", s.force_closure},
-            {"force_closure_rate", s.forceClosureRate()},
-            {"planning_s", s.planning_s},
-            {"ms_per_valid_grasp",
-             s.force_closure ? nlohmann::json(s.msPerValidGrasp()) : nlohmann::json(nullptr)},
-            {"rejections", s.rejections},
-            {"scene_collision_links", s.scene_collision_links},
-            {"by_type", {{"power", s.power}, {"precision", s.precision}}},
-            {"kept", r.grasps.size()},
-            {"timed_out", s.timed_out},
-            {"max_grasps_reached", s.max_grasps_reached}}},
+          {"summary", std::move(summary)},
           {"grasps", grasps}};
 }
 

@@ -30,18 +30,14 @@ struct ObjectEntry {
 };
 
 // One entry of "objects": id, cluster, points, centroid, box, mesh, status, reason, grasp count,
-// best rank score, time, and "planning" (hypotheses, generated, force closure, rejections and
-// scene collisions by link; null when the object was not planned).
+// best rank score, time, and "planning" (the planner's summary of the object, as in
+// skelgrasp.grasps without "kept"; null when the object was not planned).
 nlohmann::json objectJson(const ObjectEntry& entry);
 
 // The ranked grasps of one object for "grasps", each with its "object" id and global "id" from
 // `first_id` on.
 void appendGraspsJson(nlohmann::json& grasps, const std::vector<RankedGrasp>& ranked,
                       const grasping::HandModel& hand, std::size_t object_id, std::size_t first_id);
-
-// Adds one object's planning counts to a scene's (counts and rejections summed, time added, flags
-// or-ed).
-void accumulate(grasping::PlanSummary& total, const grasping::PlanSummary& object);
 
 // "scene": frame, support plane, sensor origin, obstacle points and the occupancy file.
 nlohmann::json sceneJson(const std::optional<Eigen::Vector4d>& plane, const perception::Scan& scan,

@@ -42,30 +42,8 @@ nlohmann::json objectJson(const ObjectEntry& e) {
   j["best_rank_score"] =
       count > 0 ? nlohmann::json(e.ranked->front().score) : nlohmann::json(nullptr);
   j["time_s"] = e.time_s;
-  j["planning"] = nullptr;
-  if (e.plan != nullptr) {
-    j["planning"] = {{"hypotheses", e.plan->hypotheses},
-                     {"generated", e.plan->generated},
-                     {"force_closure", e.plan->force_closure},
-                     {"rejections", e.plan->rejections},
-                     {"scene_collision_links", e.plan->scene_collision_links}};
-  }
+  j["planning"] = e.plan != nullptr ? planSummaryJson(*e.plan) : nlohmann::json(nullptr);
   return j;
-}
-
-void accumulate(PlanSummary& total, const PlanSummary& object) {
-  total.hypotheses += object.hypotheses;
-  total.poses += object.poses;
-  total.generated += object.generated;
-  total.force_closure += object.force_closure;
-  total.planning_s += object.planning_s;
-  for (const auto& [why, count] : object.rejections) total.rejections[why] += count;
-  for (const auto& [link, count] : object.scene_collision_links)
-    total.scene_collision_links[link] += count;
-  total.precision += object.precision;
-  total.power += object.power;
-  total.timed_out = total.timed_out || object.timed_out;
-  total.max_grasps_reached = total.max_grasps_reached || object.max_grasps_reached;
 }
 
 void appendGraspsJson(nlohmann::json& grasps, const std::vector<RankedGrasp>& ranked,
@@ -105,15 +83,9 @@ std::string meshFile(std::size_t id) {
 
 nlohmann::json sceneRunJson(const SceneRunResult& r, const HandModel& hand,
                             const perception::Scan& scan, const std::string& name) {
-  PlanResult header;
+  PlanResult header;  // the scene's summary: the sum of its planned objects'
   header.status = r.status;
   header.planner = "skeleton";
-  // The scene's summary sums its objects' (each object's own is in its "planning").
-  for (const auto& o : r.objects) {
-    if (o.skeleton && o.skeleton->status.ok()) internal::accumulate(header.summary, o.plan.summary);
-  }
-  nlohmann::json j = planToJson(header, hand, name);
-  j["schema"] = internal::kRunSchema;
   nlohmann::json objects = nlohmann::json::array(), grasps = nlohmann::json::array();
   std::size_t kept = 0;
   for (const auto& o : r.objects) {
@@ -127,12 +99,17 @@ nlohmann::json sceneRunJson(const SceneRunResult& r, const HandModel& hand,
     e.status = &o.status;
     e.reason = o.reason;
     e.ranked = &o.ranked;
-    if (o.skeleton && o.skeleton->status.ok()) e.plan = &o.plan.summary;
+    if (o.skeleton && o.skeleton->status.ok()) {
+      e.plan = &o.plan.summary;
+      header.summary.add(o.plan.summary);
+    }
     e.time_s = o.total_s;
     objects.push_back(internal::objectJson(e));
     internal::appendGraspsJson(grasps, o.ranked, hand, o.id, kept);
     kept += o.ranked.size();
   }
+  nlohmann::json j = planToJson(header, hand, name);
+  j["schema"] = internal::kRunSchema;
   j["summary"]["kept"] = kept;
   j["objects"] = objects;
   j["target"] = nullptr;  // every object is a target: see "objects"

@@ -92,6 +92,10 @@ struct PlanSummary {
   bool timed_out = false;
   bool max_grasps_reached = false;
 
+  // Adds another plan's counts (a fallback's, a scene object's): counts, rejections and time
+  // summed, flags or-ed.
+  void add(const PlanSummary& other);
+
   double forceClosureRate() const { return generated ? double(force_closure) / generated : 0.0; }
   double msPerValidGrasp() const {
     return force_closure ? 1000.0 * planning_s / force_closure : 0.0;

@@ -12,6 +12,8 @@ namespace skelgrasp::grasping {
 
 // One grasp; "robustness" only when the grasp has one.
 nlohmann::json graspToJson(const Grasp& grasp, const HandModel& hand);
+// The "summary" of a plan without "kept" (which counts the plan's grasps, not the summary's).
+nlohmann::json planSummaryJson(const PlanSummary& summary);
 nlohmann::json planToJson(const PlanResult& result, const HandModel& hand,
                           const std::string& object);
 
