@@ -1,4 +1,5 @@
-// Skeleton stage timings: regularisation and contraction on generated shapes and on a YCB mesh.
+// Skeleton stage timings: regularisation and contraction on generated shapes and on a YCB mesh;
+// the skeleton of a dense Poisson mesh with and without simplification first (run's setting).
 // Run: build/bench/skeleton_bench [--benchmark_filter=...]
 #include <benchmark/benchmark.h>
 
@@ -40,6 +41,42 @@ void BM_Contract(benchmark::State& state, const std::string& shape) {
   state.counters["mesh_vertices"] = static_cast<double>(closed.numVertices());
 }
 
+// The old path (the mesh as it is) and the new (simplified to run's 2000 vertices) in one process,
+// alternating, on the paper's 14.5k-vertex Poisson mesh of a Pringles can (like a scan object's
+// mesh): the iteration time is the new path's; counters give both and their ratio.
+void BM_DenseMeshSkeleton(benchmark::State& state) {
+  setLogLevel(spdlog::level::warn);
+  const std::string path = std::string(SKELGRASP_SHARED_DATA_DIR) +
+                           "/objects/ycb_poisson_simox/pringles-poisson_mesh2.stl";
+  if (!std::filesystem::exists(path)) {
+    state.SkipWithError("../shared/data not found");
+    return;
+  }
+  const TriangleMesh mesh = loadMesh(path);
+  skeleton::SkeletonParams old_path;
+  old_path.regularisation.method = geometry::RegularisationMethod::kAuto;
+  skeleton::SkeletonParams new_path = old_path;
+  constexpr std::size_t kRunBudget = 2000;  // pipeline's kRunMaxContractionVertices
+  new_path.regularisation.max_vertices = kRunBudget;
+  double old_s = 0, new_s = 0;
+  for (auto _ : state) {
+    Stopwatch watch;
+    benchmark::DoNotOptimize(skeleton::extractSkeleton(mesh, old_path));
+    old_s += watch.seconds();
+    watch.restart();
+    benchmark::DoNotOptimize(skeleton::extractSkeleton(mesh, new_path));
+    const double seconds = watch.seconds();
+    new_s += seconds;
+    state.SetIterationTime(seconds);
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["old_ms"] = 1000 * old_s / n;
+  state.counters["new_ms"] = 1000 * new_s / n;
+  state.counters["old_over_new"] = old_s / new_s;
+  state.counters["mesh_vertices"] = static_cast<double>(mesh.numVertices());
+}
+
+BENCHMARK(BM_DenseMeshSkeleton)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Regularise, mug, std::string("mug"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Regularise, hammer, std::string("hammer"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Regularise, ycb_mug, std::string("ycb_mug"))->Unit(benchmark::kMillisecond);
