@@ -50,6 +50,23 @@ TEST(Robustness, WilsonIntervalBracketsTheRate) {
   EXPECT_NEAR(wilsonInterval(10, 10).second, 1.0, 1e-12);
 }
 
+// The interval contains the rate exactly, also at 0 and 1 where its bound is the rate itself
+// (rounding once put the upper bound of 10/10 an ulp below 1).
+TEST(Robustness, WilsonIntervalContainsTheRateExactly) {
+  for (int trials : {1, 3, 10, 30, 50, 100, 1000}) {
+    for (int k = 0; k <= trials; ++k) {
+      const double rate = static_cast<double>(k) / trials;
+      const auto [low, high] = wilsonInterval(k, trials);
+      EXPECT_LE(low, rate) << k << "/" << trials;
+      EXPECT_GE(high, rate) << k << "/" << trials;
+      EXPECT_GE(low, 0.0);
+      EXPECT_LE(high, 1.0);
+    }
+    EXPECT_EQ(wilsonInterval(trials, trials).second, 1.0);
+    EXPECT_EQ(wilsonInterval(0, trials).first, 0.0);
+  }
+}
+
 TEST(Robustness, UnsetSigmasAreTheVariantsDefaults) {
   const auto hand = grasping::loadBuiltinHand("parallel_gripper");
   const grasping::GraspObject box(primitives::makeBox({0.05, 0.09, 0.16}, 2));
