@@ -48,6 +48,7 @@ struct EvaluateArgs {
   double timeout_s = evaluation::BatchParams{}.timeout_s;
   double mu = grasping::QualityParams{}.friction;
   double vertex_distance_m = evaluation::BatchParams{}.vertex_distance_m;
+  bool centre_candidates = evaluation::BatchParams{}.centre_candidates;
   std::size_t limit = evaluation::BatchParams{}.object_limit;
   std::uint64_t seed = evaluation::BatchParams{}.seed;
   bool reference_compat = false;
@@ -114,6 +115,7 @@ int runEvaluate(const EvaluateArgs& a) {
   p.shard_count = std::stoi(count);
   p.timeout_s = a.timeout_s;
   p.vertex_distance_m = a.vertex_distance_m;
+  p.centre_candidates = a.centre_candidates;
   p.robustness_grasps = a.robustness_grasps;
   p.robustness.samples = a.samples;
   p.robustness.variant = evaluation::parseRobustnessVariant(a.variant);
@@ -186,6 +188,9 @@ void registerEvaluateCommands(CLI::App& app, Action& action) {
                   "Skeleton planner vertex distance d (m, 0 = every vertex)")
       ->check(lengthOrZero())
       ->capture_default_str();
+  cmd->add_flag(
+      "--centre-candidates,!--no-centre-candidates", a->centre_candidates,
+      "Skeleton planner: also try power grasps about each object's centre (docs/planning.md)");
   cmd->add_option("--units", a->units, "Mesh units: auto, m or mm")->capture_default_str();
   cmd->add_option("--limit", a->limit, "Only the first N objects (0 = all)")
       ->transform(countIn(0, kMaxCount))

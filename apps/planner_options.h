@@ -34,6 +34,7 @@ struct PlannerOptions {
   std::optional<double> round_ratio;  // unset: the hand's
   bool reference_compat = false;
   bool no_fallback = false;  // skeleton planner: the skeleton strategies only
+  bool centre_candidates = grasping::SkeletonPlannerParams{}.centre_candidates;
   std::string fc_test = defaultForceClosureTest();
   std::string closing = defaultClosingMethod();
   int refine_evaluations = grasping::RefinementParams{}.max_evaluations;
@@ -89,6 +90,9 @@ struct PlannerOptions {
     cmd.add_flag("--no-fallback", no_fallback,
                  "Skeleton planner: no fallback strategies for objects whose skeleton gives few "
                  "grasps (docs/planning.md)");
+    cmd.add_flag("--centre-candidates,!--no-centre-candidates", centre_candidates,
+                 "Skeleton planner: also try power grasps about the object's centre on every "
+                 "object, the robust ones the ranking chooses from (docs/planning.md)");
     addForceClosureTestOption(cmd, fc_test);
     addClosingMethodOption(cmd, closing);
     cmd.add_option("--refine-evaluations", refine_evaluations,
@@ -119,6 +123,7 @@ struct PlannerOptions {
     p.vertex_distance_m = vertex_distance_m;
     p.round_ratio = round_ratio;
     p.fallback = !no_fallback;
+    p.centre_candidates = centre_candidates;
     p.precision_retreat_m = precision_retreat_m;
     p.hypothesis = hypothesis();
     p.refinement.enabled = refine;

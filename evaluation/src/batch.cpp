@@ -145,6 +145,7 @@ class ObjectEvaluator {
       sp.timeout_s = p_.timeout_s;
       sp.seed = seed;
       sp.vertex_distance_m = p_.vertex_distance_m;
+      sp.centre_candidates = p_.centre_candidates;
       sp.hypothesis = hypothesis;
       result = grasping::planSkeletonGrasps(hand, object, skel->skeleton, sp);
     } else {

@@ -100,6 +100,7 @@ nlohmann::json resultOptions(const BatchParams& p) {
       {"seed", p.seed},
       {"timeout_s", p.timeout_s},
       {"vertex_distance_m", p.vertex_distance_m},
+      {"centre_candidates", p.centre_candidates},
       {"surface_hypotheses", p.surface_hypotheses},
       {"mu", q.friction},
       {"reference_compat", q.reference_compat},

@@ -87,9 +87,10 @@ void addAxisPoses(const Eigen::Vector3d& centre, const PrincipalAxes& pa,
 
 void validate(const FallbackStrategyParams& p) {
   if (p.sphere_directions < 1 || p.sphere_rolls < 1 || p.rim_directions < 1 ||
-      p.rim_across_rolls < 1 || !(p.disc_ratio >= 0)) {
+      p.rim_across_rolls < 1 || !(p.disc_ratio >= 0) || !(p.precision || p.power)) {
     throw InvalidArgument(
-        "fallback strategies: direction and roll counts must be >= 1, disc_ratio >= 0");
+        "fallback strategies: direction and roll counts must be >= 1, disc_ratio >= 0 and at "
+        "least one preshape");
   }
 }
 
@@ -158,8 +159,8 @@ PlanResult planFallbackGrasps(const HandModel& hand, const GraspObject& object,
   std::vector<Trial> trials;
   for (std::size_t i = 0; i < poses.size(); ++i) {
     // The grasp types the hand does (its thresholds say which), as the skeleton planner.
-    if (hand.thresholds().precision) trials.push_back({i, GraspType::kPrecision});
-    if (hand.thresholds().power) trials.push_back({i, GraspType::kPower});
+    if (sp.precision && hand.thresholds().precision) trials.push_back({i, GraspType::kPrecision});
+    if (sp.power && hand.thresholds().power) trials.push_back({i, GraspType::kPower});
   }
   std::shuffle(trials.begin(), trials.end(), std::mt19937_64(params.seed));
 
@@ -205,22 +206,32 @@ PlanResult planFallbackGrasps(const HandModel& hand, const GraspObject& object,
 
 namespace internal {
 
+std::size_t skeletonGraspLimit(const SkeletonPlannerParams& params) {
+  if (params.max_grasps == 0 || !params.fallback || !params.centre_candidates)
+    return params.max_grasps;
+  return (params.max_grasps + 1) / 2;
+}
+
 void addFallbackGrasps(const HandModel& hand, const GraspObject& object,
                        const SkeletonPlannerParams& params, double elapsed_s, PlanResult& result) {
   auto& summary = result.summary;
-  if (!params.fallback || summary.timed_out || summary.max_grasps_reached) return;
-  if (params.max_grasps > 0 && result.grasps.size() >= params.max_grasps) return;
+  if (!params.fallback || summary.timed_out) return;
+  const bool limit_reached = summary.max_grasps_reached;
+  // The skeleton strategies' share of a grasp limit is reached, not (yet) the plan's.
+  if (limit_reached && params.centre_candidates) summary.max_grasps_reached = false;
   const char* why = nullptr;
-  if (summary.poses == 0) {
+  if (limit_reached) {
+    // Enough grasps by the caller's count: no fallback, but the centre candidates below.
+  } else if (summary.poses == 0) {
     why = reason::kFallbackNoSegment;
   } else if (result.grasps.size() < params.fallback_min_grasps) {
     why = reason::kFallbackFewGrasps;
   }
-  if (!why) return;
-  // The trigger is recorded as one more rejected hypothesis (the skeleton strategies as a whole),
-  // so the rejection counts still add up to the hypotheses that were not kept.
-  ++summary.hypotheses;
-  ++summary.rejections[why];
+  if (!why && !params.centre_candidates) return;
+  if (params.max_grasps > 0 && result.grasps.size() >= params.max_grasps) {
+    summary.max_grasps_reached = true;
+    return;
+  }
   FallbackPlannerParams fp;
   fp.seed = params.seed;
   fp.strategies = params.fallback_strategies;
@@ -234,8 +245,24 @@ void addFallbackGrasps(const HandModel& hand, const GraspObject& object,
     fp.timeout_s = left_s;
   }
   if (params.max_grasps > 0) fp.max_grasps = params.max_grasps - result.grasps.size();
-  log().info("skeleton planner ({}): {} grasps from the skeleton, running the fallback ({})",
-             hand.name(), result.grasps.size(), why);
+  if (why) {
+    // The trigger is recorded as one more rejected hypothesis (the skeleton strategies as a
+    // whole), so the rejection counts still add up to the hypotheses that were not kept.
+    ++summary.hypotheses;
+    ++summary.rejections[why];
+    log().info("skeleton planner ({}): {} grasps from the skeleton, running the fallback ({})",
+               hand.name(), result.grasps.size(), why);
+  } else {
+    // Centre candidates: the power grasps about the centre (the precision ones where the hand has
+    // no power grasps); the rim poses are for discs, which the skeleton serves poorly anyway and
+    // then get the whole fallback.
+    fp.strategies.rim = false;
+    const bool power = hand.thresholds().power.has_value();
+    fp.strategies.power = power;
+    fp.strategies.precision = !power;
+    log().info("skeleton planner ({}): {} grasps from the skeleton, adding the centre candidates",
+               hand.name(), result.grasps.size());
+  }
   appendPlan(result, planFallbackGrasps(hand, object, fp));
 }
 

@@ -4,11 +4,20 @@
 
 namespace skelgrasp::grasping::internal {
 
-// After the skeleton strategies: when `params.fallback` is set, nothing stopped the plan (time,
-// grasp count) and the skeleton gave no hand pose at all (reason fallback_no_segment) or fewer
-// than params.fallback_min_grasps grasps (fallback_few_grasps), records that reason as one rejected
-// hypothesis and appends the fallback strategies' grasps and counts to `result`, within the time
-// and grasp count left. `elapsed_s`: planning time used so far.
+// The grasp limit of the skeleton strategies: params.max_grasps, or its larger half when the
+// centre candidates will run after them (they get the rest), so a limit does not shut them out.
+std::size_t skeletonGraspLimit(const SkeletonPlannerParams& params);
+
+// After the skeleton strategies, when `params.fallback` is set and the time limit has not stopped
+// the plan:
+//  * the skeleton gave no hand pose at all (reason fallback_no_segment) or fewer than
+//    params.fallback_min_grasps grasps (fallback_few_grasps), and its grasp limit was not reached:
+//    records that reason as one rejected hypothesis and appends the fallback strategies' grasps
+//    and counts to `result`;
+//  * otherwise, with params.centre_candidates: appends the centre candidates (sphere and axis
+//    poses with the power preshape).
+// Both within the time left and up to params.max_grasps grasps in all. `elapsed_s`: planning time
+// used so far.
 void addFallbackGrasps(const HandModel& hand, const GraspObject& object,
                        const SkeletonPlannerParams& params, double elapsed_s, PlanResult& result);
 

@@ -146,10 +146,10 @@ PlanResult planSkeletonGrasps(const HandModel& hand, const GraspObject& object,
     ++summary.hypotheses;
     ++summary.rejections[why];
   };
+  const std::size_t grasp_limit = internal::skeletonGraspLimit(params);
   auto stop = [&] {
     if (params.timeout_s > 0 && watch.seconds() > params.timeout_s) summary.timed_out = true;
-    if (params.max_grasps > 0 && result.grasps.size() >= params.max_grasps)
-      summary.max_grasps_reached = true;
+    if (grasp_limit > 0 && result.grasps.size() >= grasp_limit) summary.max_grasps_reached = true;
     return summary.timed_out || summary.max_grasps_reached;
   };
   ProgressReporter progress("skeleton planner", order.size(), 5.0);

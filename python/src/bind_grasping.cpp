@@ -94,7 +94,8 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
           const std::string& regularisation, double alpha_divisor, double offset_divisor,
           double spur_radius_factor, bool robustness, int robustness_samples,
           const std::string& robustness_variant, std::size_t robustness_top_k,
-          std::size_t robustness_screen, std::optional<double> robustness_mu) {
+          std::size_t robustness_screen, std::optional<double> robustness_mu,
+          bool centre_candidates) {
   if (planner != "skeleton" && planner != "surface")
     throw InvalidArgument("planner: '" + planner + "' is not skeleton or surface");
   grasping::HypothesisParams hypothesis;
@@ -124,6 +125,7 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
     p.seed = seed;
     p.vertex_distance_m = vertex_distance_m;
     p.round_ratio = round_ratio;
+    p.centre_candidates = centre_candidates;
     p.hypothesis = hypothesis;
     out.result = grasping::planSkeletonGrasps(*hand, object, out.skeleton->result.skeleton, p);
   } else {
@@ -426,6 +428,7 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
       py::arg("robustness_variant") = std::string(evaluation::toString(ranking.robustness.variant)),
       py::arg("robustness_top_k") = ranking.top_k, py::arg("robustness_screen") = ranking.screen_k,
       py::arg("robustness_mu") = ranking.friction,
+      py::arg("centre_candidates") = planner.centre_candidates,
       R"doc(
 Plans grasps for ``mesh`` with ``hand`` (``skelgrasp plan``): planner 'skeleton' (paper Alg. 1)
 or 'surface' (surface-normal baseline). Deterministic for a seed. The defaults are the library's
@@ -435,8 +438,9 @@ sets 30 s) and RobustRankingParams. ``max_hypotheses`` is the surface planner's.
 cheap r, and the best ``robustness_top_k`` of them (0: all) get a robustness r from
 ``robustness_samples`` perturbed executions (``robustness_variant`` 'paper', 'guarded' or 'reference',
 friction ``robustness_mu`` or ``mu``, samples seeded by ``seed``) and are ranked first by r;
-``robustness=False`` keeps the epsilon order. A mesh the skeleton stage cannot process raises
-ValueError.)doc");
+``robustness=False`` keeps the epsilon order. ``centre_candidates`` (skeleton planner) also tries
+power grasps about the object's centre on every object, the robust grasps the ranking chooses
+from. A mesh the skeleton stage cannot process raises ValueError.)doc");
 
   py::class_<Closing>(m, "CloseResult", "A hand closed at a pose, from :func:`close`.")
       .def_property_readonly(

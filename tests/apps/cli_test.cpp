@@ -167,7 +167,8 @@ TEST(Cli, PlanScoresAndRanksByRobustness) {
   const std::string plan = "plan " + dir + "/bottle.ply --hand sdh --max-grasps 6 --seed 3 --out ";
   const CliRun run = runCli(plan + dir +
                                 "/robust.json --robustness-samples 12 --robustness-top-k 4 "
-                                "--robustness-variant reference --robustness-mu 0.5",
+                                "--robustness-screen 4 --robustness-variant reference "
+                                "--robustness-mu 0.5",
                             dir);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_NE(run.out.find("best r "), std::string::npos) << run.out;
@@ -211,7 +212,7 @@ TEST(Cli, PlanScoresAndRanksByRobustness) {
                 doc["grasps"][i - 1]["epsilon"].get<double>());
     }
   }
-  // The same grasps, re-ranked: the scored four are the four best by epsilon.
+  // The same grasps, re-ranked: without screening the scored four are the four best by epsilon.
   std::multiset<double> best4, scored;
   for (std::size_t i = 0; i < 4; ++i) {
     best4.insert(doc["grasps"][i]["epsilon"].get<double>());

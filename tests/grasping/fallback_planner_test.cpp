@@ -3,7 +3,11 @@
 // stay out of the way on objects the skeleton serves well.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <set>
+#include <string>
+#include <vector>
 
 #include "skelgrasp/common/primitives.h"
 #include "skelgrasp/grasping/planners.h"
@@ -97,9 +101,11 @@ INSTANTIATE_TEST_SUITE_P(FallbackPlanner, PaperHand, ::testing::Values("armar3",
 TEST(FallbackPlanner, CapsuleServedByTheSkeletonIsLeftAlone) {
   const HandModel hand = loadBuiltinHand("armar3");
   const TriangleMesh capsule = primitives::makeCapsule(0.03, 0.14, 48);
-  SkeletonPlannerParams off;
+  SkeletonPlannerParams no_centre;
+  no_centre.centre_candidates = false;
+  SkeletonPlannerParams off = no_centre;
   off.fallback = false;
-  const auto with = planOn(capsule, hand), without = planOn(capsule, hand, off);
+  const auto with = planOn(capsule, hand, no_centre), without = planOn(capsule, hand, off);
   ASSERT_GE(without.result.grasps.size(), SkeletonPlannerParams{}.fallback_min_grasps);
   EXPECT_EQ(fallbackReasons(with.result.summary), 0u);
   ASSERT_EQ(with.result.grasps.size(), without.result.grasps.size());
@@ -110,6 +116,83 @@ TEST(FallbackPlanner, CapsuleServedByTheSkeletonIsLeftAlone) {
         with.result.grasps[i].hand_pose.isApprox(without.result.grasps[i].hand_pose, 1e-12));
     EXPECT_EQ(with.result.grasps[i].epsilon, without.result.grasps[i].epsilon);
   }
+}
+
+// The skeleton's grasps of a plan, keyed by strategy, vertex, preshape and pose, to compare plans
+// whose ε order interleaves other grasps.
+std::vector<std::string> skeletonGraspKeys(const PlanResult& r) {
+  std::vector<std::string> keys;
+  for (const auto& g : r.grasps) {
+    if (isFallbackStrategy(g.strategy)) continue;
+    const Eigen::Vector3d t = g.hand_pose.translation();
+    keys.push_back(g.strategy + "/" + std::to_string(g.skeleton_vertex) + "/" + g.preshape + "/" +
+                   std::to_string(std::lround(t.x() * 1e6)) + "," +
+                   std::to_string(std::lround(t.y() * 1e6)) + "," +
+                   std::to_string(std::lround(t.z() * 1e6)));
+  }
+  std::sort(keys.begin(), keys.end());
+  return keys;
+}
+
+// Centre candidates: on an object the skeleton serves, the power grasps about the centre are
+// added to the skeleton's grasps (which stay exactly as without them), judged as the others, and
+// recorded as nobody's rejection.
+TEST(FallbackPlanner, CentreCandidatesAddPowerGraspsAboutTheCentre) {
+  const HandModel hand = loadBuiltinHand("armar3");
+  const TriangleMesh capsule = primitives::makeCapsule(0.03, 0.14, 48);
+  SkeletonPlannerParams no_centre;
+  no_centre.centre_candidates = false;
+  const auto with = planOn(capsule, hand), without = planOn(capsule, hand, no_centre);
+  ASSERT_TRUE(SkeletonPlannerParams{}.centre_candidates);
+  expectSound(with.result, hand, *with.object);
+  EXPECT_EQ(fallbackReasons(with.result.summary), 0u);
+  EXPECT_EQ(skeletonGraspKeys(with.result), skeletonGraspKeys(without.result));
+  std::size_t centre = 0;
+  for (const auto& g : with.result.grasps) {
+    if (!isFallbackStrategy(g.strategy)) continue;
+    ++centre;
+    EXPECT_NE(g.strategy, "rim");  // a capsule is no disc, and rim poses are not centre ones
+    EXPECT_EQ(g.preshape, "power");
+    EXPECT_EQ(g.type, GraspType::kPower);
+  }
+  EXPECT_GE(centre, kWantedGrasps);
+  EXPECT_EQ(with.result.grasps.size(), without.result.grasps.size() + centre);
+  EXPECT_GT(with.result.summary.hypotheses, without.result.summary.hypotheses);
+}
+
+// A grasp limit does not shut the centre candidates out: the skeleton strategies stop at its
+// larger half, the centre candidates fill up the rest.
+TEST(FallbackPlanner, CentreCandidatesGetTheRestOfAGraspLimit) {
+  const HandModel hand = loadBuiltinHand("armar3");
+  const TriangleMesh capsule = primitives::makeCapsule(0.03, 0.14, 48);
+  for (std::size_t limit : {1u, 5u}) {
+    SkeletonPlannerParams limited;
+    limited.max_grasps = limit;
+    const auto p = planOn(capsule, hand, limited);
+    std::size_t centre = 0, skeleton = 0;
+    for (const auto& g : p.result.grasps) (isFallbackStrategy(g.strategy) ? centre : skeleton) += 1;
+    EXPECT_EQ(skeleton, (limit + 1) / 2) << limit;
+    EXPECT_EQ(centre, limit / 2) << limit;
+    EXPECT_TRUE(p.result.summary.max_grasps_reached) << limit;
+    expectSound(p.result, hand, *p.object);
+  }
+}
+
+// A hand without power grasps (the parallel gripper) gets its centre candidates as precision
+// grasps.
+TEST(FallbackPlanner, CentreCandidatesOfAGripperArePrecisionGrasps) {
+  const HandModel hand = loadBuiltinHand("parallel_gripper");
+  ASSERT_FALSE(hand.thresholds().power.has_value());
+  const TriangleMesh capsule = primitives::makeCapsule(0.02, 0.10, 48);
+  const auto p = planOn(capsule, hand);
+  std::size_t centre = 0;
+  for (const auto& g : p.result.grasps) {
+    if (!isFallbackStrategy(g.strategy)) continue;
+    ++centre;
+    EXPECT_EQ(g.preshape, "precision");
+  }
+  EXPECT_GT(centre, 0u);
+  expectSound(p.result, hand, *p.object);
 }
 
 TEST(FallbackPlanner, SwitchedOffLeavesTheBallToTheSkeleton) {

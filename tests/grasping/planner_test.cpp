@@ -54,7 +54,10 @@ void expectConsistent(const PlanResult& r, const HandModel& hand, const GraspObj
 
 TEST(SkeletonPlanner, CylinderGetsPowerGraspsApproachingAcrossTheAxis) {
   const HandModel hand = loadBuiltinHand("armar3");
-  const auto p = planOn(primitives::makeCylinder(0.035, 0.2, 48, 10), hand);
+  // The skeleton strategies alone (not the centre candidates, fallback_planner_test.cpp).
+  SkeletonPlannerParams skeleton_only;
+  skeleton_only.centre_candidates = false;
+  const auto p = planOn(primitives::makeCylinder(0.035, 0.2, 48, 10), hand, skeleton_only);
   ASSERT_FALSE(p.result.grasps.empty());
   expectConsistent(p.result, hand, *p.object);
   std::size_t across = 0;
@@ -76,7 +79,9 @@ TEST(SkeletonPlanner, CylinderGetsPowerGraspsApproachingAcrossTheAxis) {
 
 TEST(SkeletonPlanner, ThinRodGetsOnlyPrecisionGrasps) {
   const HandModel hand = loadBuiltinHand("armar3");
-  const auto p = planOn(primitives::makeCylinder(0.005, 0.16, 16, 20), hand);
+  SkeletonPlannerParams skeleton_only;  // not the centre candidates
+  skeleton_only.centre_candidates = false;
+  const auto p = planOn(primitives::makeCylinder(0.005, 0.16, 16, 20), hand, skeleton_only);
   ASSERT_FALSE(p.result.grasps.empty());
   expectConsistent(p.result, hand, *p.object);
   for (const auto& g : p.result.grasps) EXPECT_EQ(g.type, GraspType::kPrecision);
@@ -166,7 +171,9 @@ TEST(SkeletonPlanner, PointContactsCanBeAskedForOnASoftFingeredHand) {
   const HandModel hand = loadBuiltinHand("parallel_gripper");
   ASSERT_GT(hand.closingDefaults().torsional_friction_m, 0);
   const TriangleMesh rod = primitives::makeCylinder(0.012, 0.12, 32, 12);
-  const auto soft = planOn(rod, hand);  // nullopt: the hand's soft fingers
+  SkeletonPlannerParams skeleton_only;  // the same poses as the point-contact plan below
+  skeleton_only.centre_candidates = false;
+  const auto soft = planOn(rod, hand, skeleton_only);  // nullopt: the hand's soft fingers
   ASSERT_FALSE(soft.result.grasps.empty());
   expectConsistent(soft.result, hand, *soft.object);
 

@@ -194,6 +194,7 @@ std::vector<Grasp> planCapsule(const RefinementParams& refinement) {
   SkeletonPlannerParams params;
   params.vertex_distance_m = 0.02;
   params.refinement = refinement;
+  params.centre_candidates = false;  // refinement works on the skeleton strategies' hypotheses
   return planSkeletonGrasps(hand, object, skel.skeleton, params).grasps;
 }
 

@@ -34,6 +34,8 @@ struct BatchParams {
   int shard_index = 0, shard_count = 1;  // this process runs objects k with k % count == index
   double timeout_s = 30;                 // per planner run
   double vertex_distance_m = 0;          // skeleton planner d
+  // Skeleton planner: power grasps about the centre on every object (SkeletonPlannerParams).
+  bool centre_candidates = grasping::SkeletonPlannerParams{}.centre_candidates;
   // Used when no skeleton run gives the pose count.
   std::size_t surface_hypotheses = grasping::SurfacePlannerParams{}.max_hypotheses;
   // Robustness for up to this many grasps per run, drawn uniformly (seeded) from the kept grasps;

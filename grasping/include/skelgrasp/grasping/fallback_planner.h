@@ -33,6 +33,9 @@ struct FallbackStrategyParams {
   int sphere_rolls = 4;        // hand rolls about each sphere approach (evenly over a turn)
   int rim_directions = 16;     // approach directions in the disc plane (two rolls each)
   int rim_across_rolls = 4;    // rolls of each approach along the thin axis (between the axes')
+  // The preshapes tried at every pose, where the hand does that grasp type (at least one).
+  bool precision = true;
+  bool power = true;
   // The object is a disc ("rim" applies) when the standard deviation of its surface along the
   // thinnest principal axis is below this fraction of that along the middle axis (a sphere: 1;
   // a disc 90 mm across and 15 mm thick: about 0.4).
