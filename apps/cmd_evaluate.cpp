@@ -57,6 +57,7 @@ struct EvaluateArgs {
   bool restart = false;
   bool retry_failed = false;
   bool robust_ranking = evaluation::BatchParams{}.ranking.enabled;
+  int screen_samples = evaluation::BatchParams{}.ranking.screen_samples;
 };
 
 std::vector<std::string> split(const std::string& text, char sep) {
@@ -125,6 +126,7 @@ int runEvaluate(const EvaluateArgs& a) {
   p.robustness.closing.method = grasping::parseClosingMethod(a.closing);
   p.ranking.enabled = a.robust_ranking;
   p.ranking.robustness.variant = p.robustness.variant;
+  p.ranking.screen_samples = a.screen_samples;
   p.load.units = parseLengthUnit(a.units);
   p.seed = a.seed;
   p.restart = a.restart;
@@ -180,6 +182,10 @@ void registerEvaluateCommands(CLI::App& app, Action& action) {
                   evaluation::RobustRankingParams{}.top_k,
                   evaluation::RobustRankingParams{}.screen_k,
                   evaluation::RobustRankingParams{}.robustness.samples));
+  cmd->add_option("--robustness-screen-samples", a->screen_samples,
+                  "With --robust-ranking: perturbed executions per screened grasp")
+      ->transform(countIn(1, kMaxRankingSamples))
+      ->capture_default_str();
   cmd->add_flag("--reference-compat", a->reference_compat,
                 "Quality as the reference code (docs/hands.md)");
   addForceClosureTestOption(*cmd, a->fc_test);

@@ -91,6 +91,19 @@ TEST(EvaluateCli, AResumeWithAnotherMuRefusesInOneLineAndRestartStartsAfresh) {
 
 // Killed with SIGKILL in the middle of a batch, evaluate resumes to exactly the results of an
 // uninterrupted batch.
+// The robust ranking's screening sample count reaches the batch and is one of its recorded
+// options.
+TEST(EvaluateCli, RecordsTheScreeningSamplesOfTheRobustRanking) {
+  const std::string dir = test::tempDir("cli_eval_screen");
+  const std::string objects = objectsDir(dir, {"capsule"}), out = dir + "/out";
+  const CliRun run = runCli("evaluate --objects " + objects + " --out " + out + kFastOptions +
+                                " --robust-ranking --robustness-screen-samples 3",
+                            dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto batch = readJsonFile(out + "/batch.json");
+  EXPECT_EQ(batch["options"]["ranking"]["screen_samples"], 3) << batch.dump();
+}
+
 TEST(EvaluateCli, ABatchKilledMidwayResumesToTheUninterruptedResults) {
   const std::string dir = test::tempDir("cli_eval_kill");
   const std::string objects = objectsDir(dir, {"capsule", "bottle", "hammer", "mug"});

@@ -100,6 +100,10 @@ INSTANTIATE_TEST_SUITE_P(
                     "--octree-resolution: 'nan' is not a finite number"},
         BadCliInput{"cameras", "reconstruct {dir} --cameras 1,7 --out {dir}/out/m.ply",
                     "--cameras: 7 is outside [1, 5]"},
+        BadCliInput{"screen_samples_zero",
+                    "evaluate --objects {dir}/objects --robust-ranking "
+                    "--robustness-screen-samples 0 --out {dir}/out",
+                    "--robustness-screen-samples: 0 is outside [1, "},
         BadCliInput{"shard", "evaluate --objects {dir}/objects --shard 1x/4 --out {dir}/out",
                     "--shard '1x/4'"},
         // Item 3: thread and job counts.
