@@ -10,6 +10,7 @@
 #include "mesh_list.h"
 #include "option_checks.h"
 #include "output_paths.h"
+#include "planner_options.h"
 #include "quality_options.h"
 #include "robustness_options.h"
 #include "skelgrasp/common/error.h"
@@ -182,10 +183,7 @@ void registerEvaluateCommands(CLI::App& app, Action& action) {
                   evaluation::RobustRankingParams{}.top_k,
                   evaluation::RobustRankingParams{}.screen_k,
                   evaluation::RobustRankingParams{}.robustness.samples));
-  cmd->add_option("--robustness-screen-samples", a->screen_samples,
-                  "With --robust-ranking: perturbed executions per screened grasp")
-      ->transform(countIn(1, kMaxRankingSamples))
-      ->capture_default_str();
+  addScreenSamplesOption(*cmd, a->screen_samples);
   cmd->add_flag("--reference-compat", a->reference_compat,
                 "Quality as the reference code (docs/hands.md)");
   addForceClosureTestOption(*cmd, a->fc_test);
@@ -194,9 +192,7 @@ void registerEvaluateCommands(CLI::App& app, Action& action) {
                   "Skeleton planner vertex distance d (m, 0 = every vertex)")
       ->check(lengthOrZero())
       ->capture_default_str();
-  cmd->add_flag(
-      "--centre-candidates,!--no-centre-candidates", a->centre_candidates,
-      "Skeleton planner: also try power grasps about each object's centre (docs/planning.md)");
+  addCentreCandidatesFlag(*cmd, a->centre_candidates);
   cmd->add_option("--units", a->units, "Mesh units: auto, m or mm")->capture_default_str();
   cmd->add_option("--limit", a->limit, "Only the first N objects (0 = all)")
       ->transform(countIn(0, kMaxCount))

@@ -20,6 +20,13 @@ constexpr double kDefaultPlanningTimeoutS = 30;
 // More refinement evaluations than this per hypothesis is a typing mistake (each is a closing).
 constexpr int kMaxRefineEvaluations = 1000;
 
+// --centre-candidates / --no-centre-candidates, the same on every command that plans.
+inline CLI::Option* addCentreCandidatesFlag(CLI::App& cmd, bool& centre_candidates) {
+  return cmd.add_flag("--centre-candidates,!--no-centre-candidates", centre_candidates,
+                      "Skeleton planner: also try power grasps about the object's centre on every "
+                      "object, the robust ones the ranking chooses from (docs/planning.md)");
+}
+
 // Defaults are the library's Params (never a typed copy of a number), except the time limit.
 struct PlannerOptions {
   std::string planner = "skeleton";
@@ -90,9 +97,7 @@ struct PlannerOptions {
     cmd.add_flag("--no-fallback", no_fallback,
                  "Skeleton planner: no fallback strategies for objects whose skeleton gives few "
                  "grasps (docs/planning.md)");
-    cmd.add_flag("--centre-candidates,!--no-centre-candidates", centre_candidates,
-                 "Skeleton planner: also try power grasps about the object's centre on every "
-                 "object, the robust ones the ranking chooses from (docs/planning.md)");
+    addCentreCandidatesFlag(cmd, centre_candidates);
     addForceClosureTestOption(cmd, fc_test);
     addClosingMethodOption(cmd, closing);
     cmd.add_option("--refine-evaluations", refine_evaluations,

@@ -27,6 +27,15 @@ inline CLI::Option* addRobustnessVariantOption(CLI::App& cmd, std::string& varia
       ->capture_default_str();
 }
 
+// --robustness-screen-samples, the same on every command that ranks by robustness.
+inline CLI::Option* addScreenSamplesOption(CLI::App& cmd, int& screen_samples) {
+  return cmd
+      .add_option("--robustness-screen-samples", screen_samples,
+                  "Perturbed executions per screened grasp")
+      ->transform(countIn(1, kMaxRankingSamples))
+      ->capture_default_str();
+}
+
 // Defaults are the library's RobustRankingParams (never a typed copy of a number).
 struct RobustnessOptions {
   bool disabled = !evaluation::RobustRankingParams{}.enabled;
@@ -53,10 +62,7 @@ struct RobustnessOptions {
                    "(0 = all; none when at most --robustness-top-k)")
         ->transform(countIn(0, kMaxCount))
         ->capture_default_str();
-    cmd.add_option("--robustness-screen-samples", screen_samples,
-                   "Perturbed executions per screened grasp")
-        ->transform(countIn(1, kMaxRankingSamples))
-        ->capture_default_str();
+    addScreenSamplesOption(cmd, screen_samples);
     // No shown default: unset means the planner's friction.
     cmd.add_option("--robustness-mu", mu, "Friction coefficient of r (default: --mu)")
         ->check(finiteIn(0, kMaxFriction));
