@@ -216,22 +216,19 @@ void addFallbackGrasps(const HandModel& hand, const GraspObject& object,
                        const SkeletonPlannerParams& params, double elapsed_s, PlanResult& result) {
   auto& summary = result.summary;
   if (!params.fallback || summary.timed_out) return;
-  const bool limit_reached = summary.max_grasps_reached;
-  // The skeleton strategies' share of a grasp limit is reached, not (yet) the plan's.
-  if (limit_reached && params.centre_candidates) summary.max_grasps_reached = false;
+  // Skeleton strategies stopped by (their share of) a grasp limit have enough grasps: no fallback.
   const char* why = nullptr;
-  if (limit_reached) {
-    // Enough grasps by the caller's count: no fallback, but the centre candidates below.
-  } else if (summary.poses == 0) {
-    why = reason::kFallbackNoSegment;
-  } else if (result.grasps.size() < params.fallback_min_grasps) {
-    why = reason::kFallbackFewGrasps;
+  if (!summary.max_grasps_reached) {
+    if (summary.poses == 0) {
+      why = reason::kFallbackNoSegment;
+    } else if (result.grasps.size() < params.fallback_min_grasps) {
+      why = reason::kFallbackFewGrasps;
+    }
   }
   if (!why && !params.centre_candidates) return;
-  if (params.max_grasps > 0 && result.grasps.size() >= params.max_grasps) {
-    summary.max_grasps_reached = true;
-    return;
-  }
+  // From here on the flag is the plan's: whether the caller's limit is reached, by either part.
+  summary.max_grasps_reached = params.max_grasps > 0 && result.grasps.size() >= params.max_grasps;
+  if (summary.max_grasps_reached) return;
   FallbackPlannerParams fp;
   fp.seed = params.seed;
   fp.strategies = params.fallback_strategies;
