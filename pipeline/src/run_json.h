@@ -27,11 +27,13 @@ struct ObjectEntry {
   const std::vector<RankedGrasp>* ranked = nullptr;
   const grasping::PlanSummary* plan = nullptr;  // null: not planned
   double time_s = 0;
+  const std::vector<StageTime>* stages = nullptr;  // null: no per-object stage times
 };
 
 // One entry of "objects": id, cluster, points, centroid, box, mesh, status, reason, grasp count,
-// best rank score, time, and "planning" (the planner's summary of the object, as in
-// skelgrasp.grasps without "kept"; null when the object was not planned).
+// best rank score, time, its stage times ("timing", null when unknown) and "planning" (the
+// planner's summary of the object, as in skelgrasp.grasps without "kept"; null when the object was
+// not planned).
 nlohmann::json objectJson(const ObjectEntry& entry);
 
 // The ranked grasps of one object for "grasps", each with its "object" id and global "id" from

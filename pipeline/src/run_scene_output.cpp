@@ -42,6 +42,7 @@ nlohmann::json objectJson(const ObjectEntry& e) {
   j["best_rank_score"] =
       count > 0 ? nlohmann::json(e.ranked->front().score) : nlohmann::json(nullptr);
   j["time_s"] = e.time_s;
+  j["timing"] = e.stages != nullptr ? timingJson(*e.stages, e.time_s) : nlohmann::json(nullptr);
   j["planning"] = e.plan != nullptr ? planSummaryJson(*e.plan) : nlohmann::json(nullptr);
   return j;
 }
@@ -104,6 +105,7 @@ nlohmann::json sceneRunJson(const SceneRunResult& r, const HandModel& hand,
       header.summary.add(o.plan.summary);
     }
     e.time_s = o.total_s;
+    e.stages = &o.stages;
     objects.push_back(internal::objectJson(e));
     internal::appendGraspsJson(grasps, o.ranked, hand, o.id, kept);
     kept += o.ranked.size();
