@@ -9,6 +9,7 @@
 #include "fallback_trigger.h"
 #include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/logging.h"
+#include "skelgrasp/grasping/scene.h"
 
 namespace skelgrasp::grasping {
 namespace {
@@ -16,6 +17,9 @@ namespace {
 // The golden angle (radians): successive Fibonacci directions turn by it about the polar axis,
 // which spreads any number of them evenly over the sphere.
 const double kGoldenAngleRad = kPi * (3.0 - std::sqrt(5.0));
+// A principal axis this close to the support normal (sine of the angle) has no horizontal
+// direction to speak of.
+constexpr double kMinHorizontalComponent = 0.1;
 
 struct FallbackPose {
   Pose gcp;
@@ -85,12 +89,54 @@ void addAxisPoses(const Eigen::Vector3d& centre, const PrincipalAxes& pa,
   }
 }
 
+// The object's longest direction in the support plane: the horizontal principal axis along which
+// its surface spreads most (the fingers spread along it and close across the narrow side).
+Eigen::Vector3d longestHorizontalAxis(const PrincipalAxes& pa, const Eigen::Vector3d& up) {
+  Eigen::Vector3d best = anyPerpendicular(up);
+  double best_spread = -1;
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector3d horizontal = pa.axes.col(i) - pa.axes.col(i).dot(up) * up;
+    const double spread = pa.sd(i) * horizontal.norm();
+    if (spread > best_spread && horizontal.norm() > kMinHorizontalComponent) {
+      best_spread = spread;
+      best = horizontal.normalized();
+    }
+  }
+  return best;
+}
+
+void addTopPoses(const Eigen::Vector3d& centre, const PrincipalAxes& pa, const Eigen::Vector3d& up,
+                 const FallbackStrategyParams& p, std::vector<FallbackPose>& poses) {
+  const Eigen::Vector3d h1 = longestHorizontalAxis(pa, up), h2 = up.cross(h1);
+  // Straight down, the first roll spreading the fingers along the longest horizontal axis (so
+  // rolls at quarter turns are aligned with the object).
+  for (int r = 0; r < p.top_rolls; ++r) {
+    const double a = kTwoPi * r / p.top_rolls;
+    poses.push_back({poseFromZY(centre, -up, std::cos(a) * h1 + std::sin(a) * h2), "top"});
+  }
+  // Tilted towards the object from several sides: the hand's body stays above the neighbours
+  // while its fingers reach down a side that has room.
+  for (int m = 0; m < p.top_tilted_azimuths; ++m) {
+    const double b = kTwoPi * m / p.top_tilted_azimuths;
+    const Eigen::Vector3d side = std::cos(b) * h1 + std::sin(b) * h2;
+    const Eigen::Vector3d approach =
+        -std::cos(p.top_tilt_rad) * up - std::sin(p.top_tilt_rad) * side;
+    const Eigen::Vector3d s0 = side.cross(up).normalized(), s1 = approach.cross(s0);
+    for (int r = 0; r < p.top_tilted_rolls; ++r) {
+      const double a = kTwoPi * r / p.top_tilted_rolls;
+      poses.push_back({poseFromZY(centre, approach, std::cos(a) * s0 + std::sin(a) * s1), "top"});
+    }
+  }
+}
+
 void validate(const FallbackStrategyParams& p) {
   if (p.sphere_directions < 1 || p.sphere_rolls < 1 || p.rim_directions < 1 ||
-      p.rim_across_rolls < 1 || !(p.disc_ratio >= 0) || !(p.precision || p.power)) {
+      p.rim_across_rolls < 1 || p.top_rolls < 1 || p.top_tilted_azimuths < 0 ||
+      p.top_tilted_rolls < 1 || !(p.top_tilt_rad >= 0 && p.top_tilt_rad < kPi / 2) ||
+      !(p.disc_ratio >= 0) || !(p.precision || p.power)) {
     throw InvalidArgument(
-        "fallback strategies: direction and roll counts must be >= 1, disc_ratio >= 0 and at "
-        "least one preshape");
+        "fallback strategies: direction and roll counts must be >= 1 (tilted top azimuths >= 0), "
+        "the top tilt in [0, pi/2), disc_ratio >= 0 and at least one preshape");
   }
 }
 
@@ -151,6 +197,9 @@ PlanResult planFallbackGrasps(const HandModel& hand, const GraspObject& object,
   if (sp.sphere) addSpherePoses(centre, sp, poses);
   if (sp.rim && disc) addRimPoses(centre, pa, sp, poses);
   if (sp.axes) addAxisPoses(centre, pa, poses);
+  const SceneChecker* scene = params.hypothesis.scene;
+  const bool top = sp.top && scene != nullptr && scene->plane().has_value();
+  if (top) addTopPoses(centre, pa, scene->plane()->coefficients.head<3>(), sp, poses);
 
   struct Trial {
     std::size_t pose;
@@ -198,9 +247,9 @@ PlanResult planFallbackGrasps(const HandModel& hand, const GraspObject& object,
     result.grasps.push_back(std::move(grasp));
   }
   finishPlan(result, watch.seconds());
-  log().info("fallback planner ({}): {} poses{}, {} generated, {} force closure, {:.2f} s",
-             hand.name(), summary.poses, disc ? " (disc)" : "", summary.generated,
-             summary.force_closure, summary.planning_s);
+  log().info("fallback planner ({}): {} poses{}{}, {} generated, {} force closure, {:.2f} s",
+             hand.name(), summary.poses, disc ? " (disc)" : "", top ? " (top)" : "",
+             summary.generated, summary.force_closure, summary.planning_s);
   return result;
 }
 

@@ -268,6 +268,7 @@ void SceneOccupancy::writeBinary(const std::string& path) const {
 struct SceneChecker::Impl {
   const HandModel* hand = nullptr;
   SceneCheckParams params;
+  std::optional<SupportPlane> plane;
   std::unique_ptr<fcl::CollisionObjectd> octree;
   std::unique_ptr<fcl::CollisionObjectd> halfspace;
   std::vector<std::vector<std::pair<std::unique_ptr<fcl::CollisionObjectd>, Pose>>>
@@ -291,6 +292,7 @@ SceneChecker::SceneChecker(const HandModel& hand, const SceneOccupancy* occupanc
     if (norm < kDegeneratePlaneNormal)
       throw InvalidArgument("scene check: degenerate support plane");
     n /= norm;
+    impl_->plane = SupportPlane{plane->coefficients / norm};
     const double offset = -plane->coefficients[3] / norm - params.plane_tolerance_m;
     impl_->halfspace =
         std::make_unique<fcl::CollisionObjectd>(std::make_shared<fcl::Halfspaced>(n, offset));
@@ -305,6 +307,10 @@ SceneChecker::SceneChecker(const HandModel& hand, const SceneOccupancy* occupanc
 }
 
 SceneChecker::~SceneChecker() = default;
+
+const std::optional<SupportPlane>& SceneChecker::plane() const {
+  return impl_->plane;
+}
 
 SceneCheckResult SceneChecker::check(const Pose& hand_pose, const Eigen::VectorXd& q,
                                      const Eigen::Vector3d& approach) const {

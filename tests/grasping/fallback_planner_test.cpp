@@ -11,6 +11,7 @@
 
 #include "skelgrasp/common/primitives.h"
 #include "skelgrasp/grasping/planners.h"
+#include "skelgrasp/grasping/scene.h"
 #include "skelgrasp/skeleton/extraction.h"
 
 namespace skelgrasp::grasping {
@@ -44,7 +45,7 @@ Planned planOn(const TriangleMesh& mesh, const HandModel& hand, SkeletonPlannerP
 }
 
 bool isFallbackStrategy(const std::string& strategy) {
-  return strategy == "sphere" || strategy == "rim" || strategy == "axes";
+  return strategy == "sphere" || strategy == "rim" || strategy == "axes" || strategy == "top";
 }
 
 std::size_t fallbackReasons(const PlanSummary& s) {
@@ -239,6 +240,38 @@ TEST(FallbackPlanner, BallIsNoDiscAndResultsAreDeterministicForASeed) {
     EXPECT_NE(a.grasps[i].strategy, "rim");
     EXPECT_TRUE(a.grasps[i].hand_pose.isApprox(b.grasps[i].hand_pose, 1e-12));
     EXPECT_EQ(a.grasps[i].epsilon, b.grasps[i].epsilon);
+  }
+}
+
+// The "top" strategy: only where the scene check knows a support plane, and then from above only
+// (straight down or tilted by the configured angle), with the fingers spreading along the box's
+// long side on the straight-down poses at quarter turns.
+TEST(FallbackPlanner, TopStrategyComesFromAboveWhenThereIsASupportPlane) {
+  const HandModel hand = loadBuiltinHand("sdh");
+  constexpr double kBoxHeightM = 0.10;
+  TriangleMesh box = primitives::makeBox(Eigen::Vector3d(0.12, 0.05, kBoxHeightM), 4);
+  box.transform(Pose(Eigen::Translation3d(0, 0, kBoxHeightM / 2)));  // standing on z = 0
+  const GraspObject object(box);
+  const SceneChecker table(hand, nullptr, SupportPlane{Eigen::Vector4d(0, 0, 1, 0)});
+  FallbackPlannerParams params;
+  params.strategies.sphere = params.strategies.rim = params.strategies.axes = false;
+  const PlanResult free_space = planFallbackGrasps(hand, object, params);
+  EXPECT_EQ(free_space.summary.poses, 0u) << "top poses without a support plane";
+
+  params.hypothesis.scene = &table;
+  const PlanResult r = planFallbackGrasps(hand, object, params);
+  const FallbackStrategyParams& sp = params.strategies;
+  const std::size_t poses = sp.top_rolls + sp.top_tilted_azimuths * sp.top_tilted_rolls;
+  EXPECT_EQ(r.summary.poses, 2 * poses);  // precision and power
+  EXPECT_GE(r.grasps.size(), kWantedGrasps);
+  expectSound(r, hand, object);
+  const double steepest = std::cos(sp.top_tilt_rad) - 1e-9;
+  for (const auto& g : r.grasps) {
+    EXPECT_EQ(g.strategy, "top");
+    const Eigen::Vector3d approach = g.gcp_pose.rotation().col(2);
+    EXPECT_GE(-approach.z(), steepest) << approach.transpose();
+    // The hand stays above the table (the scene check's plane).
+    EXPECT_FALSE(table.checkPose(g.hand_pose, g.joints).collision);
   }
 }
 

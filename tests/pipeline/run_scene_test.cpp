@@ -61,7 +61,9 @@ TEST(RunScene, EveryDemoObjectGetsGraspsOnItselfClearOfTheOthers) {
     EXPECT_LE(object.skeleton->regularised_mesh.numVertices(), kRunMaxContractionVertices + 1);
     EXPECT_EQ(regularisation.decimated_from > 0,
               object.mesh.numVertices() > kRunMaxContractionVertices);
-    ASSERT_FALSE(object.ranked.empty());
+    // Issue 16's goal for the demo scene: ten grasps on every object (the ball, the fewest, had 14
+    // with the "top" strategy when this was written).
+    EXPECT_GE(object.ranked.size(), 10u);
     for (const auto& ranked : object.ranked) {
       const Grasp& g = ranked.grasp;
       EXPECT_TRUE(g.force_closure);

@@ -12,7 +12,11 @@
 //             each with several hand rolls;
 //   "rim"     disc-like objects only: approaches in the disc plane closing across the thickness
 //             (a pinch on the rim), and approaches along the thin axis closing across the disc;
-//   "axes"    approaches along +-each principal axis, the fingers spreading along the other axes.
+//   "axes"    approaches along +-each principal axis, the fingers spreading along the other axes;
+//   "top"     scenes only (the hypothesis' scene check knows a support plane): approaches from
+//             above, straight down and tilted towards the object from several sides, with rolls
+//             aligned to the object's longest horizontal axis. Among touching neighbours only a
+//             hand coming from above finds room (docs/planning.md, "Top strategy").
 // Every pose is tried with the precision and the power preshape where the hand does such grasps.
 #include <cstdint>
 
@@ -33,6 +37,14 @@ struct FallbackStrategyParams {
   int sphere_rolls = 4;        // hand rolls about each sphere approach (evenly over a turn)
   int rim_directions = 16;     // approach directions in the disc plane (two rolls each)
   int rim_across_rolls = 4;    // rolls of each approach along the thin axis (between the axes')
+  // "top" (only with a support plane): straight down with top_rolls rolls, plus approaches tilted
+  // by top_tilt_rad from the plane's normal from top_tilted_azimuths sides, top_tilted_rolls each
+  // (12 + 8 x 4 = 44 poses).
+  bool top = true;
+  int top_rolls = 12;
+  int top_tilted_azimuths = 8;
+  int top_tilted_rolls = 4;
+  double top_tilt_rad = 0.5235987755982988;  // 30 degrees
   // The preshapes tried at every pose, where the hand does that grasp type (at least one).
   bool precision = true;
   bool power = true;

@@ -44,8 +44,9 @@ struct GraspRefinement {
 struct Grasp {
   int id = -1;
   GraspType type = GraspType::kPower;
-  std::string strategy;  // "1a" "1b" "2a" "2b" "3" "4", "surface", fallback: "sphere" "rim" "axes"
-  int segment = -1;      // skeleton segment (-1: none)
+  // "1a" "1b" "2a" "2b" "3" "4", "surface", fallback: "sphere" "rim" "axes" "top"
+  std::string strategy;
+  int segment = -1;  // skeleton segment (-1: none)
   int skeleton_vertex = -1;
   std::string preshape;
   Pose gcp_pose = Pose::Identity();   // grasp centre point in the object frame, after retreat

@@ -110,6 +110,9 @@ class SceneChecker {
   SceneChecker(const HandModel& hand, const SceneOccupancy* occupancy,
                std::optional<SupportPlane> plane, const SceneCheckParams& params = {});
   ~SceneChecker();
+  // The support plane with a unit normal (pointing to the object's side), if any: the fallback
+  // planner's "top" strategy approaches against it.
+  const std::optional<SupportPlane>& plane() const;
   SceneCheckResult check(const Pose& hand_pose, const Eigen::VectorXd& q,
                          const Eigen::Vector3d& approach) const;
   // The hand at `hand_pose` in configuration `q` only, without the approach path (the closed
