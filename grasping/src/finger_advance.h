@@ -162,7 +162,13 @@ class FingerAdvance {
   // Steps until every joint a drive moves is at its limit.
   double stepsToLimits(const std::vector<std::pair<int, double>>& moves) const;
 
-  // Links that may block each other: fingers other than `finger`, not allowed in the preshape.
+  // Pairs whose gap bounds a jump: those not allowed to intersect, and also those that provably
+  // never meet (AllowedPairs::separated). Only the checked steps skip the latter's collision
+  // tests: letting the jumps ignore them too made ARMAR-III's closing slower (1.9 against 1.5 ms,
+  // same process pairs): jumps past adjacent fingers end nearer the object, where the group's
+  // exact gaps are dearer.
+  bool boundsJump(int link, int other) const;
+  // Links that may block each other or bound a jump: fingers other than `finger` (boundsJump).
   bool mayBlock(int link, int other_finger_link) const;
 
   // A lower bound of the distance between two links: their AABBs when that already reaches

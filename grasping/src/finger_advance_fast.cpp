@@ -110,9 +110,13 @@ double FingerAdvance::stepsToLimits(const std::vector<std::pair<int, double>>& m
   return steps;
 }
 
+bool FingerAdvance::boundsJump(int link, int other) const {
+  return !allowed_.allowed(link, other) || allowed_.separated(link, other);
+}
+
 bool FingerAdvance::mayBlock(int link, int other_finger_link) const {
   return hand_.fingerOfLink(other_finger_link) != hand_.fingerOfLink(link) &&
-         !allowed_.allowed(link, other_finger_link);
+         boundsJump(link, other_finger_link);
 }
 
 double FingerAdvance::linkPairGap(int a, int b, double needed) {
@@ -225,8 +229,7 @@ int FingerAdvance::jumpGroup(std::vector<Drive*>& members, int max_steps, double
     if (rate <= 0) continue;
     if (hand_.modeOfLink(l) == CollisionMode::kAll) {
       for (int s : geometry_.static_links) {
-        if (!allowed_.allowed(l, s))
-          limit(linkPairGap(l, s, rate * steps + kClearanceMarginM), rate);
+        if (boundsJump(l, s)) limit(linkPairGap(l, s, rate * steps + kClearanceMarginM), rate);
       }
     }
     // Other fingers: moving ones of the group (each pair once) and standing ones.

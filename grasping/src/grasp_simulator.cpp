@@ -26,8 +26,9 @@ const internal::AllowedPairs& GraspSimulator::allowedPairsAt(const Eigen::Vector
   for (const auto& [key, pairs] : impl_->allowed_cache) {
     if (key == joints) return pairs;
   }
-  impl_->allowed_cache.emplace_back(joints,
-                                    internal::allowedLinkPairs(hand_, impl_->geometry, queries_));
+  internal::AllowedPairs pairs = internal::allowedLinkPairs(hand_, impl_->geometry, queries_);
+  internal::allowSeparatedPairs(hand_, impl_->geometry, joints, pairs);
+  impl_->allowed_cache.emplace_back(joints, std::move(pairs));
   return impl_->allowed_cache.back().second;
 }
 

@@ -1,6 +1,9 @@
 // How far a link can move when joints turn: the lever of every joint above a link, for the
 // conservative advancement of the fast closing.
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 
 #include "simulator_internal.h"
 
@@ -45,11 +48,12 @@ void addHullPoints(const CollisionShape& shape,
 
 }  // namespace
 
-MotionBounds::MotionBounds(const HandModel& hand) : levers_(hand.links().size()) {
+MotionBounds::MotionBounds(const HandModel& hand)
+    : levers_(hand.links().size()), hulls_(hand.links().size()) {
   const auto& links = hand.links();
   const auto& joints = hand.joints();
   for (std::size_t l = 0; l < links.size(); ++l) {
-    std::vector<std::pair<Eigen::Vector3d, double>> hull;
+    auto& hull = hulls_[l];
     for (const auto& shape : links[l].shapes) addHullPoints(shape, hull);
     if (hull.empty()) continue;
     // Largest distance of the link's geometry from the origin of the current frame (the link's,
@@ -87,6 +91,98 @@ double MotionBounds::displacement(int link, const Eigen::VectorXd& joint_change)
   for (const auto& lever : levers_[link])
     bound += std::abs(joint_change[lever.joint]) * lever.radius;
   return bound;
+}
+
+namespace {
+
+// Links this close along the common axis count as meeting (FCL's collision tolerance is far
+// below it).
+constexpr double kSeparationMarginM = 1e-6;
+// Axes whose directions differ by less than this (sine of the angle) are parallel.
+constexpr double kParallelTolerance = 1e-9;
+
+// Joints the closing moves: the drives, their followers and every joint that mimics one of them.
+std::vector<char> closingJoints(const HandModel& hand) {
+  std::vector<char> moves(hand.joints().size(), 0);
+  for (const auto& finger : hand.fingers()) {
+    for (const auto& drive : finger.drives) {
+      moves[drive.joint] = 1;
+      for (const auto& [joint, ratio] : drive.followers) moves[joint] = 1;
+    }
+  }
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (std::size_t j = 0; j < moves.size(); ++j) {
+      const int of = hand.joints()[j].mimic_of;
+      if (!moves[j] && of >= 0 && moves[of]) grew = moves[j] = 1;
+    }
+  }
+  return moves;
+}
+
+// Joints from the root down to `link`.
+std::vector<int> chainOf(const HandModel& hand, int link) {
+  std::vector<int> chain;
+  for (int j = hand.links()[link].parent_joint; j >= 0;
+       j = hand.links()[hand.joints()[j].parent_link].parent_joint) {
+    chain.push_back(j);
+  }
+  return {chain.rbegin(), chain.rend()};
+}
+
+}  // namespace
+
+void allowSeparatedPairs(const HandModel& hand, const HandGeometry& geometry,
+                         const Eigen::VectorXd& start, AllowedPairs& allowed) {
+  const std::vector<char> moves = closingJoints(hand);
+  const std::vector<Pose> poses = hand.linkPoses(start);
+  const auto& joints = hand.joints();
+  std::vector<std::vector<int>> chains(hand.links().size());
+  for (std::size_t l = 0; l < chains.size(); ++l) chains[l] = chainOf(hand, static_cast<int>(l));
+
+  const auto separated = [&](int a, int b) {
+    const auto &ca = chains[a], &cb = chains[b];
+    std::size_t common = 0;
+    while (common < ca.size() && common < cb.size() && ca[common] == cb[common]) ++common;
+    std::optional<Eigen::Vector3d> u;
+    for (const auto* chain : {&ca, &cb}) {
+      for (std::size_t i = common; i < chain->size(); ++i) {
+        const int j = (*chain)[i];
+        if (!moves[j]) continue;
+        if (joints[j].type != JointType::kRevolute) return false;
+        const Eigen::Vector3d axis =
+            ((poses[joints[j].parent_link] * joints[j].origin).linear() * joints[j].axis)
+                .normalized();
+        if (!u) u = axis;
+        if (axis.cross(*u).norm() > kParallelTolerance) return false;
+      }
+    }
+    // No joint moves one against the other: they keep the preshape's relative pose, in which
+    // they do not intersect (intersecting pairs are allowed already).
+    if (!u) return true;
+    const auto extent = [&](int link) {
+      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      for (const auto& [p, pad] : geometry.motion.hull(link)) {
+        const double x = u->dot(poses[link] * p);
+        lo = std::min(lo, x - pad);
+        hi = std::max(hi, x + pad);
+      }
+      return std::make_pair(lo, hi);
+    };
+    const auto [alo, ahi] = extent(a);
+    const auto [blo, bhi] = extent(b);
+    return ahi + kSeparationMarginM < blo || bhi + kSeparationMarginM < alo;
+  };
+  for (int l : geometry.finger_links) {
+    for (int other : geometry.finger_links) {
+      if (hand.fingerOfLink(other) != hand.fingerOfLink(l) && !allowed.allowed(l, other) &&
+          separated(l, other))
+        allowed.allowSeparated(l, other);
+    }
+    for (int s : geometry.static_links) {
+      if (!allowed.allowed(l, s) && separated(l, s)) allowed.allowSeparated(l, s);
+    }
+  }
 }
 
 }  // namespace skelgrasp::grasping::internal

@@ -147,6 +147,10 @@ TEST(FastClosing, AgreesWithStepwiseOnRealGraspsOfTheFourHands) {
         "verdict %d, force closures %d; FCL queries stepwise %zu, fast %zu\n",
         hand_name.c_str(), tally.poses, tally.agree, tally.joints_within_step, tally.same_links,
         tally.same_verdict, tally.closures, tally.stepwise_queries, tally.fast_queries);
+    // ARMAR-III's four fingers flex side by side about parallel axes and can never meet: the
+    // fast closing skips their collision tests (allowSeparatedPairs; 113 k of the stepwise
+    // closing's 519 k queries when measured, 484 k before).
+    if (hand_name == "armar3") EXPECT_LT(3 * tally.fast_queries, tally.stepwise_queries);
     total.poses += tally.poses;
     total.agree += tally.agree;
     total.closures += tally.closures;
