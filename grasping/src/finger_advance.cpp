@@ -48,6 +48,26 @@ HandGeometry::HandGeometry(const HandModel& hand) : motion(hand) {
       links_of_finger[finger].push_back(link);
     }
   }
+  const auto& joints = hand.joints();
+  for (const auto& finger : hand.fingers()) {
+    std::vector<char> moves(joints.size(), 0);
+    for (const auto& drive : finger.drives) {
+      moves[drive.joint] = 1;
+      for (const auto& [joint, ratio] : drive.followers) moves[joint] = 1;
+    }
+    // A joint below a moved one moves its child too; a mimic of a moved joint moves itself.
+    std::vector<char> link_moves(links.size(), 0);
+    std::vector<int> order;
+    for (int j : hand.jointOrder()) {
+      const int of = joints[j].mimic_of;
+      if (moves[j] || (of >= 0 && moves[of]) || link_moves[joints[j].parent_link]) {
+        moves[j] = 1;
+        link_moves[joints[j].child_link] = 1;
+        order.push_back(j);
+      }
+    }
+    joints_moved_by_finger.push_back(std::move(order));
+  }
 }
 
 void placeLink(const Pose& link_pose, std::vector<ShapeInstance>& shapes) {

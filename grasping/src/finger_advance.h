@@ -35,6 +35,7 @@ class FingerAdvance {
         allowed_(allowed),
         queries_(queries),
         q_(start),
+        poses_(hand.linkPoses(start)),
         touched_(hand.links().size(), 0),
         moved_(hand.links().size(), 0.0) {}
 
@@ -67,9 +68,9 @@ class FingerAdvance {
 
   // Only the moving finger's links change pose (a drive moves joints of its own finger).
   void placeFinger(int finger, const Eigen::VectorXd& config) {
-    const auto poses = hand_.linkPoses(config);
+    hand_.updateLinkPoses(config, geometry_.joints_moved_by_finger[finger], poses_);
     for (int l : geometry_.links_of_finger[finger])
-      placeLink(hand_pose_ * poses[l], geometry_.shapes[l]);
+      placeLink(hand_pose_ * poses_[l], geometry_.shapes[l]);
   }
 
   // Tries q + the given (joint, amount) moves; keeps it if collision-free.
@@ -212,6 +213,9 @@ class FingerAdvance {
   const AllowedPairs& allowed_;
   std::size_t& queries_;
   Eigen::VectorXd q_;
+  // Link poses (hand frame) as last placed: each finger's at the configuration it was placed in
+  // (q_ or a candidate about to be tested); only the placed finger's change.
+  std::vector<Pose> poses_;
   std::vector<char> touched_;
 
   // Gap lower bounds kept valid while links move: a gap found once, less the displacement bounds

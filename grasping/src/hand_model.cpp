@@ -89,9 +89,16 @@ void HandModel::normalise(Eigen::VectorXd& q) const {
 }
 
 std::vector<Pose> HandModel::linkPoses(const Eigen::VectorXd& q) const {
-  SKELGRASP_DEMAND(q.size() == static_cast<Eigen::Index>(joints_.size()));
   std::vector<Pose> poses(links_.size(), Pose::Identity());
-  for (int j : joint_order_) {
+  updateLinkPoses(q, joint_order_, poses);
+  return poses;
+}
+
+void HandModel::updateLinkPoses(const Eigen::VectorXd& q, const std::vector<int>& joints,
+                                std::vector<Pose>& poses) const {
+  SKELGRASP_DEMAND(q.size() == static_cast<Eigen::Index>(joints_.size()));
+  SKELGRASP_DEMAND(poses.size() == links_.size());
+  for (int j : joints) {
     const auto& joint = joints_[j];
     Pose motion = Pose::Identity();
     if (joint.type == JointType::kRevolute) {
@@ -101,7 +108,6 @@ std::vector<Pose> HandModel::linkPoses(const Eigen::VectorXd& q) const {
     }
     poses[joint.child_link] = poses[joint.parent_link] * joint.origin * motion;
   }
-  return poses;
 }
 
 const Preshape& HandModel::preshape(const std::string& name) const {

@@ -64,6 +64,10 @@ struct HandGeometry {
   std::vector<int> finger_links;                   // links of fingers that take part in collisions
   std::vector<int> static_links;                   // links with geometry outside every finger
   std::vector<std::vector<int>> links_of_finger;
+  // Per finger, the joints (root to leaves) whose child link moves when that finger's drives do
+  // (below a joint the drives, their followers or a mimic of them move): placing a finger updates
+  // only these link poses.
+  std::vector<std::vector<int>> joints_moved_by_finger;
   MotionBounds motion;
 };
 

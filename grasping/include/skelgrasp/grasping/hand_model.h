@@ -115,6 +115,11 @@ class HandModel {
   void normalise(Eigen::VectorXd& q) const;
   // Pose of every link in the hand's root frame.
   std::vector<Pose> linkPoses(const Eigen::VectorXd& q) const;
+  // Recomputes, in `poses` (every link's, as linkPoses gives them), the child link poses of
+  // `joints` (a subsequence of jointOrder()) at `q` from their parents' poses: a finger moving
+  // alone updates its own links instead of the whole hand.
+  void updateLinkPoses(const Eigen::VectorXd& q, const std::vector<int>& joints,
+                       std::vector<Pose>& poses) const;
   Eigen::VectorXd zeroConfiguration() const;
 
   // Grasp description.
