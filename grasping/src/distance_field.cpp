@@ -25,6 +25,27 @@ constexpr double kFloatSlackM = 1e-7;
 // Triangle grid cells are this many field cells wide.
 constexpr int kCellsPerTriangleCell = 2;
 
+// Faces already seen by the current exact-gap query of this thread: a triangle reaching past its
+// cell is listed in every cell it reaches (two to four of them on a 16k-triangle YCB mesh), and
+// its bound and distance are the same in each. A generation counter avoids clearing the stamps.
+struct VisitedFaces {
+  std::vector<std::uint32_t> stamp;
+  std::uint32_t generation = 0;
+  void start(std::size_t faces) {
+    if (stamp.size() < faces) stamp.resize(faces, 0);
+    if (++generation == 0) {  // wrapped: old stamps could match again
+      std::fill(stamp.begin(), stamp.end(), 0);
+      generation = 1;
+    }
+  }
+  bool firstVisit(std::uint32_t face) {
+    if (stamp[face] == generation) return false;
+    stamp[face] = generation;
+    return true;
+  }
+};
+thread_local VisitedFaces visited_faces;
+
 }  // namespace
 
 struct DistanceField::Impl {
@@ -406,6 +427,8 @@ double DistanceField::boxDistance(const Pose& box_pose, const Eigen::Vector3d& h
   const Eigen::Vector3i a = m.cellOf(centre - reach), b = m.cellOf(centre + reach);
   const double cell_radius = m.cell * std::sqrt(3.0) / 2;
   bool found = false;  // an exact distance below `upper`
+  VisitedFaces& visited = visited_faces;
+  visited.start(m.faces.size());
   for (int z = a.z(); z <= b.z(); ++z) {
     for (int y = a.y(); y <= b.y(); ++y) {
       for (int x = a.x(); x <= b.x(); ++x) {
@@ -418,6 +441,7 @@ double DistanceField::boxDistance(const Pose& box_pose, const Eigen::Vector3d& h
           continue;
         for (std::uint32_t k = m.cell_first[c]; k < m.cell_first[c + 1]; ++k) {
           const std::uint32_t f = m.cell_faces[k];
+          if (!visited.firstVisit(f)) continue;
           const double bound =
               internal::pointBoxDistance(half, to_box * (m.face_centres[f] - centre)) -
               m.face_radii[f];
