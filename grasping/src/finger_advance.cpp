@@ -22,6 +22,28 @@ ClosingMethod parseClosingMethod(const std::string& text) {
 
 namespace skelgrasp::grasping::internal {
 
+namespace {
+
+// The joints a finger's closing turns: its drives, their followers and every joint that mimics
+// one of them (to a fixed point: a mimic of a mimic).
+std::vector<char> jointsTurnedBy(const HandModel& hand, const Finger& finger) {
+  std::vector<char> turns(hand.joints().size(), 0);
+  for (const auto& drive : finger.drives) {
+    turns[drive.joint] = 1;
+    for (const auto& [joint, ratio] : drive.followers) turns[joint] = 1;
+  }
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (std::size_t j = 0; j < turns.size(); ++j) {
+      const int of = hand.joints()[j].mimic_of;
+      if (!turns[j] && of >= 0 && turns[of]) grew = turns[j] = 1;
+    }
+  }
+  return turns;
+}
+
+}  // namespace
+
 HandGeometry::HandGeometry(const HandModel& hand) : motion(hand) {
   const auto& links = hand.links();
   shapes.resize(links.size());
@@ -49,19 +71,15 @@ HandGeometry::HandGeometry(const HandModel& hand) : motion(hand) {
     }
   }
   const auto& joints = hand.joints();
+  closing_joints.assign(joints.size(), 0);
   for (const auto& finger : hand.fingers()) {
-    std::vector<char> moves(joints.size(), 0);
-    for (const auto& drive : finger.drives) {
-      moves[drive.joint] = 1;
-      for (const auto& [joint, ratio] : drive.followers) moves[joint] = 1;
-    }
-    // A joint below a moved one moves its child too; a mimic of a moved joint moves itself.
+    const std::vector<char> turns = jointsTurnedBy(hand, finger);
+    // A joint below a turned one moves its child link too.
     std::vector<char> link_moves(links.size(), 0);
     std::vector<int> order;
     for (int j : hand.jointOrder()) {
-      const int of = joints[j].mimic_of;
-      if (moves[j] || (of >= 0 && moves[of]) || link_moves[joints[j].parent_link]) {
-        moves[j] = 1;
+      closing_joints[j] = closing_joints[j] || turns[j];
+      if (turns[j] || link_moves[joints[j].parent_link]) {
         link_moves[joints[j].child_link] = 1;
         order.push_back(j);
       }

@@ -163,10 +163,10 @@ class FingerAdvance {
   // Steps until every joint a drive moves is at its limit.
   double stepsToLimits(const std::vector<std::pair<int, double>>& moves) const;
 
-  // Pairs whose gap bounds a jump: those not allowed to intersect, and also those that provably
-  // never meet (AllowedPairs::separated). Only the checked steps skip the latter's collision
-  // tests: letting the jumps ignore them too made ARMAR-III's closing slower (1.9 against 1.5 ms,
-  // same process pairs): jumps past adjacent fingers end nearer the object, where the group's
+  // Pairs whose gap bounds a jump: all but those allowed to intersect, so also those that provably
+  // never meet (allowSeparatedPairs). Only the checked steps skip the latter's collision tests:
+  // letting the jumps ignore them too made ARMAR-III's closing slower (1.9 against 1.5 ms, paired
+  // runs of the two builds): jumps past adjacent fingers end nearer the object, where the group's
   // exact gaps are dearer.
   bool boundsJump(int link, int other) const;
   // Links that may block each other or bound a jump: fingers other than `finger` (boundsJump).

@@ -111,7 +111,7 @@ double FingerAdvance::stepsToLimits(const std::vector<std::pair<int, double>>& m
 }
 
 bool FingerAdvance::boundsJump(int link, int other) const {
-  return !allowed_.allowed(link, other) || allowed_.separated(link, other);
+  return !allowed_.intersecting(link, other);
 }
 
 bool FingerAdvance::mayBlock(int link, int other_finger_link) const {

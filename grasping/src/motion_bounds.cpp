@@ -101,25 +101,6 @@ constexpr double kSeparationMarginM = 1e-6;
 // Axes whose directions differ by less than this (sine of the angle) are parallel.
 constexpr double kParallelTolerance = 1e-9;
 
-// Joints the closing moves: the drives, their followers and every joint that mimics one of them.
-std::vector<char> closingJoints(const HandModel& hand) {
-  std::vector<char> moves(hand.joints().size(), 0);
-  for (const auto& finger : hand.fingers()) {
-    for (const auto& drive : finger.drives) {
-      moves[drive.joint] = 1;
-      for (const auto& [joint, ratio] : drive.followers) moves[joint] = 1;
-    }
-  }
-  for (bool grew = true; grew;) {
-    grew = false;
-    for (std::size_t j = 0; j < moves.size(); ++j) {
-      const int of = hand.joints()[j].mimic_of;
-      if (!moves[j] && of >= 0 && moves[of]) grew = moves[j] = 1;
-    }
-  }
-  return moves;
-}
-
 // Joints from the root down to `link`.
 std::vector<int> chainOf(const HandModel& hand, int link) {
   std::vector<int> chain;
@@ -134,7 +115,7 @@ std::vector<int> chainOf(const HandModel& hand, int link) {
 
 void allowSeparatedPairs(const HandModel& hand, const HandGeometry& geometry,
                          const Eigen::VectorXd& start, AllowedPairs& allowed) {
-  const std::vector<char> moves = closingJoints(hand);
+  const std::vector<char>& moves = geometry.closing_joints;
   const std::vector<Pose> poses = hand.linkPoses(start);
   const auto& joints = hand.joints();
   std::vector<std::vector<int>> chains(hand.links().size());

@@ -68,6 +68,8 @@ struct HandGeometry {
   // (below a joint the drives, their followers or a mimic of them move): placing a finger updates
   // only these link poses.
   std::vector<std::vector<int>> joints_moved_by_finger;
+  // Per joint: whether any finger's closing turns it (drives, followers, their mimics).
+  std::vector<char> closing_joints;
   MotionBounds motion;
 };
 
@@ -79,14 +81,16 @@ bool linkHitsObject(const std::vector<ShapeInstance>& link,
 
 // Link pairs (finger-finger of different fingers, finger-static) that are not checked while
 // closing: those already intersecting in the preshape are attached by design (a finger mounted
-// in the palm box).
+// in the palm box); for the fast closing also those that provably never meet
+// (allowSeparatedPairs).
 class AllowedPairs {
  public:
   explicit AllowedPairs(std::size_t links = 0) : links_(links), flags_(links * links, 0) {}
   bool allowed(int a, int b) const { return flags_[a * links_ + b] != 0; }
   void allow(int a, int b) { flags_[a * links_ + b] = kIntersecting; }
-  // Allowed because they provably never meet (allowSeparatedPairs), not because they intersect.
-  bool separated(int a, int b) const { return flags_[a * links_ + b] == kSeparated; }
+  // Allowed because they intersect in the preshape (not because they never meet).
+  bool intersecting(int a, int b) const { return flags_[a * links_ + b] == kIntersecting; }
+  // Allowed because they provably never meet (allowSeparatedPairs).
   void allowSeparated(int a, int b) { flags_[a * links_ + b] = kSeparated; }
 
  private:
@@ -105,7 +109,7 @@ AllowedPairs allowedLinkPairs(const HandModel& hand, const HandGeometry& geometr
 // along u, so links whose extents along u are apart stay apart at any joint values (adjacent
 // ARMAR-III fingers: 7 mm apart across their flexion axes). Those pairs are marked separated:
 // the checked steps of the fast closing skip their collision tests (FCL queries of the fast
-// closing in FastClosing.AgreesWithStepwise...: ARMAR-III 484 k -> 53 k).
+// closing in FastClosing.AgreesWithStepwise...: ARMAR-III 484 k -> 113 k).
 void allowSeparatedPairs(const HandModel& hand, const HandGeometry& geometry,
                          const Eigen::VectorXd& start, AllowedPairs& allowed);
 
