@@ -71,6 +71,11 @@ struct DistanceField::Impl {
   Eigen::Vector3i cell_dims;
   std::vector<std::uint32_t> cell_first;  // CSR offsets, one per cell plus one
   std::vector<std::uint32_t> cell_faces;
+  // One bit per cell, set when it lists a face: the exact box gap walks thousands of mostly
+  // empty cells per query, and this fits in the first-level cache where cell_first does not.
+  std::vector<std::uint64_t> cell_occupied;
+
+  bool occupied(std::size_t c) const { return (cell_occupied[c >> 6] >> (c & 63)) & 1u; }
 
   std::size_t node(int x, int y, int z) const {
     return (static_cast<std::size_t>(z) * dims.y() + y) * dims.x() + x;
@@ -162,6 +167,10 @@ void DistanceField::Impl::buildTriangleGrid() {
   std::vector<std::uint32_t> fill(cell_first.begin(), cell_first.end() - 1);
   for (std::size_t f = 0; f < faces.size(); ++f)
     forCells(f, [&](std::size_t c) { cell_faces[fill[c]++] = static_cast<std::uint32_t>(f); });
+  cell_occupied.assign(cells / 64 + 1, 0);
+  for (std::size_t c = 0; c < cells; ++c) {
+    if (cell_first[c] != cell_first[c + 1]) cell_occupied[c >> 6] |= std::uint64_t{1} << (c & 63);
+  }
 }
 
 double DistanceField::Impl::signedAt(const Eigen::Vector3d& p, std::size_t f) const {
@@ -426,30 +435,43 @@ double DistanceField::boxDistance(const Pose& box_pose, const Eigen::Vector3d& h
   const Eigen::Vector3d reach = rotation.cwiseAbs() * half + Eigen::Vector3d::Constant(best);
   const Eigen::Vector3i a = m.cellOf(centre - reach), b = m.cellOf(centre + reach);
   const double cell_radius = m.cell * std::sqrt(3.0) / 2;
+  // Distances are compared squared (no square root per cell or face); cell centres in the box's
+  // frame are stepped along x instead of transformed per cell.
+  const Eigen::Vector3d step_x = to_box.col(0) * m.cell;
+  const auto squaredOutside = [&](const Eigen::Vector3d& in_box) {
+    return (in_box.cwiseAbs() - half).cwiseMax(0.0).squaredNorm();
+  };
   bool found = false;  // an exact distance below `upper`
   VisitedFaces& visited = visited_faces;
   visited.start(m.faces.size());
   for (int z = a.z(); z <= b.z(); ++z) {
     for (int y = a.y(); y <= b.y(); ++y) {
+      const std::size_t row = m.cellIndex({0, y, z});
+      const Eigen::Vector3d row_start =
+          to_box * (m.origin + m.cell * Eigen::Vector3d(0.5, y + 0.5, z + 0.5) - centre);
       for (int x = a.x(); x <= b.x(); ++x) {
-        const std::size_t c = m.cellIndex({x, y, z});
-        if (m.cell_first[c] == m.cell_first[c + 1]) continue;
-        const Eigen::Vector3d cell_centre =
-            m.origin + m.cell * (Eigen::Vector3d(x, y, z) + Eigen::Vector3d::Constant(0.5));
+        const std::size_t c = row + x;
+        if (!m.occupied(c)) continue;
         // A triangle reaching past its cell is also listed in the cells it reaches.
-        if (internal::pointBoxDistance(half, to_box * (cell_centre - centre)) - cell_radius > best)
-          continue;
+        const double cell_reach = best + cell_radius;
+        if (squaredOutside(row_start + x * step_x) > cell_reach * cell_reach) continue;
         for (std::uint32_t k = m.cell_first[c]; k < m.cell_first[c + 1]; ++k) {
           const std::uint32_t f = m.cell_faces[k];
           if (!visited.firstVisit(f)) continue;
-          const double bound =
-              internal::pointBoxDistance(half, to_box * (m.face_centres[f] - centre)) -
-              m.face_radii[f];
-          if (bound > best || (found && bound == best)) continue;
+          // Cut when the face's bound exceeds best (or equals it once one distance is known).
+          const double face_reach = best + m.face_radii[f];
+          const double outside = squaredOutside(to_box * (m.face_centres[f] - centre));
+          if (outside > face_reach * face_reach || (found && outside == face_reach * face_reach))
+            continue;
           const auto& t = m.faces[f];
-          const double d = internal::boxTriangleDistance(half, to_box * (m.vertices[t[0]] - centre),
-                                                         to_box * (m.vertices[t[1]] - centre),
-                                                         to_box * (m.vertices[t[2]] - centre));
+          const Eigen::Vector3d v0 = to_box * (m.vertices[t[0]] - centre),
+                                v1 = to_box * (m.vertices[t[1]] - centre),
+                                v2 = to_box * (m.vertices[t[2]] - centre);
+          // Separating axes cut most triangles the sphere bound lets through (same rule).
+          const double separation =
+              internal::boxTriangleSeparation(half, v0, v1, v2, to_box * m.face_normals[f]);
+          if (separation > best || (found && separation == best)) continue;
+          const double d = internal::boxTriangleDistance(half, v0, v1, v2);
           if (d <= best) {
             best = d;
             found = true;

@@ -36,7 +36,10 @@ std::vector<char> jointsTurnedBy(const HandModel& hand, const Finger& finger) {
     grew = false;
     for (std::size_t j = 0; j < turns.size(); ++j) {
       const int of = hand.joints()[j].mimic_of;
-      if (!turns[j] && of >= 0 && turns[of]) grew = turns[j] = 1;
+      if (!turns[j] && of >= 0 && turns[of]) {
+        turns[j] = 1;
+        grew = true;
+      }
     }
   }
   return turns;

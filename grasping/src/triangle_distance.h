@@ -28,6 +28,19 @@ double segmentSegmentDistanceSquared(const Eigen::Vector3d& p0, const Eigen::Vec
 double boxTriangleDistance(const Eigen::Vector3d& half, const Eigen::Vector3d& a,
                            const Eigen::Vector3d& b, const Eigen::Vector3d& c);
 
+// A lower bound of boxTriangleDistance from separating axes: the gap between the projections of
+// box and triangle on each box axis and on the triangle's unit normal `normal` (zero for a
+// degenerate triangle). Projection onto a unit axis shortens no distance, so every such gap is
+// at most the distance; for a finger pad facing the triangle it is the distance.
+inline double boxTriangleSeparation(const Eigen::Vector3d& half, const Eigen::Vector3d& a,
+                                    const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                                    const Eigen::Vector3d& normal) {
+  const Eigen::Vector3d lo = a.cwiseMin(b).cwiseMin(c), hi = a.cwiseMax(b).cwiseMax(c);
+  double gap = std::max((lo - half).maxCoeff(), (-half - hi).maxCoeff());
+  gap = std::max(gap, std::abs(normal.dot(a)) - half.dot(normal.cwiseAbs()));
+  return gap;
+}
+
 // Distance from p to the solid box [-half, half] (0 inside).
 inline double pointBoxDistance(const Eigen::Vector3d& half, const Eigen::Vector3d& p) {
   return (p.cwiseAbs() - half).cwiseMax(0.0).norm();

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "skelgrasp/common/error.h"
@@ -142,6 +143,36 @@ TEST(DistanceField, BoxDistanceIsTheExactGapOfASolidBox) {
     EXPECT_LE(field.lowerBound(pose.translation()) - half.norm(), gap + 1e-9) << i;
   }
   EXPECT_GT(near, 40);
+}
+
+// A finger pad over a flat face: hundreds of coplanar triangles lie at nearly the same distance,
+// the case where the query cuts triangles by separating axes instead of testing each exactly.
+// The gap of a box above a large flat face is the height of its lowest corner.
+TEST(DistanceField, BoxDistanceOverAFlatFaceIsItsLowestCornersHeight) {
+  const Eigen::Vector3d object_half(0.06, 0.06, 0.03);
+  const TriangleMesh mesh = primitives::makeBox(2 * object_half, 40);
+  const DistanceField field(mesh, true);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  for (int i = 0; i < 200; ++i) {
+    const Eigen::Vector3d half(0.008, 0.01, 0.004 + 0.01 * std::abs(unit(rng)));
+    Pose pose = Pose::Identity();
+    // Tilts up to about 6 degrees, any turn about the face's normal.
+    pose.linear() = (Eigen::AngleAxisd(M_PI * unit(rng), Eigen::Vector3d::UnitZ()) *
+                     Eigen::AngleAxisd(0.1 * unit(rng), Eigen::Vector3d::UnitX()) *
+                     Eigen::AngleAxisd(0.1 * unit(rng), Eigen::Vector3d::UnitY()))
+                        .toRotationMatrix();
+    double lowest = std::numeric_limits<double>::infinity();
+    for (int c = 0; c < 8; ++c) {
+      const Eigen::Vector3d corner((c & 1) ? half.x() : -half.x(), (c & 2) ? half.y() : -half.y(),
+                                   (c & 4) ? half.z() : -half.z());
+      lowest = std::min(lowest, (pose.linear() * corner).z());
+    }
+    const double height = 0.004 * std::abs(unit(rng));  // of the lowest corner above the face
+    pose.translation() =
+        Eigen::Vector3d(0.02 * unit(rng), 0.02 * unit(rng), object_half.z() + height - lowest);
+    EXPECT_NEAR(field.boxDistance(pose, half, 0.01), height, 1e-9) << i;
+  }
 }
 
 TEST(DistanceField, MemoryGuardGrowsTheSpacingAndOpenMeshesAreUnsigned) {
