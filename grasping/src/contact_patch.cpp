@@ -211,9 +211,15 @@ std::optional<Contact> fastContactPatch(const HandModel& hand,
   const double upper = bounded ? max_distance + kPatchBandM : kTouchedGapReachM;
   bool all_boxes = true;
   double best = upper;
+  const ShapeInstance* closest_box = nullptr;
   for (const auto& s : shapes) {
     all_boxes = all_boxes && s.box_half.has_value();
-    if (all_boxes) best = std::min(best, field.boxDistance(shapePose(s), *s.box_half, best));
+    if (!all_boxes) break;
+    const double gap = field.boxDistance(shapePose(s), *s.box_half, best);
+    if (gap < best) {
+      best = gap;
+      closest_box = &s;
+    }
   }
   std::optional<FclGap> exact;
   if (!all_boxes || best >= upper) {
@@ -239,10 +245,20 @@ std::optional<Contact> fastContactPatch(const HandModel& hand,
     }
   }
   if (patch.empty()) {
-    if (!exact) exact = fclGap(shapes, object, queries);
-    patch_sum = exact->object_point;
-    link_sum = exact->link_point;
-    patch.push_back(exact->object_point);
+    // No surface sample near the gap (a box edge or corner touches): the closest points of the
+    // box and its nearest triangle, which FCL would find by GJK over the whole mesh.
+    std::optional<DistanceField::BoxClosestPoints> pair;
+    if (!exact && closest_box)
+      pair = field.boxClosestPoints(shapePose(*closest_box), *closest_box->box_half, upper);
+    if (pair) {
+      patch_sum = pair->on_surface.point;
+      link_sum = pair->on_box;
+    } else {
+      if (!exact) exact = fclGap(shapes, object, queries);
+      patch_sum = exact->object_point;
+      link_sum = exact->link_point;
+    }
+    patch.push_back(patch_sum);
   }
   const Eigen::Vector3d centre = patch_sum / static_cast<double>(patch.size());
   // A patch point bounds the distance of the patch centre from the surface.

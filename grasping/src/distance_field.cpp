@@ -414,6 +414,28 @@ std::optional<SurfacePoint> DistanceField::closestPointWithin(const Eigen::Vecto
 
 double DistanceField::boxDistance(const Pose& box_pose, const Eigen::Vector3d& half,
                                   double upper) const {
+  return boxGap(box_pose, half, upper, nullptr);
+}
+
+std::optional<DistanceField::BoxClosestPoints> DistanceField::boxClosestPoints(
+    const Pose& box_pose, const Eigen::Vector3d& half, double upper) const {
+  std::optional<std::size_t> face;
+  const double gap = boxGap(box_pose, half, upper, &face);
+  if (!face || !(gap > 0)) return std::nullopt;
+  const auto& m = *impl_;
+  const auto& t = m.faces[*face];
+  const Eigen::Matrix3d to_box = box_pose.linear().transpose();
+  const Eigen::Vector3d centre = box_pose.translation();
+  const auto closest = internal::boxTriangleClosestPoints(
+      half, to_box * (m.vertices[t[0]] - centre), to_box * (m.vertices[t[1]] - centre),
+      to_box * (m.vertices[t[2]] - centre));
+  if (!closest) return std::nullopt;  // touching within rounding
+  return BoxClosestPoints{box_pose * closest->on_box,
+                          SurfacePoint{box_pose * closest->on_triangle, *face, closest->distance}};
+}
+
+double DistanceField::boxGap(const Pose& box_pose, const Eigen::Vector3d& half, double upper,
+                             std::optional<std::size_t>* closest_face) const {
   const auto& m = *impl_;
   const Eigen::Matrix3d rotation = box_pose.linear();
   const Eigen::Matrix3d to_box = rotation.transpose();
@@ -475,6 +497,7 @@ double DistanceField::boxDistance(const Pose& box_pose, const Eigen::Vector3d& h
           if (d <= best) {
             best = d;
             found = true;
+            if (closest_face) *closest_face = f;
           }
           if (best <= 0) return 0;
         }

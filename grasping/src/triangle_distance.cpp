@@ -39,14 +39,14 @@ TrianglePoint closestOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d&
   return {a + ab * v + ac * w, TriangleFeature::kFace, 0};
 }
 
-double segmentSegmentDistanceSquared(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
-                                     const Eigen::Vector3d& q0, const Eigen::Vector3d& q1) {
+SegmentPoints closestSegmentPoints(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
+                                   const Eigen::Vector3d& q0, const Eigen::Vector3d& q1) {
   // Ericson 5.1.9.
   constexpr double kTiny = 1e-20;
   const Eigen::Vector3d d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
   const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
   double s = 0, t = 0;
-  if (a <= kTiny && e <= kTiny) return r.squaredNorm();
+  if (a <= kTiny && e <= kTiny) return {p0, q0};
   if (a <= kTiny) {
     t = std::clamp(f / e, 0.0, 1.0);
   } else {
@@ -66,7 +66,13 @@ double segmentSegmentDistanceSquared(const Eigen::Vector3d& p0, const Eigen::Vec
       }
     }
   }
-  return ((p0 + d1 * s) - (q0 + d2 * t)).squaredNorm();
+  return {p0 + d1 * s, q0 + d2 * t};
+}
+
+double segmentSegmentDistanceSquared(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
+                                     const Eigen::Vector3d& q0, const Eigen::Vector3d& q1) {
+  const SegmentPoints closest = closestSegmentPoints(p0, p1, q0, q1);
+  return (closest.on_p - closest.on_q).squaredNorm();
 }
 
 namespace {
@@ -166,6 +172,41 @@ double boxTriangleDistance(const Eigen::Vector3d& half, const Eigen::Vector3d& a
     }
   }
   return std::sqrt(best_squared);
+}
+
+std::optional<BoxTrianglePoints> boxTriangleClosestPoints(const Eigen::Vector3d& half,
+                                                          const Eigen::Vector3d& a,
+                                                          const Eigen::Vector3d& b,
+                                                          const Eigen::Vector3d& c) {
+  if (boxTriangleOverlap(half, a, b, c)) return std::nullopt;
+  // Disjoint convex polytopes: the closest pair is a vertex of one against the other, or two
+  // edges. All of them, without boxTriangleDistance's pruning: this runs once per contact.
+  BoxTrianglePoints best{std::numeric_limits<double>::infinity(), Eigen::Vector3d::Zero(),
+                         Eigen::Vector3d::Zero()};
+  const auto consider = [&](const Eigen::Vector3d& on_box, const Eigen::Vector3d& on_triangle) {
+    const double d = (on_box - on_triangle).norm();
+    if (d < best.distance) best = {d, on_box, on_triangle};
+  };
+  const Eigen::Vector3d tri[3] = {a, b, c};
+  for (const auto& v : tri) consider(v.cwiseMax(-half).cwiseMin(half), v);
+  Eigen::Vector3d corners[8];
+  for (int i = 0; i < 8; ++i) {
+    corners[i] = Eigen::Vector3d((i & 1) ? half.x() : -half.x(), (i & 2) ? half.y() : -half.y(),
+                                 (i & 4) ? half.z() : -half.z());
+    consider(corners[i], closestOnTriangle(corners[i], a, b, c).point);
+  }
+  for (int i = 0; i < 8; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      const int j = i | (1 << k);
+      if (j == i) continue;  // each box edge once
+      for (int e = 0; e < 3; ++e) {
+        const SegmentPoints closest =
+            closestSegmentPoints(corners[i], corners[j], tri[e], tri[(e + 1) % 3]);
+        consider(closest.on_p, closest.on_q);
+      }
+    }
+  }
+  return best;
 }
 
 }  // namespace skelgrasp::grasping::internal

@@ -2,6 +2,7 @@
 // Internal: exact distances between a triangle and a point, a segment or a solid box, for the
 // object's distance field (grid values, closest points and link gaps of the fast closing).
 #include <Eigen/Core>
+#include <optional>
 
 namespace skelgrasp::grasping::internal {
 
@@ -19,6 +20,13 @@ struct TrianglePoint {
 TrianglePoint closestOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                                 const Eigen::Vector3d& b, const Eigen::Vector3d& c);
 
+// Closest points of segments p0-p1 and q0-q1 (Ericson, 5.1.9).
+struct SegmentPoints {
+  Eigen::Vector3d on_p, on_q;
+};
+SegmentPoints closestSegmentPoints(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
+                                   const Eigen::Vector3d& q0, const Eigen::Vector3d& q1);
+
 // Squared distance between segments p0-p1 and q0-q1.
 double segmentSegmentDistanceSquared(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
                                      const Eigen::Vector3d& q0, const Eigen::Vector3d& q1);
@@ -27,6 +35,17 @@ double segmentSegmentDistanceSquared(const Eigen::Vector3d& p0, const Eigen::Vec
 // box's frame; 0 when they intersect.
 double boxTriangleDistance(const Eigen::Vector3d& half, const Eigen::Vector3d& a,
                            const Eigen::Vector3d& b, const Eigen::Vector3d& c);
+
+// The closest points of the solid box [-half, half] and triangle (a, b, c), both in the box's
+// frame, and their distance; nullopt when they intersect (no unique pair).
+struct BoxTrianglePoints {
+  double distance = 0;
+  Eigen::Vector3d on_box, on_triangle;
+};
+std::optional<BoxTrianglePoints> boxTriangleClosestPoints(const Eigen::Vector3d& half,
+                                                          const Eigen::Vector3d& a,
+                                                          const Eigen::Vector3d& b,
+                                                          const Eigen::Vector3d& c);
 
 // A lower bound of boxTriangleDistance from separating axes: the gap between the projections of
 // box and triangle on each box axis and on the triangle's unit normal `normal` (zero for a

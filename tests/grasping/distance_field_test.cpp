@@ -147,7 +147,8 @@ TEST(DistanceField, BoxDistanceIsTheExactGapOfASolidBox) {
 
 // A finger pad over a flat face: hundreds of coplanar triangles lie at nearly the same distance,
 // the case where the query cuts triangles by separating axes instead of testing each exactly.
-// The gap of a box above a large flat face is the height of its lowest corner.
+// The gap of a box above a large flat face is the height of its lowest corner, and the closest
+// points are that corner and the point of the face below it.
 TEST(DistanceField, BoxDistanceOverAFlatFaceIsItsLowestCornersHeight) {
   const Eigen::Vector3d object_half(0.06, 0.06, 0.03);
   const TriangleMesh mesh = primitives::makeBox(2 * object_half, 40);
@@ -163,16 +164,36 @@ TEST(DistanceField, BoxDistanceOverAFlatFaceIsItsLowestCornersHeight) {
                      Eigen::AngleAxisd(0.1 * unit(rng), Eigen::Vector3d::UnitY()))
                         .toRotationMatrix();
     double lowest = std::numeric_limits<double>::infinity();
+    Eigen::Vector3d lowest_corner;
     for (int c = 0; c < 8; ++c) {
       const Eigen::Vector3d corner((c & 1) ? half.x() : -half.x(), (c & 2) ? half.y() : -half.y(),
                                    (c & 4) ? half.z() : -half.z());
-      lowest = std::min(lowest, (pose.linear() * corner).z());
+      if ((pose.linear() * corner).z() < lowest) {
+        lowest = (pose.linear() * corner).z();
+        lowest_corner = corner;
+      }
     }
     const double height = 0.004 * std::abs(unit(rng));  // of the lowest corner above the face
     pose.translation() =
         Eigen::Vector3d(0.02 * unit(rng), 0.02 * unit(rng), object_half.z() + height - lowest);
     EXPECT_NEAR(field.boxDistance(pose, half, 0.01), height, 1e-9) << i;
+    // Tilted, the box touches with its lowest corner: the closest points are that corner and
+    // the point of the face below it.
+    const auto pair = field.boxClosestPoints(pose, half, 0.01);
+    if (height < 1e-6) continue;  // touching: no unique pair
+    ASSERT_TRUE(pair.has_value()) << i;
+    const Eigen::Vector3d corner = pose * lowest_corner;
+    EXPECT_NEAR(pair->on_surface.distance, height, 1e-9) << i;
+    EXPECT_LT((pair->on_box - corner).norm(), 1e-6) << i;
+    EXPECT_LT(
+        (pair->on_surface.point - Eigen::Vector3d(corner.x(), corner.y(), object_half.z())).norm(),
+        1e-6)
+        << i;
   }
+  // Farther than `upper`: no pair.
+  Pose far = Pose::Identity();
+  far.translation() = Eigen::Vector3d(0, 0, object_half.z() + 0.05);
+  EXPECT_FALSE(field.boxClosestPoints(far, Eigen::Vector3d::Constant(0.01), 0.01).has_value());
 }
 
 TEST(DistanceField, MemoryGuardGrowsTheSpacingAndOpenMeshesAreUnsigned) {

@@ -64,7 +64,21 @@ class DistanceField {
   // surface (0 when they intersect), or `upper` when it is at least `upper`.
   double boxDistance(const Pose& box_pose, const Eigen::Vector3d& half, double upper) const;
 
+  // The closest points of that box and the surface (world frame) when their gap is positive and
+  // below `upper`; nullopt when they intersect or the gap is at least `upper`.
+  // `on_surface.distance` is the gap.
+  struct BoxClosestPoints {
+    Eigen::Vector3d on_box;
+    SurfacePoint on_surface;
+  };
+  std::optional<BoxClosestPoints> boxClosestPoints(const Pose& box_pose,
+                                                   const Eigen::Vector3d& half, double upper) const;
+
  private:
+  // boxDistance, and the face of a closest triangle when the gap is below `upper`.
+  double boxGap(const Pose& box_pose, const Eigen::Vector3d& half, double upper,
+                std::optional<std::size_t>* closest_face) const;
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
