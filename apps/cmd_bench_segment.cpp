@@ -47,7 +47,13 @@ nlohmann::json parametersJson(const perception::IngestParams& p) {
             {"min_isolated_points", s.lccp.min_isolated_points},
             {"part_min_lift_m", s.lccp.part_min_lift_m},
             {"part_max_aspect", s.lccp.part_max_aspect},
-            {"part_max_fraction", s.lccp.part_max_fraction}}}};
+            {"part_max_fraction", s.lccp.part_max_fraction},
+            {"join_hidden_gaps", s.lccp.join_hidden_gaps},
+            {"hidden_gap_max_m", s.lccp.hidden_gap_max_m},
+            {"hidden_gap_step_m", s.lccp.hidden_gap_step_m},
+            {"hidden_gap_ray_radius_rad", s.lccp.hidden_gap_ray_radius_rad},
+            {"hidden_gap_min_depth_m", s.lccp.hidden_gap_min_depth_m},
+            {"hidden_gap_max_colour_distance", s.lccp.hidden_gap_max_colour_distance}}}};
 }
 
 int runBenchSegment(BenchSegmentArgs args) {

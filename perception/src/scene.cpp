@@ -219,7 +219,9 @@ void validate(const SceneParams& p) {
       !(p.lccp.color_importance >= 0) || !(p.lccp.spatial_importance >= 0) ||
       !(p.lccp.normal_importance >= 0) || !(p.lccp.smoothness_threshold >= 0) ||
       p.lccp.k_factor < 0 || !(p.lccp.part_min_lift_m >= 0) || !(p.lccp.part_max_aspect >= 0) ||
-      !(p.lccp.part_max_fraction >= 0) ||
+      !(p.lccp.part_max_fraction >= 0) || !(p.lccp.hidden_gap_max_m >= 0) ||
+      !(p.lccp.hidden_gap_step_m > 0) || !(p.lccp.hidden_gap_ray_radius_rad >= 0) ||
+      !(p.lccp.hidden_gap_min_depth_m >= 0) || !(p.lccp.hidden_gap_max_colour_distance >= 0) ||
       !(p.plane_hull_margin_m >= 0 && p.plane_hull_margin_m < 1e3)) {
     throw InvalidArgument(
         "parseScene: plane distance, iterations, plane fraction in [0, 1], candidates, cluster "

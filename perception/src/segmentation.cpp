@@ -369,6 +369,7 @@ Segmentation lccpSegments(const PointCloud& cloud, const std::vector<int>& candi
   }
   std::vector<std::vector<int>> segments;
   for (auto& [label, m] : members) segments.push_back(std::move(m));
+  out.merged += joinAcrossOccluders(cloud, segments, lp);
   keepBySize(cloud, std::move(segments), params, out);
   log().debug("scene: {} supervoxels, {} LCCP segments kept, {} merged, {} dropped",
               clusters.size(), out.segments.size(), out.merged, out.dropped.size());

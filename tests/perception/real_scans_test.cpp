@@ -36,12 +36,13 @@ TEST(RealScans, MugSceneYieldsTheTableAndTheMug) {
 }
 
 // LCCP floors: measured with the defaults (docs/reconstruction.md: every scene's count within 1,
-// worst scene precision 0.989 and recall 0.800, overall 0.992 / 0.946) less a margin.
+// worst scene precision 0.989 and recall 0.931, overall 0.992 / 0.955) less a margin; the scene
+// floors are the goals (0.9 each).
 constexpr long kMaxCountError = 1;
 constexpr double kMinScenePrecision = 0.95;
-constexpr double kMinSceneRecall = 0.75;
+constexpr double kMinSceneRecall = 0.90;
 constexpr double kMinPrecision = 0.97;
-constexpr double kMinRecall = 0.90;
+constexpr double kMinRecall = 0.93;
 
 struct OsdScene {
   std::string name;
@@ -122,6 +123,12 @@ TEST(RealScans, OsdLccpSegmentsSeparateTouchingObjects) {
       // The stacked boxes are two objects, each nearly whole.
       EXPECT_EQ(s.score.segments, 2u);
       EXPECT_GT(s.score.mean_precision, 0.95);
+    }
+    if (s.name == "osd_test26.pcd") {
+      // The low box seen in two pieces around the object in front of it is one segment (hidden
+      // gaps; measured recall 0.977, 0.800 without the rule).
+      EXPECT_EQ(s.score.segments, 2u);
+      EXPECT_GT(s.score.mean_recall, 0.95);
     }
     if (s.name == "osd_test33.pcd") {
       // The bowl-like object whose inside meets its outside at 24-41 degrees is one segment with a

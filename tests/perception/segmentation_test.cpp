@@ -5,7 +5,9 @@
 #include <set>
 
 #include "perception/synthetic_scenes.h"
+#include "skelgrasp/common/primitives.h"
 #include "skelgrasp/perception/demo_scene.h"
+#include "skelgrasp/perception/depth_camera.h"
 #include "skelgrasp/perception/filters.h"
 #include "skelgrasp/perception/ingest.h"
 #include "skelgrasp/perception/scene.h"
@@ -70,6 +72,58 @@ TEST(Segmentation, DemoSceneWithTwoObjectsInContactStillYieldsFiveObjects) {
     EXPECT_LT(best_distance, 0.04);
     EXPECT_TRUE(used.insert(best).second);
   }
+}
+
+// A long low box behind a tall cylinder, seen from the front: the scan shows the box's two ends
+// left and right of the cylinder, touching nowhere (mOSD osd_test26 on the table).
+test::TableScene boxBehindCylinder(bool with_cylinder) {
+  test::TableScene scene;
+  TriangleMesh table = primitives::makeBox({1.0, 0.8, 0.04}, 4);
+  table.transform(Pose(Eigen::Translation3d(0, 0, -0.02)));
+  scene.meshes.push_back(table);
+  TriangleMesh box = primitives::makeBox({0.06, 0.30, 0.06}, 6);
+  box.transform(Pose(Eigen::Translation3d(0, 0, 0.03)));
+  scene.meshes.push_back(box);
+  if (with_cylinder) {
+    TriangleMesh cylinder = primitives::makeCylinder(0.04, 0.20, 48, 8);
+    cylinder.transform(Pose(Eigen::Translation3d(0.12, 0, 0.10)));
+    scene.meshes.push_back(cylinder);
+  }
+  DepthCameraParams camera;
+  camera.noise.seed = 5;
+  scene.cloud = renderDepth(scene.meshes, lookAt({0.75, 0, 0.35}, {0, 0, 0.05}), camera).cloud;
+  return scene;
+}
+
+std::size_t lccpObjectCount(const test::TableScene& scene, bool join_hidden_gaps) {
+  Scan scan;
+  scan.cloud = scene.cloud;
+  IngestParams params;
+  params.scene.target = TargetSpec::parse("all");
+  params.scene.segmentation = SegmentationMethod::kLccp;
+  params.scene.lccp.join_hidden_gaps = join_hidden_gaps;
+  const IngestResult r = ingestScan(scan, params);
+  EXPECT_TRUE(r.status.ok()) << r.status.message;
+  return r.scene.clusters.size();
+}
+
+TEST(Segmentation, AnObjectSeenInTwoPiecesAroundAnOccluderIsOneObject) {
+  const test::TableScene occluded = boxBehindCylinder(true);
+  // Without the rule the box's two visible ends are two objects.
+  EXPECT_EQ(lccpObjectCount(occluded, false), 3u);
+  EXPECT_EQ(lccpObjectCount(occluded, true), 2u);
+  // Nothing hides the gap between two boxes standing apart: they stay two.
+  test::TableScene apart = boxBehindCylinder(false);
+  TriangleMesh second = primitives::makeBox({0.06, 0.10, 0.06}, 4);
+  second.transform(Pose(Eigen::Translation3d(0, 0.25, 0.03)));
+  apart.meshes.push_back(second);
+  TriangleMesh third = primitives::makeBox({0.06, 0.06, 0.10}, 4);
+  third.transform(Pose(Eigen::Translation3d(0.05, -0.28, 0.05)));
+  apart.meshes.push_back(third);
+  DepthCameraParams camera;
+  camera.noise.seed = 5;
+  apart.cloud = renderDepth(apart.meshes, lookAt({0.75, 0, 0.35}, {0, 0, 0.05}), camera).cloud;
+  EXPECT_EQ(lccpObjectCount(apart, true), 3u);
 }
 
 TEST(Segmentation, DefaultDemoSceneYieldsFiveObjectsWithEitherMethod) {

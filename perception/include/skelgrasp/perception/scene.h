@@ -71,6 +71,19 @@ struct LccpParams {
   double part_min_lift_m = 0.015;
   double part_max_aspect = 3.0;
   double part_max_fraction = 0.2;
+  // Hidden gaps (docs/reconstruction.md): two segments are one object seen in pieces around an
+  // occluder when every point of the gap between their closest points, sampled every
+  // hidden_gap_step_m, lies behind another segment (a point of it within
+  // hidden_gap_ray_radius_rad of the viewing ray, nearer to the sensor by hidden_gap_min_depth_m;
+  // 0.01 rad is about three 3 mm voxels at 1 m), the gap is at most hidden_gap_max_m, and, in
+  // clouds with colours, their mean colours differ by at most hidden_gap_max_colour_distance
+  // (Euclidean, 0-255 RGB). The sensor must be at the cloud's sensor origin (single views).
+  bool join_hidden_gaps = true;
+  double hidden_gap_max_m = 0.15;
+  double hidden_gap_step_m = 0.005;
+  double hidden_gap_ray_radius_rad = 0.01;
+  double hidden_gap_min_depth_m = 0.01;
+  double hidden_gap_max_colour_distance = 25.0;
 };
 
 struct TargetSpec {

@@ -28,4 +28,10 @@ Segmentation lccpSegments(const PointCloud& cloud, const std::vector<int>& candi
                           const perception::SceneParams& params,
                           const perception::SupportPlane& plane);
 
+// Joins segments that are one object seen in pieces around an occluder (LccpParams, hidden gaps):
+// the gap between their closest points is hidden from the sensor by another segment all along
+// and they share their colour. Returns the number of joins; `segments` keeps its other order.
+std::size_t joinAcrossOccluders(const PointCloud& cloud, std::vector<std::vector<int>>& segments,
+                                const perception::LccpParams& lp);
+
 }  // namespace skelgrasp::internal
