@@ -1,11 +1,13 @@
 // One object seen in pieces around an occluder: a low box behind a can shows its left and its
 // right end, which touch nowhere, so no convexity rule can join them (mOSD osd_test26). The
 // pieces are joined when everything between them is hidden from the sensor by a third segment
-// and they look alike. Helpers in the style of scene.cpp: each says why.
+// and they look alike (docs/reconstruction.md, "Hidden gaps").
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numeric>
+#include <utility>
 
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/geometry/point_index.h"
