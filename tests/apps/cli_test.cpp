@@ -279,7 +279,9 @@ TEST_P(StrictFilesCli, ExitsTwoWithOneLineNamingTheFile) {
     const std::string line = lastLine(r.err);
     EXPECT_EQ(line.rfind("skelgrasp: error: ", 0), 0u) << r.err;
     EXPECT_NE(line.find(c.expected), std::string::npos) << r.err;
-    if (!quiet.empty()) EXPECT_EQ(countLines(r.err), 1) << r.err;
+    if (!quiet.empty()) {
+      EXPECT_EQ(countLines(r.err), 1) << r.err;
+    }
     EXPECT_TRUE(r.out.empty()) << r.out;
   }
 }

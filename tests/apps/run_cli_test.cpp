@@ -107,7 +107,9 @@ TEST(RunCli, EveryObjectInOneRun) {
     // What the planner did with the object, and why an object without grasps has none.
     ASSERT_TRUE(o["planning"].is_object()) << o.dump();
     EXPECT_GT(o["planning"]["hypotheses"].get<std::size_t>(), 0u);
-    if (o["grasps"].get<std::size_t>() == 0) EXPECT_FALSE(o["planning"]["rejections"].empty());
+    if (o["grasps"].get<std::size_t>() == 0) {
+      EXPECT_FALSE(o["planning"]["rejections"].empty());
+    }
     hypotheses += o["planning"]["hypotheses"].get<std::size_t>();
     EXPECT_GT(o["points"].get<std::size_t>(), 100u);
     ASSERT_TRUE(o["mesh"].is_string());

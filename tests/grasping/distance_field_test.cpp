@@ -164,7 +164,7 @@ TEST(DistanceField, BoxDistanceOverAFlatFaceIsItsLowestCornersHeight) {
                      Eigen::AngleAxisd(0.1 * unit(rng), Eigen::Vector3d::UnitY()))
                         .toRotationMatrix();
     double lowest = std::numeric_limits<double>::infinity();
-    Eigen::Vector3d lowest_corner;
+    Eigen::Vector3d lowest_corner = Eigen::Vector3d::Zero();
     for (int c = 0; c < 8; ++c) {
       const Eigen::Vector3d corner((c & 1) ? half.x() : -half.x(), (c & 2) ? half.y() : -half.y(),
                                    (c & 4) ? half.z() : -half.z());

@@ -150,7 +150,9 @@ TEST(FastClosing, AgreesWithStepwiseOnRealGraspsOfTheFourHands) {
     // ARMAR-III's four fingers flex side by side about parallel axes and can never meet: the
     // fast closing skips their collision tests (allowSeparatedPairs; 113 k of the stepwise
     // closing's 519 k queries when measured, 484 k before).
-    if (hand_name == "armar3") EXPECT_LT(3 * tally.fast_queries, tally.stepwise_queries);
+    if (hand_name == "armar3") {
+      EXPECT_LT(3 * tally.fast_queries, tally.stepwise_queries);
+    }
     total.poses += tally.poses;
     total.agree += tally.agree;
     total.closures += tally.closures;

@@ -337,7 +337,9 @@ TEST(ForceClosureLp, LpOnlyModeRunsNoHullAndKeepsTheVerdict) {
     EXPECT_EQ(quick.closure_margin, full.closure_margin);
     EXPECT_EQ(quick.hull_facets, 0);  // no hull built
     EXPECT_EQ(quick.epsilon, 0.0);
-    if (full.force_closure) EXPECT_GT(full.hull_facets, 0);
+    if (full.force_closure) {
+      EXPECT_GT(full.hull_facets, 0);
+    }
   }
 }
 

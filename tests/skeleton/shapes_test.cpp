@@ -55,7 +55,9 @@ TEST_P(ThreeArmShapes, HaveABranchRegionThreeEndpointsAndThreeSegments) {
   EXPECT_EQ(s.cycleRank(), 0);
   // Branch vertices sit near the junction at the origin.
   for (const auto& v : s.vertices) {
-    if (v.type == VertexType::kBranch) EXPECT_LT(v.position.norm(), 0.03);
+    if (v.type == VertexType::kBranch) {
+      EXPECT_LT(v.position.norm(), 0.03);
+    }
   }
 }
 

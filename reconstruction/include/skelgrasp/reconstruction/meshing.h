@@ -74,7 +74,11 @@ struct MeshingParams {
   PoissonParams poisson;
   TrimParams trim;
   // Poisson surfaces are usually closed manifolds already; auto wraps only when they are not.
-  geometry::RegularisationParams regularisation{geometry::RegularisationMethod::kAuto};
+  geometry::RegularisationParams regularisation = [] {
+    geometry::RegularisationParams p;
+    p.method = geometry::RegularisationMethod::kAuto;
+    return p;
+  }();
   // A vertex is "observed" when an input (sensor) point lies within this distance, else it is
   // "filled-in" (Poisson extrapolation, completion, wrap closure).
   double observed_distance_m = 0.005;
