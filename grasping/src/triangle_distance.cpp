@@ -107,6 +107,12 @@ bool boxTriangleOverlap(const Eigen::Vector3d& half, const Eigen::Vector3d& a,
   return true;
 }
 
+// Corner i of the box [-half, half]: bit k of i set = the + side on axis k.
+Eigen::Vector3d boxCorner(const Eigen::Vector3d& half, int i) {
+  return Eigen::Vector3d((i & 1) ? half.x() : -half.x(), (i & 2) ? half.y() : -half.y(),
+                         (i & 4) ? half.z() : -half.z());
+}
+
 // The face region of a point (one coordinate beyond the box, the others within): axis * 2 + side,
 // or -1 elsewhere.
 int faceRegion(const Eigen::Vector3d& half, const Eigen::Vector3d& p) {
@@ -150,8 +156,7 @@ double boxTriangleDistance(const Eigen::Vector3d& half, const Eigen::Vector3d& a
   double best_squared = best * best;
   Eigen::Vector3d corners[8];
   for (int i = 0; i < 8; ++i) {
-    corners[i] = Eigen::Vector3d((i & 1) ? half.x() : -half.x(), (i & 2) ? half.y() : -half.y(),
-                                 (i & 4) ? half.z() : -half.z());
+    corners[i] = boxCorner(half, i);
     if (!reach[0][i & 1] || !reach[1][(i >> 1) & 1] || !reach[2][(i >> 2) & 1]) continue;
     best_squared = std::min(
         best_squared, (closestOnTriangle(corners[i], a, b, c).point - corners[i]).squaredNorm());
@@ -191,8 +196,7 @@ std::optional<BoxTrianglePoints> boxTriangleClosestPoints(const Eigen::Vector3d&
   for (const auto& v : tri) consider(v.cwiseMax(-half).cwiseMin(half), v);
   Eigen::Vector3d corners[8];
   for (int i = 0; i < 8; ++i) {
-    corners[i] = Eigen::Vector3d((i & 1) ? half.x() : -half.x(), (i & 2) ? half.y() : -half.y(),
-                                 (i & 4) ? half.z() : -half.z());
+    corners[i] = boxCorner(half, i);
     consider(corners[i], closestOnTriangle(corners[i], a, b, c).point);
   }
   for (int i = 0; i < 8; ++i) {
