@@ -19,14 +19,30 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// One scratch folder per process: readers take paths, and the extension decides the format.
+// One scratch folder per process: readers take paths, and the extension decides the format. It
+// goes when the process ends normally; a fuzzer run starts thousands of processes, and each left
+// its folder behind before.
+class ScratchDir {
+ public:
+  ScratchDir()
+      : path_(fs::temp_directory_path() / ("skelgrasp-fuzz-" + std::to_string(::getpid()))) {
+    fs::create_directories(path_);
+  }
+  ~ScratchDir() {
+    std::error_code ignored;  // a destructor must not throw; a leftover folder is harmless
+    fs::remove_all(path_, ignored);
+  }
+  ScratchDir(const ScratchDir&) = delete;
+  ScratchDir& operator=(const ScratchDir&) = delete;
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
 const fs::path& scratchDir() {
-  static const fs::path dir = [] {
-    fs::path d = fs::temp_directory_path() / ("skelgrasp-fuzz-" + std::to_string(::getpid()));
-    fs::create_directories(d);
-    return d;
-  }();
-  return dir;
+  static const ScratchDir dir;
+  return dir.path();
 }
 
 std::string writeInput(const std::string& name, const std::uint8_t* data, std::size_t size) {
