@@ -59,6 +59,7 @@ struct EvaluateArgs {
   bool retry_failed = false;
   bool robust_ranking = evaluation::BatchParams{}.ranking.enabled;
   int screen_samples = evaluation::BatchParams{}.ranking.screen_samples;
+  RobustRefineOptions refine;
 };
 
 std::vector<std::string> split(const std::string& text, char sep) {
@@ -128,6 +129,7 @@ int runEvaluate(const EvaluateArgs& a) {
   p.ranking.enabled = a.robust_ranking;
   p.ranking.robustness.variant = p.robustness.variant;
   p.ranking.screen_samples = a.screen_samples;
+  a.refine.applyTo(p.ranking.refinement);
   p.load.units = parseLengthUnit(a.units);
   p.seed = a.seed;
   p.restart = a.restart;
@@ -184,6 +186,7 @@ void registerEvaluateCommands(CLI::App& app, Action& action) {
                   evaluation::RobustRankingParams{}.screen_k,
                   evaluation::RobustRankingParams{}.robustness.samples));
   addScreenSamplesOption(*cmd, a->screen_samples);
+  a->refine.addTo(*cmd);
   cmd->add_flag("--reference-compat", a->reference_compat,
                 "Quality as the reference code (docs/hands.md)");
   addForceClosureTestOption(*cmd, a->fc_test);

@@ -36,6 +36,39 @@ inline CLI::Option* addScreenSamplesOption(CLI::App& cmd, int& screen_samples) {
       ->capture_default_str();
 }
 
+// Refinement for robustness (evaluation/robust_refinement.h), the same on every command that ranks.
+struct RobustRefineOptions {
+  bool disabled = !evaluation::RobustRefinementParams{}.enabled;
+  std::size_t grasps = evaluation::RobustRefinementParams{}.max_grasps;
+  int evaluations = evaluation::RobustRefinementParams{}.max_evaluations;
+  int samples = evaluation::RobustRefinementParams{}.samples;
+
+  void addTo(CLI::App& cmd) {
+    cmd.add_flag("--no-robust-refine", disabled,
+                 "Return the planner's poses: no search for a more robust pose near each scored "
+                 "grasp");
+    cmd.add_option("--robust-refine-grasps", grasps,
+                   "Most robust scored grasps searched for a more robust pose (0 = all scored)")
+        ->transform(countIn(0, kMaxCount))
+        ->capture_default_str();
+    cmd.add_option("--robust-refine-evaluations", evaluations,
+                   "Poses tried near each scored grasp in the search for a more robust one")
+        ->transform(countIn(0, kMaxRankingSamples))
+        ->capture_default_str();
+    cmd.add_option("--robust-refine-samples", samples,
+                   "Perturbed executions per pose in that search")
+        ->transform(countIn(1, kMaxRankingSamples))
+        ->capture_default_str();
+  }
+
+  void applyTo(evaluation::RobustRefinementParams& p) const {
+    p.enabled = !disabled;
+    p.max_grasps = grasps;
+    p.max_evaluations = evaluations;
+    p.samples = samples;
+  }
+};
+
 // Defaults are the library's RobustRankingParams (never a typed copy of a number).
 struct RobustnessOptions {
   bool disabled = !evaluation::RobustRankingParams{}.enabled;
@@ -45,6 +78,7 @@ struct RobustnessOptions {
   std::size_t screen_k = evaluation::RobustRankingParams{}.screen_k;
   int screen_samples = evaluation::RobustRankingParams{}.screen_samples;
   std::optional<double> mu;  // unset: the planner's --mu
+  RobustRefineOptions refine;
 
   void addTo(CLI::App& cmd) {
     cmd.add_flag("--no-robustness", disabled,
@@ -66,6 +100,7 @@ struct RobustnessOptions {
     // No shown default: unset means the planner's friction.
     cmd.add_option("--robustness-mu", mu, "Friction coefficient of r (default: --mu)")
         ->check(finiteIn(0, kMaxFriction));
+    refine.addTo(cmd);
   }
 
   // `seed`: the command's --seed, which also seeds the robustness samples.
@@ -79,6 +114,7 @@ struct RobustnessOptions {
     p.robustness.variant = evaluation::parseRobustnessVariant(variant);
     p.robustness.seed = seed;
     p.friction = mu;
+    refine.applyTo(p.refinement);
     return p;
   }
 };

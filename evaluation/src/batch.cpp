@@ -169,6 +169,9 @@ class ObjectEvaluator {
       for (const auto& g : result.grasps)
         if (g.robustness) sum += g.robustness->r;
       if (ranked.scored > 0) ranking.r_mean = sum / ranked.scored;
+      if (!result.grasps.empty() && result.grasps.front().robustness)
+        ranking.r_best = result.grasps.front().robustness->r;
+      ranking.refined = ranked.refined;
     }
     record(id, hand, planner, seed, object, result, ranking, skel, out);
     return result.summary.poses;
@@ -178,6 +181,8 @@ class ObjectEvaluator {
   struct RankingMeasures {
     std::size_t scored = 0;
     std::optional<double> r_mean;  // of the scored grasps
+    std::optional<double> r_best;  // of the first grasp (ranked first)
+    std::size_t refined = 0;       // scored grasps moved by refinement for robustness
     double time_s = 0;
   };
 
@@ -232,6 +237,8 @@ class ObjectEvaluator {
     m.ranked_grasps = ranking.scored;
     m.ranked_r_mean = ranking.r_mean;
     m.ranking_s = ranking.time_s;
+    m.ranked_r_best = ranking.r_best;
+    m.ranked_refined = ranking.refined;
     out.runs.push_back(std::move(run));
     for (std::size_t i = 0; i < plan.grasps.size(); ++i) {
       const auto& g = plan.grasps[i];

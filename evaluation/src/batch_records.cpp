@@ -155,6 +155,8 @@ void to_json(nlohmann::json& j, const RunRecord& run) {
   j["ranked_grasps"] = m.ranked_grasps;
   j["ranked_r_mean"] = orNull(m.ranked_r_mean);
   j["ranking_s"] = m.ranking_s;
+  j["ranked_r_best"] = orNull(m.ranked_r_best);
+  j["ranked_refined"] = m.ranked_refined;
 }
 
 void from_json(const nlohmann::json& j, RunRecord& run) {
@@ -193,6 +195,10 @@ void from_json(const nlohmann::json& j, RunRecord& run) {
     m.ranked_grasps = f.count("ranked_grasps");
     m.ranked_r_mean = f.realOrNull("ranked_r_mean");
     m.ranking_s = f.real("ranking_s");
+  }
+  if (f.has("ranked_refined")) {
+    m.ranked_r_best = f.realOrNull("ranked_r_best");
+    m.ranked_refined = f.count("ranked_refined");
   }
   run.measures = std::move(m);
 }

@@ -52,6 +52,10 @@ struct RunMeasures {
   std::size_t ranked_grasps = 0;
   std::optional<double> ranked_r_mean;
   double ranking_s = 0;
+  // The first grasp's r (the best) and how many scored grasps refinement for robustness moved.
+  // Absent before that refinement existed: read as none / 0.
+  std::optional<double> ranked_r_best;
+  std::size_t ranked_refined = 0;
 };
 
 // One line of runs.jsonl: one object x hand x planner.

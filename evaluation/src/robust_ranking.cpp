@@ -13,6 +13,46 @@ namespace {
 // random numbers, the header's convention), and screening faces others.
 constexpr std::uint64_t kScoreStream = 0;
 constexpr std::uint64_t kScreenStream = 1;
+// Refinement for robustness searches on its own stream too, so that the reported r of a moved
+// grasp is not the r it was chosen for.
+constexpr std::uint64_t kRefineStream = 2;
+
+// Refinement for robustness of one scored grasp (its robustness set): the search runs on its own
+// stream, and its choice is checked on the samples every scored grasp faces, so a moved pose that
+// does not hold there as often as the planner's is not taken. Records the search in the grasp's
+// robustness; true when the grasp was replaced by a moved pose.
+bool refineScoredGrasp(grasping::GraspSimulator& simulator, grasping::Grasp& grasp,
+                       const grasping::HypothesisParams& planner, const RobustnessParams& rp,
+                       const RobustRefinementParams& params) {
+  grasping::GraspRobustRefinement record;
+  record.search_samples = params.samples;
+  record.r_before = grasp.robustness->r;
+  record.preshape_before = grasp.preshape;
+  // A grasp that held in every scoring sample cannot be beaten there: no search.
+  if (grasp.robustness->r >= 1.0) {
+    grasp.robustness->refinement = record;
+    return false;
+  }
+  RobustRefinementOutcome refined =
+      refineForRobustness(simulator, grasp, planner, rp, params, kRefineStream);
+  record.evaluations = refined.evaluations;
+  if (refined.refined) {
+    const RobustnessResult moved_r = evaluateRobustness(simulator, refined.grasp, rp, kScoreStream);
+    log().debug("robust refinement: r {:.2f} -> {:.2f} (search {:.2f} -> {:.2f})", record.r_before,
+                moved_r.score, refined.search_r_before, refined.search_r_after);
+    if (moved_r.score >= record.r_before) {
+      grasp = std::move(refined.grasp);
+      grasp.robustness = graspRobustness(moved_r, rp);
+      record.refined = true;
+      record.shift_x_m = refined.shift_x_m;
+      record.shift_y_m = refined.shift_y_m;
+      record.standoff_m = refined.standoff_m;
+      record.roll_rad = refined.roll_rad;
+    }
+  }
+  grasp.robustness->refinement = record;
+  return record.refined;
+}
 
 }  // namespace
 
@@ -95,6 +135,20 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
       rank_score[i] = r.score * trustOf(i);
       level[i] = 2;
       ++out.scored;
+    }
+    if (params.refinement.enabled) {
+      // The most robust scored grasps are searched for still more robust poses: the grasps a user
+      // executes first are the ones worth the closings.
+      std::stable_sort(candidates.begin(), candidates.end(),
+                       [&](std::size_t a, std::size_t b) { return rank_score[a] > rank_score[b]; });
+      const std::size_t refine_k = params.refinement.max_grasps == 0
+                                       ? candidates.size()
+                                       : std::min(params.refinement.max_grasps, candidates.size());
+      for (std::size_t c = 0; c < refine_k; ++c) {
+        const std::size_t i = candidates[c];
+        if (refineScoredGrasp(simulator, grasps[i], planner, rp, params.refinement)) ++out.refined;
+        rank_score[i] = grasps[i].robustness->r * trustOf(i);
+      }
     }
   }
   out.order = by_pre;

@@ -49,6 +49,19 @@ nlohmann::json graspToJson(const Grasp& g, const HandModel& hand) {
                          {"sigma_m", r.sigma_m},
                          {"sigma_rad", r.sigma_rad},
                          {"variant", r.variant}};
+    if (r.refinement) {
+      const GraspRobustRefinement& f = *r.refinement;
+      out["robustness"]["refinement"] = {{"refined", f.refined},
+                                         {"evaluations", f.evaluations},
+                                         {"search_samples", f.search_samples},
+                                         {"r_before", f.r_before},
+                                         {"preshape_before", f.preshape_before},
+                                         {"moves",
+                                          {{"shift_x_m", f.shift_x_m},
+                                           {"shift_y_m", f.shift_y_m},
+                                           {"standoff_m", f.standoff_m},
+                                           {"roll_rad", f.roll_rad}}}};
+    }
   }
   return withRefinementJson(g, std::move(out));
 }

@@ -1,5 +1,7 @@
 #include "object_planning.h"
 
+#include <algorithm>
+
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/geometry/mesh_query.h"
 
@@ -75,9 +77,10 @@ RankedPlan planAndRank(const HandModel& hand, const TriangleMesh& mesh,
     ratios.push_back(observedContactRatio(g, mesh, observed, query));
     trust.push_back(1 - params.observed_weight + params.observed_weight * ratios.back());
   }
-  auto ranking =
-      evaluation::rankByRobustness(hand, target, std::move(out.plan.grasps),
-                                   params.planner.hypothesis, params.robust_ranking, trust);
+  // The planner's hypothesis parameters with the scene check: refinement for robustness places
+  // the hand anew and must keep it clear of the scene as the planner did.
+  auto ranking = evaluation::rankByRobustness(hand, target, std::move(out.plan.grasps),
+                                              planner.hypothesis, params.robust_ranking, trust);
   out.plan.grasps.clear();
   out.robustness_scored = ranking.scored;
   for (std::size_t i = 0; i < ranking.grasps.size(); ++i) {
@@ -85,9 +88,21 @@ RankedPlan planAndRank(const HandModel& hand, const TriangleMesh& mesh,
     r.observed_contact_ratio = ratios[ranking.order[i]];
     r.score = ranking.scores[i];
     r.grasp = std::move(ranking.grasps[i]);
-    r.grasp.id = static_cast<int>(i);
+    const auto& robustness = r.grasp.robustness;
+    if (robustness && robustness->refinement && robustness->refinement->refined) {
+      // A moved grasp touches elsewhere: its trust is that of its own contacts.
+      r.observed_contact_ratio = observedContactRatio(r.grasp, mesh, observed, query);
+      r.score = robustness->r *
+                (1 - params.observed_weight + params.observed_weight * r.observed_contact_ratio);
+    }
     out.ranked.push_back(std::move(r));
   }
+  // The scored grasps lead, by score; a moved grasp's new trust can reorder them.
+  const auto scored_end = std::find_if(out.ranked.begin(), out.ranked.end(),
+                                       [](const RankedGrasp& r) { return !r.grasp.robustness; });
+  std::stable_sort(out.ranked.begin(), scored_end,
+                   [](const RankedGrasp& a, const RankedGrasp& b) { return a.score > b.score; });
+  for (std::size_t i = 0; i < out.ranked.size(); ++i) out.ranked[i].grasp.id = static_cast<int>(i);
   out.rank_s = watch.seconds();
   return out;
 }

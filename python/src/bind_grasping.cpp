@@ -94,7 +94,7 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
           const std::string& regularisation, double alpha_divisor, double offset_divisor,
           double spur_radius_factor, bool robustness, int robustness_samples,
           const std::string& robustness_variant, std::size_t robustness_top_k,
-          std::size_t robustness_screen, std::optional<double> robustness_mu,
+          std::size_t robustness_screen, std::optional<double> robustness_mu, bool robust_refine,
           bool centre_candidates) {
   if (planner != "skeleton" && planner != "surface")
     throw InvalidArgument("planner: '" + planner + "' is not skeleton or surface");
@@ -110,7 +110,7 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
 
   const auto ranking =
       robustRankingParams(robustness, robustness_samples, robustness_variant, robustness_top_k,
-                          robustness_screen, robustness_mu, seed);
+                          robustness_screen, robustness_mu, seed, robust_refine);
   Plan out{{}, hand, mesh.name, std::nullopt};
   py::gil_scoped_release release;
   const grasping::GraspObject object(mesh.mesh);
@@ -333,7 +333,8 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
             return fromJson(grasping::graspToJson(g.grasp, *g.hand)["robustness"]);
           },
           "{r, ci95, samples, mu, sigma_m, sigma_rad, variant} when the robust ranking scored "
-          "the grasp, else None.")
+          "the grasp, else None; with 'refinement' {refined, evaluations, search_samples, "
+          "r_before, preshape_before, moves} where refinement for robustness searched near it.")
       .def_property_readonly(
           "type", [](const Grasp& g) { return std::string(toString(g.grasp.type)); },
           "'power' or 'precision'.")
@@ -428,6 +429,7 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
       py::arg("robustness_variant") = std::string(evaluation::toString(ranking.robustness.variant)),
       py::arg("robustness_top_k") = ranking.top_k, py::arg("robustness_screen") = ranking.screen_k,
       py::arg("robustness_mu") = ranking.friction,
+      py::arg("robust_refine") = ranking.refinement.enabled,
       py::arg("centre_candidates") = planner.centre_candidates,
       R"doc(
 Plans grasps for ``mesh`` with ``hand`` (``skelgrasp plan``): planner 'skeleton' (paper Alg. 1)
@@ -438,7 +440,8 @@ sets 30 s) and RobustRankingParams. ``max_hypotheses`` is the surface planner's.
 cheap r, and the best ``robustness_top_k`` of them (0: all) get a robustness r from
 ``robustness_samples`` perturbed executions (``robustness_variant`` 'paper', 'guarded' or 'reference',
 friction ``robustness_mu`` or ``mu``, samples seeded by ``seed``) and are ranked first by r;
-``robustness=False`` keeps the epsilon order. ``centre_candidates`` (skeleton planner) also tries
+``robustness=False`` keeps the epsilon order. ``robust_refine`` searches near the most robust
+scored grasps for more robust poses (docs/planning.md, "Refinement for robustness"). ``centre_candidates`` (skeleton planner) also tries
 power grasps about the object's centre on every object, the robust grasps the ranking chooses
 from. A mesh the skeleton stage cannot process raises ValueError.)doc");
 

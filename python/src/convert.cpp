@@ -156,7 +156,7 @@ py::dict jointsDict(const grasping::HandModel& hand, const Eigen::VectorXd& q) {
 evaluation::RobustRankingParams robustRankingParams(bool robustness, int samples,
                                                     const std::string& variant, std::size_t top_k,
                                                     std::size_t screen_k, std::optional<double> mu,
-                                                    std::uint64_t seed) {
+                                                    std::uint64_t seed, bool refine) {
   if (samples < 1) throw InvalidArgument("robustness_samples: must be >= 1");
   if (mu && !(std::isfinite(*mu) && *mu >= 0))
     throw InvalidArgument("robustness_mu: must be finite and >= 0");
@@ -168,6 +168,7 @@ evaluation::RobustRankingParams robustRankingParams(bool robustness, int samples
   p.top_k = top_k;
   p.screen_k = screen_k;
   p.friction = mu;
+  p.refinement.enabled = refine;
   return p;
 }
 

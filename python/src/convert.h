@@ -79,12 +79,13 @@ py::object fromJson(const nlohmann::json& j);
 
 // The robust ranking of plan() and run() from their keyword arguments (as the CLI's
 // --no-robustness,
-// --robustness-samples, --robustness-variant, --robustness-top-k, --robustness-mu); `seed` also
-// seeds the robustness samples. Throws InvalidArgument for samples < 1 or an unknown variant.
+// --robustness-samples, --robustness-variant, --robustness-top-k, --robustness-mu,
+// --no-robust-refine); `seed` also seeds the robustness samples. Throws InvalidArgument for
+// samples < 1 or an unknown variant.
 evaluation::RobustRankingParams robustRankingParams(bool robustness, int samples,
                                                     const std::string& variant, std::size_t top_k,
                                                     std::size_t screen_k, std::optional<double> mu,
-                                                    std::uint64_t seed);
+                                                    std::uint64_t seed, bool refine);
 
 // {joint name: value} for the movable joints of `hand` in configuration `q`.
 py::dict jointsDict(const grasping::HandModel& hand, const Eigen::VectorXd& q);

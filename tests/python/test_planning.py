@@ -94,6 +94,12 @@ def test_plan_robustness_keywords(capsule, sdh):
     for r, entry in zip(scored[:2], result.to_dict()["grasps"]):
         assert r == entry["robustness"] and r["samples"] == 10 and r["variant"] == "reference"
         assert 0 <= r["ci95"][0] <= r["r"] <= r["ci95"][1] <= 1 and r["mu"] == 0.5
+        # Refinement for robustness searched near both (the best 5 scored), never ending lower.
+        assert r["refinement"]["r_before"] <= r["r"]
+        assert r["refinement"]["search_samples"] >= 1
+    unrefined = skelgrasp.plan(capsule, sdh, seed=1, max_grasps=4, robustness_samples=10,
+                               robustness_top_k=2, robust_refine=False)
+    assert all("refinement" not in g.robustness for g in unrefined.grasps[:2])
     plain = skelgrasp.plan(capsule, sdh, seed=1, max_grasps=4, robustness=False)
     epsilons = [g.epsilon for g in plain.grasps]
     assert epsilons == sorted(epsilons, reverse=True)

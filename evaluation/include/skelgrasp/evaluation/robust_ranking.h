@@ -6,6 +6,7 @@
 #include <optional>
 #include <vector>
 
+#include "skelgrasp/evaluation/robust_refinement.h"
 #include "skelgrasp/evaluation/robustness.h"
 #include "skelgrasp/grasping/hypothesis.h"
 
@@ -41,6 +42,9 @@ struct RobustRankingParams {
   // friction replaced by `friction` when that is set.
   RobustnessParams robustness = defaultRankingRobustness();
   std::optional<double> friction;  // unset: the planner's QualityParams::friction (0.35)
+  // Each scored grasp's neighbourhood is searched for a more robust pose (robust_refinement.h);
+  // a pose found replaces the grasp when its r (same samples as every scored grasp) is no lower.
+  RobustRefinementParams refinement;
 };
 
 struct RobustRankingResult {
@@ -50,6 +54,7 @@ struct RobustRankingResult {
   std::vector<std::size_t> order;       // grasps[i] was input grasp order[i]
   std::size_t screened = 0;             // grasps given a screening r (0 without screening)
   std::size_t scored = 0;               // grasps that got a robustness
+  std::size_t refined = 0;              // scored grasps replaced by a more robust pose
   double time_s = 0;
 };
 
@@ -59,6 +64,12 @@ struct RobustRankingResult {
 //  * screening score = screening r x trust[i]; the top_k by it (ties: pre-score) are scored;
 //  * rank score of a scored grasp = r x trust[i]; of a screened one = its screening score; of
 //    the others (beyond screen_k, or ranking disabled) = its pre-score;
+//  * refinement (params.refinement.enabled): the best params.refinement.max_grasps scored grasps
+//    by rank score are searched for more robust poses (robust_refinement.h, own stream
+//    grasp_index = 2); a pose found replaces its grasp when its r on the scoring samples is at
+//    least the grasp's, and its rank score is then r x trust[i] of the input grasp (the caller
+//    may recompute the trust of a moved grasp's contacts). Every searched grasp's robustness
+//    records the search (GraspRobustness::refinement);
 //  * order: scored grasps first by rank score, ties by pre-score; then the screened ones, then
 //    the rest, each by rank score (the planner's order when trust is empty). The sort is stable.
 // Only scored grasps carry a robustness (Grasp::robustness): the screening r, from a handful of
@@ -69,8 +80,8 @@ struct RobustRankingResult {
 // plan's numbers). Screening draws its own stream (grasp_index = 1), so the reported r of a grasp
 // chosen for a lucky screening is not biased by that luck (except in the reference variant, which
 // draws one sequence whatever the grasp_index: there the screening samples are the first scoring
-// ones). The result does not depend on the
-// thread count. Grasps without contacts stay unscored. Throws InvalidArgument for samples or
+// ones, and refinement searches on the scoring samples themselves). The result does not depend on
+// the thread count. Grasps without contacts stay unscored. Throws InvalidArgument for samples or
 // screen_samples < 1 (when enabled), a negative or non-finite friction, or a trust vector whose
 // size is not the grasps'.
 RobustRankingResult rankByRobustness(const grasping::HandModel& hand,

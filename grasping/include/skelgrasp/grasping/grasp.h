@@ -14,6 +14,19 @@ namespace skelgrasp::grasping {
 enum class GraspType { kPrecision, kPower };
 const char* toString(GraspType type);
 
+// How refinement for robustness (evaluation/robust_refinement.h) moved a scored grasp: the search
+// for a more robust pose near it, with the pose it kept relative to the planner's.
+struct GraspRobustRefinement {
+  bool refined = false;    // the grasp is a moved pose (false: the planner's pose stayed best)
+  int evaluations = 0;     // poses closed in the search besides the planner's
+  int search_samples = 0;  // perturbed executions per pose in the search
+  double r_before = 0;     // r of the planner's pose (same samples as GraspRobustness::r)
+  // The moves, in the planner's grasp centre point frame (z = approach): shift across the
+  // approach, extra standoff (added to the retreat; negative: closer), roll about the approach.
+  double shift_x_m = 0, shift_y_m = 0, standoff_m = 0, roll_rad = 0;
+  std::string preshape_before;  // the planner's preshape (differs from the grasp's when switched)
+};
+
 // Robustness r of a grasp (evaluation::evaluateRobustness): the share of `samples` perturbed
 // executions (pose error with standard deviations sigma_m and sigma_rad) that still close to force
 // closure at friction mu, with its 95 % Wilson interval. A plain record so the grasp stage can
@@ -26,6 +39,7 @@ struct GraspRobustness {
   double sigma_m = 0;    // position error, standard deviation (m)
   double sigma_rad = 0;  // orientation error, standard deviation (rad)
   std::string variant;   // "paper" or "guarded" (the hand moves), "reference" (the object moves)
+  std::optional<GraspRobustRefinement> refinement;  // set when the search ran on this grasp
 };
 
 // How local refinement (refinement.h) changed a grasp: the moves of the pose it kept, relative to

@@ -1,0 +1,72 @@
+#pragma once
+// Refinement for robustness: the second half of issue 16's local refinement. Where the planner's
+// refinement (grasping/refinement.h) searches a hypothesis' neighbourhood for the largest closure
+// margin, this searches a scored grasp's neighbourhood for the largest robustness r: the share of
+// perturbed executions that still close to force closure (robustness.h). It runs in the robust
+// ranking on the grasps it scores (robust_ranking.h), so it costs closings only where they pay:
+// docs/planning.md, "Refinement for robustness".
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+
+#include "skelgrasp/evaluation/robustness.h"
+#include "skelgrasp/grasping/hypothesis.h"
+
+namespace skelgrasp::evaluation {
+
+struct RobustRefinementParams {
+  // Off: the ranking returns the planner's poses.
+  bool enabled = true;
+  // The ranking searches near its most robust scored grasps, this many of them (0: all scored).
+  std::size_t max_grasps = 5;
+  // Poses closed and judged per grasp besides its own (each costs one retreat search, one closing
+  // and `samples` perturbed executions).
+  int max_evaluations = 4;
+  // Perturbed executions per pose in the search. Every pose of a grasp faces the same
+  // perturbations (common random numbers), so a difference of a few samples is a difference of
+  // the poses, not of their luck.
+  int samples = 12;
+  // A pose must hold in at least this many more of the search's samples than the best so far.
+  int min_gain_samples = 1;
+  // First steps of the moves, in the grasp centre point's frame (z = approach): shift across the
+  // approach (x and y), standoff (backing off along the approach; negative: closer, down to the
+  // first free pose), roll about the approach.
+  double shift_step_m = 0.005;
+  double standoff_step_m = 0.005;
+  double roll_step_rad = 0.2617993877991494;  // 15 degrees
+  // Bounds of the moves from the planner's pose.
+  double max_shift_m = 0.015;
+  double max_standoff_m = 0.02;
+  double max_roll_rad = 0.5235987755982988;  // 30 degrees
+  // The steps are halved when no move improves, at most this many times.
+  int max_halvings = 1;
+  // Also try the hand's other preshape (precision <-> power) at the same grasp centre point.
+  bool switch_preshape = true;
+};
+
+struct RobustRefinementOutcome {
+  grasping::Grasp grasp;  // the best pose's grasp (the input grasp when nothing was better)
+  bool refined = false;   // grasp differs from the input
+  int evaluations = 0;    // poses closed besides the input's
+  // Search-stream r (params.samples samples) of the input and of the returned pose.
+  double search_r_before = 0, search_r_after = 0;
+  // The returned pose's moves from the input's hypothesis (GraspRobustRefinement's frame and
+  // signs); all 0 when not refined.
+  double shift_x_m = 0, shift_y_m = 0, standoff_m = 0, roll_rad = 0;
+};
+
+// Searches `grasp`'s neighbourhood for the pose with the largest r under `robustness` (samples
+// replaced by params.samples, perturbations drawn from `stream`). Poses are closed as the planner
+// closes them (`planner`: retreat, scene check, closing, quality, min_epsilon); a pose is a
+// candidate only when its grasp is kept by those rules. The returned grasp keeps the input's
+// type, strategy, segment, vertex and planner refinement record, with the new pose, preshape,
+// joints, contacts and quality. Throws InvalidArgument for a negative budget, bound or halving
+// count, a step <= 0 or samples < 1.
+RobustRefinementOutcome refineForRobustness(grasping::GraspSimulator& simulator,
+                                            const grasping::Grasp& grasp,
+                                            const grasping::HypothesisParams& planner,
+                                            const RobustnessParams& robustness,
+                                            const RobustRefinementParams& params,
+                                            std::uint64_t stream);
+
+}  // namespace skelgrasp::evaluation

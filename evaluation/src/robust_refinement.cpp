@@ -1,0 +1,189 @@
+#include "skelgrasp/evaluation/robust_refinement.h"
+
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "skelgrasp/common/logging.h"
+
+namespace skelgrasp::evaluation {
+namespace {
+
+enum Move { kShiftX, kShiftY, kStandoff, kRoll, kMoveCount };
+using Moves = std::array<double, kMoveCount>;
+
+// Bounds are compared with this slack so that a sum of halved steps landing on a bound counts.
+constexpr double kBoundSlack = 1e-12;
+// Two closed poses whose hand roots are closer than this (m) and turned less than this (rad) are
+// one pose: the retreat search sends different moves towards the object back to the same first
+// free pose, and judging it twice would only spend samples.
+constexpr double kSamePoseDistanceM = 1e-4;
+constexpr double kSamePoseAngleRad = 1e-3;
+
+const char* otherPreshapeName(const std::string& name) {
+  if (name == "precision") return "power";
+  if (name == "power") return "precision";
+  return nullptr;
+}
+
+bool samePose(const Pose& a, const Pose& b) {
+  if ((a.translation() - b.translation()).norm() > kSamePoseDistanceM) return false;
+  return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle() <= kSamePoseAngleRad;
+}
+
+}  // namespace
+
+RobustRefinementOutcome refineForRobustness(grasping::GraspSimulator& simulator,
+                                            const grasping::Grasp& grasp,
+                                            const grasping::HypothesisParams& planner,
+                                            const RobustnessParams& robustness,
+                                            const RobustRefinementParams& params,
+                                            std::uint64_t stream) {
+  if (!(params.max_evaluations >= 0 && params.samples >= 1 && params.min_gain_samples >= 0 &&
+        params.shift_step_m > 0 && params.standoff_step_m > 0 && params.roll_step_rad > 0 &&
+        params.max_shift_m >= 0 && params.max_standoff_m >= 0 && params.max_roll_rad >= 0 &&
+        params.max_halvings >= 0)) {
+    throw InvalidArgument(
+        "robust refinement: steps must be > 0, samples >= 1, evaluations, gains, bounds and "
+        "halvings >= 0");
+  }
+  const grasping::HandModel& hand = simulator.hand();
+  RobustnessParams search = robustness;
+  search.samples = params.samples;
+  RobustRefinementOutcome out;
+  out.grasp = grasp;
+  if (grasp.contacts.empty()) return out;
+  const RobustnessResult seed_r = evaluateRobustness(simulator, grasp, search, stream);
+  int best_holds = seed_r.force_closure;
+  out.search_r_before = out.search_r_after = seed_r.score;
+  // No pose can beat one that held in every sample by the required gain.
+  if (best_holds + params.min_gain_samples > params.samples) return out;
+
+  // The planner's hypothesis: the grasp centre point before it was backed off. Every move starts
+  // there and is backed off again as the planner backs off, so a moved pose is one the planner
+  // could have proposed.
+  const Eigen::Vector3d approach = grasp.gcp_pose.linear().col(2);
+  Pose hypothesis = grasp.gcp_pose;
+  hypothesis.translation() += grasp.retreat_m * approach;
+  auto baseExtraRetreat = [&](const std::string& preshape) {
+    return preshape == "power" ? hand.thresholds().power_retreat_m : 0.0;
+  };
+
+  // The search needs only the verdict; epsilon and volume (a hull each) are computed for the pose
+  // it returns. Unless a minimum epsilon makes epsilon part of the verdict.
+  const bool verdict_only = !(planner.min_epsilon > 0);
+  std::vector<Pose> tried = {grasp.hand_pose};
+  double closing_s = 0, sampling_s = 0;
+  auto judge = [&](const Pose& gcp, const grasping::Preshape& preshape, double standoff) -> bool {
+    if (out.evaluations >= params.max_evaluations) return false;
+    ++out.evaluations;
+    grasping::HypothesisParams moved = planner;
+    moved.extra_retreat_m = std::max(0.0, baseExtraRetreat(preshape.name) + standoff);
+    if (verdict_only) moved.quality.compute_epsilon = moved.quality.compute_volume = false;
+    Stopwatch closing_watch;
+    grasping::HypothesisOutcome judged = grasping::judgeHypothesis(
+        grasping::closeHypothesis(simulator, gcp, preshape, moved), simulator.object(), moved);
+    closing_s += closing_watch.seconds();
+    if (!judged.grasp) return false;
+    for (const Pose& pose : tried) {
+      if (samePose(pose, judged.grasp->hand_pose)) return false;
+    }
+    tried.push_back(judged.grasp->hand_pose);
+    Stopwatch sampling_watch;
+    const RobustnessResult r = evaluateRobustness(simulator, *judged.grasp, search, stream);
+    sampling_s += sampling_watch.seconds();
+    if (r.force_closure < best_holds + params.min_gain_samples) return false;
+    best_holds = r.force_closure;
+    out.search_r_after = r.score;
+    grasping::Grasp& moved_grasp = *judged.grasp;
+    moved_grasp.id = grasp.id;
+    // The type follows the preshape only where the search switched it (a hand's own preshape
+    // names need not say the type).
+    moved_grasp.type = preshape.name == grasp.preshape ? grasp.type
+                       : preshape.name == "precision"  ? grasping::GraspType::kPrecision
+                                                       : grasping::GraspType::kPower;
+    moved_grasp.strategy = grasp.strategy;
+    moved_grasp.segment = grasp.segment;
+    moved_grasp.skeleton_vertex = grasp.skeleton_vertex;
+    moved_grasp.refinement = grasp.refinement;
+    out.grasp = std::move(moved_grasp);
+    out.refined = true;
+    return true;
+  };
+
+  const Moves lower = {-params.max_shift_m, -params.max_shift_m, -params.max_standoff_m,
+                       -params.max_roll_rad};
+  const Moves upper = {params.max_shift_m, params.max_shift_m, params.max_standoff_m,
+                       params.max_roll_rad};
+  Moves best_moves{};
+  std::vector<Moves> seen = {best_moves};
+  const grasping::Preshape* preshape = &hand.preshape(grasp.preshape);
+  auto attempt = [&](const Moves& moves) {
+    for (int m = 0; m < kMoveCount; ++m) {
+      if (moves[m] < lower[m] - kBoundSlack || moves[m] > upper[m] + kBoundSlack) return false;
+    }
+    for (const Moves& s : seen) {
+      if (s == moves) return false;
+    }
+    seen.push_back(moves);
+    Pose gcp = hypothesis;
+    gcp.translation() += gcp.linear() * Eigen::Vector3d(moves[kShiftX], moves[kShiftY], 0);
+    gcp.linear() = gcp.linear() * Eigen::AngleAxisd(moves[kRoll], Eigen::Vector3d::UnitZ());
+    if (!judge(gcp, *preshape, moves[kStandoff])) return false;
+    log().debug(
+        "robust refinement: accepted moves {:.4f} {:.4f} {:.4f} {:.3f} at evaluation {} r {:.2f}",
+        moves[0], moves[1], moves[2], moves[3], out.evaluations, out.search_r_after);
+    best_moves = moves;
+    return true;
+  };
+
+  // The other preshape first: a fingertip pinch that a power grasp at the same place would beat
+  // is the commonest fragile grasp, and the switch is one evaluation.
+  if (params.switch_preshape) {
+    const char* other = otherPreshapeName(grasp.preshape);
+    if (other && hand.preshapes().count(other) &&
+        (std::string(other) == "power" ? hand.thresholds().power : hand.thresholds().precision)) {
+      const grasping::Preshape& switched = hand.preshape(other);
+      if (judge(hypothesis, switched, 0.0)) {
+        preshape = &switched;
+        log().debug("robust refinement: accepted preshape switch to {} r {:.2f}", other,
+                    out.search_r_after);
+      }
+    }
+  }
+  Moves steps = {params.shift_step_m, params.shift_step_m, params.standoff_step_m,
+                 params.roll_step_rad};
+  int halvings = 0;
+  while (out.evaluations < params.max_evaluations) {
+    bool improved = false;
+    for (int m = 0; m < kMoveCount && !improved; ++m) {
+      for (double sign : {1.0, -1.0}) {
+        Moves candidate = best_moves;
+        candidate[m] += sign * steps[m];
+        if (attempt(candidate)) {
+          improved = true;
+          break;
+        }
+      }
+    }
+    if (!improved) {
+      if (++halvings > params.max_halvings) break;
+      for (double& step : steps) step *= 0.5;
+    }
+  }
+  log().debug("robust refinement timing: closing {:.4f} s, sampling {:.4f} s, {} evaluations",
+              closing_s, sampling_s, out.evaluations);
+  out.shift_x_m = best_moves[kShiftX];
+  out.shift_y_m = best_moves[kShiftY];
+  out.standoff_m = best_moves[kStandoff];
+  out.roll_rad = best_moves[kRoll];
+  if (out.refined && verdict_only) {
+    const grasping::WrenchSpaceResult quality =
+        grasping::evaluateGrasp(out.grasp.contacts, simulator.object(), planner.quality);
+    out.grasp.epsilon = quality.epsilon;
+    out.grasp.volume = quality.volume;
+  }
+  return out;
+}
+
+}  // namespace skelgrasp::evaluation

@@ -1,0 +1,194 @@
+#include "skelgrasp/evaluation/robust_refinement.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <functional>
+#include <map>
+
+#include "skelgrasp/common/mesh_io.h"
+#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/evaluation/robust_ranking.h"
+#include "skelgrasp/grasping/plan_output.h"
+#include "skelgrasp/grasping/planners.h"
+#include "skelgrasp/skeleton/extraction.h"
+#include "test_support.h"
+
+namespace skelgrasp::evaluation {
+namespace {
+
+struct Planned {
+  grasping::HandModel hand;
+  TriangleMesh mesh;
+  std::unique_ptr<grasping::GraspObject> object;
+  grasping::SkeletonPlannerParams params;
+  grasping::PlanResult plan;
+};
+
+std::unique_ptr<Planned> planOn(const std::string& hand, TriangleMesh mesh,
+                                std::size_t max_grasps) {
+  auto p = std::make_unique<Planned>(
+      Planned{grasping::loadBuiltinHand(hand), std::move(mesh), nullptr, {}, {}});
+  p->object = std::make_unique<grasping::GraspObject>(p->mesh);
+  const auto skel = skeleton::extractSkeleton(p->mesh);
+  EXPECT_TRUE(skel.status.ok()) << skel.status.message;
+  p->params.max_grasps = max_grasps;
+  p->params.timeout_s = 60;
+  p->plan = grasping::planSkeletonGrasps(p->hand, *p->object, skel.skeleton, p->params);
+  return p;
+}
+
+// The ranking's robustness parameters for `p` (rankByRobustness judges as the planner judged).
+RobustnessParams judgedAs(const Planned& p, int samples) {
+  RobustnessParams rp;
+  rp.samples = samples;
+  rp.quality = p.params.hypothesis.quality;
+  rp.quality.torsional_friction_m = p.hand.closingDefaults().torsional_friction_m;
+  rp.closing = p.params.hypothesis.closing;
+  return rp;
+}
+
+// Ranks `p`'s grasps twice with the same seed, with and without refinement for robustness, and
+// checks the refined ranking against the plain one grasp by grasp.
+void expectNeverLessRobust(const Planned& p, std::size_t top_k) {
+  RobustRankingParams params;
+  params.top_k = top_k;
+  params.screen_k = top_k;  // no screening: both rankings score the same grasps
+  params.robustness.samples = 24;
+  params.refinement.max_evaluations = 6;
+  RobustRankingParams plain = params;
+  plain.refinement.enabled = false;
+  const auto refined =
+      rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params);
+  const auto before =
+      rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, plain);
+  std::map<std::size_t, const grasping::Grasp*> plain_of;  // input index -> plain result
+  for (std::size_t i = 0; i < before.grasps.size(); ++i)
+    plain_of[before.order[i]] = &before.grasps[i];
+  ASSERT_EQ(refined.scored, before.scored);
+  ASSERT_GT(refined.scored, 0u);
+  std::size_t moved = 0;
+  grasping::GraspSimulator sim(p.hand, *p.object);
+  const RobustnessParams rp = judgedAs(p, params.robustness.samples);
+  for (std::size_t i = 0; i < refined.grasps.size(); ++i) {
+    const grasping::Grasp& g = refined.grasps[i];
+    const grasping::Grasp& seed = *plain_of.at(refined.order[i]);
+    ASSERT_EQ(g.robustness.has_value(), seed.robustness.has_value()) << i;
+    if (!g.robustness) continue;
+    // Every scored grasp records the search, against the planner's pose on the same samples.
+    ASSERT_TRUE(g.robustness->refinement) << i;
+    const auto& record = *g.robustness->refinement;
+    EXPECT_DOUBLE_EQ(record.r_before, seed.robustness->r) << i;
+    EXPECT_EQ(record.preshape_before, seed.preshape) << i;
+    EXPECT_GE(g.robustness->r, seed.robustness->r) << i;
+    EXPECT_LE(record.evaluations, params.refinement.max_evaluations) << i;
+    EXPECT_EQ(record.search_samples, params.refinement.samples) << i;
+    // A returned grasp is a force-closure grasp whose reported r is its own (same samples).
+    EXPECT_TRUE(g.force_closure) << i;
+    EXPECT_EQ(g.robustness->r, evaluateRobustness(sim, g, rp, 0).score) << i;
+    if (record.refined) {
+      ++moved;
+      EXPECT_FALSE(g.hand_pose.isApprox(seed.hand_pose, 1e-9)) << i;
+      EXPECT_LE(std::abs(record.shift_x_m), params.refinement.max_shift_m + 1e-12);
+      EXPECT_LE(std::abs(record.shift_y_m), params.refinement.max_shift_m + 1e-12);
+      EXPECT_LE(std::abs(record.roll_rad), params.refinement.max_roll_rad + 1e-12);
+    } else {
+      EXPECT_TRUE(g.hand_pose.isApprox(seed.hand_pose, 1e-12)) << i;
+      EXPECT_EQ(g.robustness->r, record.r_before) << i;
+    }
+  }
+  EXPECT_EQ(moved, refined.refined);
+}
+
+TEST(RobustRefinement, NeverReturnsAGraspLessRobustThanThePlannersOnACylinder) {
+  const auto p = planOn("sdh", primitives::makeCylinder(0.035, 0.2, 48, 10), 6);
+  ASSERT_GE(p->plan.grasps.size(), 3u);
+  expectNeverLessRobust(*p, 3);
+}
+
+TEST(RobustRefinement, NeverReturnsAGraspLessRobustThanThePlannersOnRealObjects) {
+  const std::string path = test::sharedDataDir() + "/objects/ycb/006_mustard_bottle.ply";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "no YCB mustard bottle in ../shared/data";
+  for (const char* hand : {"armar3", "shadow"}) {
+    SCOPED_TRACE(hand);
+    const auto p = planOn(hand, loadMesh(path), 12);
+    ASSERT_GE(p->plan.grasps.size(), 4u);
+    expectNeverLessRobust(*p, 4);
+  }
+}
+
+// A power grasp pushed off the middle of a cylinder: the search returns a more robust kept grasp
+// of the same strategy, or the grasp itself.
+TEST(RobustRefinement, ImprovesAnOffCentreGraspOrKeepsIt) {
+  const auto p = planOn("sdh", primitives::makeCylinder(0.035, 0.2, 48, 10), 20);
+  const grasping::Grasp* power = nullptr;
+  for (const auto& g : p->plan.grasps)
+    if (g.type == grasping::GraspType::kPower && g.strategy == "2a") power = &g;
+  ASSERT_NE(power, nullptr);
+  // The same hypothesis 12 mm off the axis, across the approach and the cylinder's axis (z).
+  const Eigen::Vector3d approach = power->gcp_pose.linear().col(2);
+  const Eigen::Vector3d across = approach.cross(Eigen::Vector3d::UnitZ()).normalized();
+  constexpr double kOffsetM = 0.012;
+  Pose gcp = power->gcp_pose;
+  gcp.translation() += power->retreat_m * approach + kOffsetM * across;
+  grasping::GraspSimulator sim(p->hand, *p->object);
+  grasping::HypothesisParams hp = p->params.hypothesis;
+  hp.extra_retreat_m = p->hand.thresholds().power_retreat_m;
+  auto off = grasping::evaluateHypothesis(sim, gcp, p->hand.preshape("power"), hp);
+  ASSERT_TRUE(off.grasp) << (off.reason ? off.reason : "");
+  off.grasp->type = grasping::GraspType::kPower;
+
+  RobustRefinementParams params;
+  params.max_evaluations = 16;
+  params.switch_preshape = false;
+  const auto result = refineForRobustness(sim, *off.grasp, hp, judgedAs(*p, 100), params, 7);
+  EXPECT_GE(result.search_r_after, result.search_r_before);
+  EXPECT_LE(result.evaluations, params.max_evaluations);
+  if (result.refined) {
+    EXPECT_GT(result.search_r_after, result.search_r_before);
+    EXPECT_TRUE(result.grasp.force_closure);
+    EXPECT_EQ(result.grasp.strategy, off.grasp->strategy);
+  } else {
+    EXPECT_TRUE(result.grasp.hand_pose.isApprox(off.grasp->hand_pose));
+  }
+}
+
+TEST(RobustRefinement, RecordsTheSearchInGraspsJson) {
+  grasping::Grasp g;
+  g.robustness.emplace();
+  g.robustness->refinement =
+      grasping::GraspRobustRefinement{true, 5, 16, 0.4, 0.005, -0.0025, 0.01, 0.26, "precision"};
+  const auto hand = grasping::loadBuiltinHand("sdh");
+  const auto j = grasping::graspToJson(g, hand)["robustness"]["refinement"];
+  EXPECT_EQ(j["refined"], true);
+  EXPECT_EQ(j["evaluations"], 5);
+  EXPECT_EQ(j["search_samples"], 16);
+  EXPECT_DOUBLE_EQ(j["r_before"].get<double>(), 0.4);
+  EXPECT_EQ(j["preshape_before"], "precision");
+  EXPECT_DOUBLE_EQ(j["moves"]["shift_x_m"].get<double>(), 0.005);
+  EXPECT_DOUBLE_EQ(j["moves"]["shift_y_m"].get<double>(), -0.0025);
+  EXPECT_DOUBLE_EQ(j["moves"]["standoff_m"].get<double>(), 0.01);
+  EXPECT_DOUBLE_EQ(j["moves"]["roll_rad"].get<double>(), 0.26);
+  grasping::Grasp unrefined;
+  unrefined.robustness.emplace();
+  EXPECT_FALSE(grasping::graspToJson(unrefined, hand)["robustness"].contains("refinement"));
+}
+
+TEST(RobustRefinement, RejectsBadParameters) {
+  const auto p = planOn("sdh", primitives::makeCylinder(0.035, 0.2, 48, 10), 1);
+  ASSERT_FALSE(p->plan.grasps.empty());
+  grasping::GraspSimulator sim(p->hand, *p->object);
+  const RobustnessParams rp = judgedAs(*p, 8);
+  for (auto spoil : std::vector<std::function<void(RobustRefinementParams&)>>{
+           [](auto& q) { q.samples = 0; }, [](auto& q) { q.max_evaluations = -1; },
+           [](auto& q) { q.shift_step_m = 0; }, [](auto& q) { q.roll_step_rad = -0.1; },
+           [](auto& q) { q.max_standoff_m = -0.01; }, [](auto& q) { q.max_halvings = -1; }}) {
+    RobustRefinementParams params;
+    spoil(params);
+    EXPECT_THROW(refineForRobustness(sim, p->plan.grasps[0], p->params.hypothesis, rp, params, 2),
+                 InvalidArgument);
+  }
+}
+
+}  // namespace
+}  // namespace skelgrasp::evaluation
