@@ -168,7 +168,7 @@ TEST(Cli, PlanScoresAndRanksByRobustness) {
   const CliRun run = runCli(plan + dir +
                                 "/robust.json --robustness-samples 12 --robustness-top-k 4 "
                                 "--robustness-screen 4 --robustness-variant reference "
-                                "--robustness-mu 0.5",
+                                "--robustness-mu 0.5 --no-robust-refine",
                             dir);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_NE(run.out.find("best r "), std::string::npos) << run.out;
@@ -219,7 +219,26 @@ TEST(Cli, PlanScoresAndRanksByRobustness) {
     scored.insert(robust["grasps"][i]["epsilon"].get<double>());
   }
   EXPECT_EQ(best4, scored);
+  for (std::size_t i = 0; i < 4; ++i)
+    EXPECT_FALSE(robust["grasps"][i]["robustness"].contains("refinement")) << i;
+
+  // By default refinement for robustness searches near the scored grasps (all 4 here, at most 5)
+  // and records it; a grasp it moved is at least as robust as the planner's on the same samples.
+  const CliRun refined = runCli(plan + dir +
+                                    "/refined.json --robustness-samples 12 --robustness-top-k 4 "
+                                    "--robustness-screen 4 --robust-refine-evaluations 3",
+                                dir);
+  ASSERT_EQ(refined.exit_code, 0) << refined.err;
+  const auto searched = readJsonFile(dir + "/refined.json");
+  for (std::size_t i = 0; i < 4; ++i) {
+    const auto& r = searched["grasps"][i]["robustness"];
+    ASSERT_TRUE(r.contains("refinement")) << i;
+    EXPECT_LE(r["refinement"]["r_before"].get<double>(), r["r"].get<double>()) << i;
+    EXPECT_LE(r["refinement"]["evaluations"].get<int>(), 3) << i;
+    EXPECT_EQ(r["refinement"]["search_samples"], 12) << i;
+  }
   EXPECT_EQ(runCli(plan + dir + "/x.json --robustness-samples 0", dir).exit_code, 2);
+  EXPECT_EQ(runCli(plan + dir + "/x.json --robust-refine-samples 0", dir).exit_code, 2);
   EXPECT_EQ(runCli(plan + dir + "/x.json --robustness-variant weird", dir).exit_code, 2);
 }
 
