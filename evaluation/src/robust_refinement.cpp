@@ -5,15 +5,15 @@
 #include <vector>
 
 #include "skelgrasp/common/logging.h"
+#include "skelgrasp/grasping/compass_search.h"
 
 namespace skelgrasp::evaluation {
 namespace {
 
 enum Move { kShiftX, kShiftY, kStandoff, kRoll, kMoveCount };
-using Moves = std::array<double, kMoveCount>;
+using CompassSearch = grasping::CompassSearch<kMoveCount>;
+using Moves = CompassSearch::Moves;
 
-// Bounds are compared with this slack so that a sum of halved steps landing on a bound counts.
-constexpr double kBoundSlack = 1e-12;
 // Two closed poses whose hand roots are closer than this (m) and turned less than this (rad) are
 // one pose: the retreat search sends different moves towards the object back to the same first
 // free pose, and judging it twice would only spend samples.
@@ -73,25 +73,20 @@ RobustRefinementOutcome refineForRobustness(grasping::GraspSimulator& simulator,
   // it returns. Unless a minimum epsilon makes epsilon part of the verdict.
   const bool verdict_only = !(planner.min_epsilon > 0);
   std::vector<Pose> tried = {grasp.hand_pose};
-  double closing_s = 0, sampling_s = 0;
   auto judge = [&](const Pose& gcp, const grasping::Preshape& preshape, double standoff) -> bool {
     if (out.evaluations >= params.max_evaluations) return false;
     ++out.evaluations;
     grasping::HypothesisParams moved = planner;
     moved.extra_retreat_m = std::max(0.0, baseExtraRetreat(preshape.name) + standoff);
     if (verdict_only) moved.quality.compute_epsilon = moved.quality.compute_volume = false;
-    Stopwatch closing_watch;
     grasping::HypothesisOutcome judged = grasping::judgeHypothesis(
         grasping::closeHypothesis(simulator, gcp, preshape, moved), simulator.object(), moved);
-    closing_s += closing_watch.seconds();
     if (!judged.grasp) return false;
     for (const Pose& pose : tried) {
       if (samePose(pose, judged.grasp->hand_pose)) return false;
     }
     tried.push_back(judged.grasp->hand_pose);
-    Stopwatch sampling_watch;
     const RobustnessResult r = evaluateRobustness(simulator, *judged.grasp, search, stream);
-    sampling_s += sampling_watch.seconds();
     if (r.force_closure < best_holds + params.min_gain_samples) return false;
     best_holds = r.force_closure;
     out.search_r_after = r.score;
@@ -115,26 +110,13 @@ RobustRefinementOutcome refineForRobustness(grasping::GraspSimulator& simulator,
                        -params.max_roll_rad};
   const Moves upper = {params.max_shift_m, params.max_shift_m, params.max_standoff_m,
                        params.max_roll_rad};
-  Moves best_moves{};
-  std::vector<Moves> seen = {best_moves};
+  CompassSearch compass(lower, upper);
   const grasping::Preshape* preshape = &hand.preshape(grasp.preshape);
-  auto attempt = [&](const Moves& moves) {
-    for (int m = 0; m < kMoveCount; ++m) {
-      if (moves[m] < lower[m] - kBoundSlack || moves[m] > upper[m] + kBoundSlack) return false;
-    }
-    for (const Moves& s : seen) {
-      if (s == moves) return false;
-    }
-    seen.push_back(moves);
+  auto improves = [&](const Moves& moves) {
     Pose gcp = hypothesis;
     gcp.translation() += gcp.linear() * Eigen::Vector3d(moves[kShiftX], moves[kShiftY], 0);
     gcp.linear() = gcp.linear() * Eigen::AngleAxisd(moves[kRoll], Eigen::Vector3d::UnitZ());
-    if (!judge(gcp, *preshape, moves[kStandoff])) return false;
-    log().debug(
-        "robust refinement: accepted moves {:.4f} {:.4f} {:.4f} {:.3f} at evaluation {} r {:.2f}",
-        moves[0], moves[1], moves[2], moves[3], out.evaluations, out.search_r_after);
-    best_moves = moves;
-    return true;
+    return judge(gcp, *preshape, moves[kStandoff]);
   };
 
   // The other preshape first: a fingertip pinch that a power grasp at the same place would beat
@@ -151,28 +133,11 @@ RobustRefinementOutcome refineForRobustness(grasping::GraspSimulator& simulator,
       }
     }
   }
-  Moves steps = {params.shift_step_m, params.shift_step_m, params.standoff_step_m,
-                 params.roll_step_rad};
-  int halvings = 0;
-  while (out.evaluations < params.max_evaluations) {
-    bool improved = false;
-    for (int m = 0; m < kMoveCount && !improved; ++m) {
-      for (double sign : {1.0, -1.0}) {
-        Moves candidate = best_moves;
-        candidate[m] += sign * steps[m];
-        if (attempt(candidate)) {
-          improved = true;
-          break;
-        }
-      }
-    }
-    if (!improved) {
-      if (++halvings > params.max_halvings) break;
-      for (double& step : steps) step *= 0.5;
-    }
-  }
-  log().debug("robust refinement timing: closing {:.4f} s, sampling {:.4f} s, {} evaluations",
-              closing_s, sampling_s, out.evaluations);
+  compass.run(
+      {params.shift_step_m, params.shift_step_m, params.standoff_step_m, params.roll_step_rad},
+      {true, true, true, true}, params.max_halvings,
+      [&] { return out.evaluations < params.max_evaluations; }, improves);
+  const Moves& best_moves = compass.best();
   out.shift_x_m = best_moves[kShiftX];
   out.shift_y_m = best_moves[kShiftY];
   out.standoff_m = best_moves[kStandoff];

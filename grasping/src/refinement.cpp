@@ -1,5 +1,7 @@
 #include "skelgrasp/grasping/refinement.h"
 
+#include "skelgrasp/grasping/compass_search.h"
+
 #include <Eigen/SVD>
 
 #include <array>
@@ -22,7 +24,7 @@ constexpr double kMinTangentSine = 0.5;
 constexpr std::size_t kMinWrenches = 7;
 
 enum Move { kTangent, kLateral, kRoll, kStandoff, kMoveCount };
-using Moves = std::array<double, kMoveCount>;
+using Moves = CompassSearch<kMoveCount>::Moves;
 
 struct Score {
   bool closed = false;  // closed with enough contacts
@@ -114,23 +116,14 @@ HypothesisOutcome evaluateRefinedHypothesis(GraspSimulator& simulator, const Pos
   const Moves upper = {refinement.max_tangent_m, refinement.max_lateral_m, refinement.max_roll_rad,
                        refinement.max_standoff_m};
 
-  Moves best_moves{};
   Score best_score = seed_score;
   HypothesisOutcome best = std::move(seed);
   // The seed is kept apart so that it can be returned if the best pose fails min_epsilon.
   HypothesisOutcome seed_copy = best;
-  std::vector<Moves> tried = {best_moves};
   int evaluations = 0;
   HypothesisParams moved_params = params;
-  auto attempt = [&](const Moves& moves) {
-    if (evaluations >= refinement.max_evaluations) return false;
-    for (int m = 0; m < kMoveCount; ++m) {
-      if (moves[m] < lower[m] - 1e-12 || moves[m] > upper[m] + 1e-12) return false;
-    }
-    for (const Moves& seen : tried) {
-      if (seen == moves) return false;
-    }
-    tried.push_back(moves);
+  CompassSearch<kMoveCount> search(lower, upper);
+  auto improves = [&](const Moves& moves) {
     ++evaluations;
     Pose pose = gcp;
     pose.translation() += moves[kTangent] * (use_tangent ? tangent : Eigen::Vector3d::Zero()) +
@@ -141,39 +134,22 @@ HypothesisOutcome evaluateRefinedHypothesis(GraspSimulator& simulator, const Pos
     const Score score = scoreClosed(closed, object, params.quality);
     if (!better(score, best_score)) return false;
     best_score = score;
-    best_moves = moves;
     best = std::move(closed);
     return true;
   };
+  const auto has_budget = [&] { return evaluations < refinement.max_evaluations; };
 
   // Straight to the local centroid first: a hypothesis off the middle of the section is centred
   // in one evaluation instead of a ladder of steps.
-  if (centroid_distance > refinement.min_centroid_jump_m) {
+  if (centroid_distance > refinement.min_centroid_jump_m && has_budget()) {
     Moves jump{};
     jump[kLateral] = std::min(centroid_distance, refinement.max_lateral_m);
-    attempt(jump);
+    search.attempt(jump, improves);
   }
-  Moves steps = {refinement.tangent_step_m, refinement.lateral_step_m, refinement.roll_step_rad,
-                 refinement.standoff_step_m};
-  int halvings = 0;
-  while (evaluations < refinement.max_evaluations) {
-    bool improved = false;
-    for (int m = 0; m < kMoveCount && !improved; ++m) {
-      if (m == kTangent && !use_tangent) continue;
-      for (double sign : {1.0, -1.0}) {
-        Moves candidate = best_moves;
-        candidate[m] += sign * steps[m];
-        if (attempt(candidate)) {
-          improved = true;
-          break;
-        }
-      }
-    }
-    if (!improved) {
-      if (++halvings > refinement.max_halvings) break;
-      for (double& step : steps) step *= 0.5;
-    }
-  }
+  search.run({refinement.tangent_step_m, refinement.lateral_step_m, refinement.roll_step_rad,
+              refinement.standoff_step_m},
+             {use_tangent, true, true, true}, refinement.max_halvings, has_budget, improves);
+  const Moves& best_moves = search.best();
 
   const bool moved = best_moves != Moves{};
   HypothesisOutcome judged = judgeHypothesis(std::move(best), object, params);
