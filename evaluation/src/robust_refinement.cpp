@@ -10,7 +10,8 @@
 namespace skelgrasp::evaluation {
 namespace {
 
-enum Move { kShiftX, kShiftY, kStandoff, kRoll, kMoveCount };
+// In the compass's order (RobustRefinementParams: standoff first, as it cures starts in collision).
+enum Move { kStandoff, kShiftX, kShiftY, kRoll, kMoveCount };
 using CompassSearch = grasping::CompassSearch<kMoveCount>;
 using Moves = CompassSearch::Moves;
 
@@ -106,9 +107,9 @@ RobustRefinementOutcome refineForRobustness(grasping::GraspSimulator& simulator,
     return true;
   };
 
-  const Moves lower = {-params.max_shift_m, -params.max_shift_m, -params.max_standoff_m,
+  const Moves lower = {-params.max_standoff_m, -params.max_shift_m, -params.max_shift_m,
                        -params.max_roll_rad};
-  const Moves upper = {params.max_shift_m, params.max_shift_m, params.max_standoff_m,
+  const Moves upper = {params.max_standoff_m, params.max_shift_m, params.max_shift_m,
                        params.max_roll_rad};
   CompassSearch compass(lower, upper);
   const grasping::Preshape* preshape = &hand.preshape(grasp.preshape);
@@ -134,7 +135,7 @@ RobustRefinementOutcome refineForRobustness(grasping::GraspSimulator& simulator,
     }
   }
   compass.run(
-      {params.shift_step_m, params.shift_step_m, params.standoff_step_m, params.roll_step_rad},
+      {params.standoff_step_m, params.shift_step_m, params.shift_step_m, params.roll_step_rad},
       {true, true, true, true}, params.max_halvings,
       [&] { return out.evaluations < params.max_evaluations; }, improves);
   const Moves& best_moves = compass.best();
