@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <numeric>
 
+#include "planned_object.h"
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/common/primitives.h"
 #include "skelgrasp/grasping/planners.h"
@@ -15,25 +16,8 @@
 namespace skelgrasp::evaluation {
 namespace {
 
-struct Planned {
-  grasping::HandModel hand;
-  TriangleMesh mesh;
-  std::unique_ptr<grasping::GraspObject> object;
-  grasping::SkeletonPlannerParams params;
-  grasping::PlanResult plan;
-};
-
-// A few grasps of `hand` on `mesh`, sorted by epsilon as the planner returns them.
-Planned planOn(const std::string& hand, TriangleMesh mesh, std::size_t max_grasps) {
-  Planned p{grasping::loadBuiltinHand(hand), std::move(mesh), nullptr, {}, {}};
-  p.object = std::make_unique<grasping::GraspObject>(p.mesh);
-  const auto skel = skeleton::extractSkeleton(p.mesh);
-  EXPECT_TRUE(skel.status.ok()) << skel.status.message;
-  p.params.max_grasps = max_grasps;
-  p.params.timeout_s = 60;
-  p.plan = grasping::planSkeletonGrasps(p.hand, *p.object, skel.skeleton, p.params);
-  return p;
-}
+using test_fixtures::Planned;
+using test_fixtures::planOn;
 
 const Planned& cylinder() {
   static const Planned planned = planOn("armar3", primitives::makeCylinder(0.035, 0.2, 48, 10), 8);

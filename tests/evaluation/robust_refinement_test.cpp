@@ -6,6 +6,7 @@
 #include <functional>
 #include <map>
 
+#include "planned_object.h"
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/common/primitives.h"
 #include "skelgrasp/evaluation/robust_ranking.h"
@@ -17,26 +18,8 @@
 namespace skelgrasp::evaluation {
 namespace {
 
-struct Planned {
-  grasping::HandModel hand;
-  TriangleMesh mesh;
-  std::unique_ptr<grasping::GraspObject> object;
-  grasping::SkeletonPlannerParams params;
-  grasping::PlanResult plan;
-};
-
-std::unique_ptr<Planned> planOn(const std::string& hand, TriangleMesh mesh,
-                                std::size_t max_grasps) {
-  auto p = std::make_unique<Planned>(
-      Planned{grasping::loadBuiltinHand(hand), std::move(mesh), nullptr, {}, {}});
-  p->object = std::make_unique<grasping::GraspObject>(p->mesh);
-  const auto skel = skeleton::extractSkeleton(p->mesh);
-  EXPECT_TRUE(skel.status.ok()) << skel.status.message;
-  p->params.max_grasps = max_grasps;
-  p->params.timeout_s = 60;
-  p->plan = grasping::planSkeletonGrasps(p->hand, *p->object, skel.skeleton, p->params);
-  return p;
-}
+using test_fixtures::Planned;
+using test_fixtures::planOn;
 
 // The ranking's robustness parameters for `p` (rankByRobustness judges as the planner judged).
 RobustnessParams judgedAs(const Planned& p, int samples) {
@@ -102,8 +85,8 @@ void expectNeverLessRobust(const Planned& p, std::size_t top_k) {
 
 TEST(RobustRefinement, NeverReturnsAGraspLessRobustThanThePlannersOnACylinder) {
   const auto p = planOn("sdh", primitives::makeCylinder(0.035, 0.2, 48, 10), 6);
-  ASSERT_GE(p->plan.grasps.size(), 3u);
-  expectNeverLessRobust(*p, 3);
+  ASSERT_GE(p.plan.grasps.size(), 3u);
+  expectNeverLessRobust(p, 3);
 }
 
 TEST(RobustRefinement, NeverReturnsAGraspLessRobustThanThePlannersOnRealObjects) {
@@ -112,8 +95,8 @@ TEST(RobustRefinement, NeverReturnsAGraspLessRobustThanThePlannersOnRealObjects)
   for (const char* hand : {"armar3", "shadow"}) {
     SCOPED_TRACE(hand);
     const auto p = planOn(hand, loadMesh(path), 12);
-    ASSERT_GE(p->plan.grasps.size(), 4u);
-    expectNeverLessRobust(*p, 4);
+    ASSERT_GE(p.plan.grasps.size(), 4u);
+    expectNeverLessRobust(p, 4);
   }
 }
 
@@ -122,7 +105,7 @@ TEST(RobustRefinement, NeverReturnsAGraspLessRobustThanThePlannersOnRealObjects)
 TEST(RobustRefinement, ImprovesAnOffCentreGraspOrKeepsIt) {
   const auto p = planOn("sdh", primitives::makeCylinder(0.035, 0.2, 48, 10), 20);
   const grasping::Grasp* power = nullptr;
-  for (const auto& g : p->plan.grasps)
+  for (const auto& g : p.plan.grasps)
     if (g.type == grasping::GraspType::kPower && g.strategy == "2a") power = &g;
   ASSERT_NE(power, nullptr);
   // The same hypothesis 12 mm off the axis, across the approach and the cylinder's axis (z).
@@ -131,17 +114,17 @@ TEST(RobustRefinement, ImprovesAnOffCentreGraspOrKeepsIt) {
   constexpr double kOffsetM = 0.012;
   Pose gcp = power->gcp_pose;
   gcp.translation() += power->retreat_m * approach + kOffsetM * across;
-  grasping::GraspSimulator sim(p->hand, *p->object);
-  grasping::HypothesisParams hp = p->params.hypothesis;
-  hp.extra_retreat_m = p->hand.thresholds().power_retreat_m;
-  auto off = grasping::evaluateHypothesis(sim, gcp, p->hand.preshape("power"), hp);
+  grasping::GraspSimulator sim(p.hand, *p.object);
+  grasping::HypothesisParams hp = p.params.hypothesis;
+  hp.extra_retreat_m = p.hand.thresholds().power_retreat_m;
+  auto off = grasping::evaluateHypothesis(sim, gcp, p.hand.preshape("power"), hp);
   ASSERT_TRUE(off.grasp) << (off.reason ? off.reason : "");
   off.grasp->type = grasping::GraspType::kPower;
 
   RobustRefinementParams params;
   params.max_evaluations = 16;
   params.switch_preshape = false;
-  const auto result = refineForRobustness(sim, *off.grasp, hp, judgedAs(*p, 100), params, 7);
+  const auto result = refineForRobustness(sim, *off.grasp, hp, judgedAs(p, 100), params, 7);
   EXPECT_GE(result.search_r_after, result.search_r_before);
   EXPECT_LE(result.evaluations, params.max_evaluations);
   if (result.refined) {
@@ -176,16 +159,16 @@ TEST(RobustRefinement, RecordsTheSearchInGraspsJson) {
 
 TEST(RobustRefinement, RejectsBadParameters) {
   const auto p = planOn("sdh", primitives::makeCylinder(0.035, 0.2, 48, 10), 1);
-  ASSERT_FALSE(p->plan.grasps.empty());
-  grasping::GraspSimulator sim(p->hand, *p->object);
-  const RobustnessParams rp = judgedAs(*p, 8);
+  ASSERT_FALSE(p.plan.grasps.empty());
+  grasping::GraspSimulator sim(p.hand, *p.object);
+  const RobustnessParams rp = judgedAs(p, 8);
   for (auto spoil : std::vector<std::function<void(RobustRefinementParams&)>>{
            [](auto& q) { q.samples = 0; }, [](auto& q) { q.max_evaluations = -1; },
            [](auto& q) { q.shift_step_m = 0; }, [](auto& q) { q.roll_step_rad = -0.1; },
            [](auto& q) { q.max_standoff_m = -0.01; }, [](auto& q) { q.max_halvings = -1; }}) {
     RobustRefinementParams params;
     spoil(params);
-    EXPECT_THROW(refineForRobustness(sim, p->plan.grasps[0], p->params.hypothesis, rp, params, 2),
+    EXPECT_THROW(refineForRobustness(sim, p.plan.grasps[0], p.params.hypothesis, rp, params, 2),
                  InvalidArgument);
   }
 }
