@@ -37,10 +37,15 @@ bool refineScoredGrasp(grasping::GraspSimulator& simulator, grasping::Grasp& gra
       refineForRobustness(simulator, grasp, planner, rp, params, kRefineStream);
   record.evaluations = refined.evaluations;
   if (refined.refined) {
-    const RobustnessResult moved_r = evaluateRobustness(simulator, refined.grasp, rp, kScoreStream);
-    log().debug("robust refinement: r {:.2f} -> {:.2f} (search {:.2f} -> {:.2f})", record.r_before,
-                moved_r.score, refined.search_r_before, refined.search_r_after);
-    if (moved_r.score >= record.r_before) {
+    // The moved pose must hold in at least as many scoring samples as the planner's; the check
+    // stops as soon as it has failed in more.
+    const int holds_before = static_cast<int>(std::lround(record.r_before * rp.samples));
+    const RobustnessResult moved_r =
+        evaluateRobustness(simulator, refined.grasp, rp, kScoreStream, rp.samples - holds_before);
+    log().debug("robust refinement: r {:.2f} -> {}{:.2f} (search {:.2f} -> {:.2f})",
+                record.r_before, moved_r.gave_up ? "< " : "", moved_r.score,
+                refined.search_r_before, refined.search_r_after);
+    if (!moved_r.gave_up && moved_r.force_closure >= holds_before) {
       grasp = std::move(refined.grasp);
       grasp.robustness = graspRobustness(moved_r, rp);
       record.refined = true;

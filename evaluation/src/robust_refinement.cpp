@@ -87,8 +87,11 @@ RobustRefinementOutcome refineForRobustness(grasping::GraspSimulator& simulator,
       if (samePose(pose, judged.grasp->hand_pose)) return false;
     }
     tried.push_back(judged.grasp->hand_pose);
-    const RobustnessResult r = evaluateRobustness(simulator, *judged.grasp, search, stream);
-    if (r.force_closure < best_holds + params.min_gain_samples) return false;
+    // Only whether the pose beats the best matters: its samples stop once it cannot.
+    const int needed = best_holds + params.min_gain_samples;
+    const RobustnessResult r =
+        evaluateRobustness(simulator, *judged.grasp, search, stream, params.samples - needed);
+    if (r.gave_up || r.force_closure < needed) return false;
     best_holds = r.force_closure;
     out.search_r_after = r.score;
     grasping::Grasp& moved_grasp = *judged.grasp;

@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -108,7 +109,7 @@ double orientationSigmaRad(const RobustnessParams& params) {
 
 RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
                                     const grasping::Grasp& grasp, const RobustnessParams& params,
-                                    std::uint64_t grasp_index) {
+                                    std::uint64_t grasp_index, std::optional<int> max_failures) {
   if (params.samples < 1) throw InvalidArgument("robustness: need at least one sample");
   if (grasp.contacts.empty()) throw InvalidArgument("robustness: the grasp has no contacts");
   Stopwatch watch;
@@ -139,13 +140,16 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
   // Guarded execution: the hand comes in along the perturbed pose's approach direction.
   const Eigen::Vector3d approach_in_hand =
       simulator.handPoseForGcp(Pose::Identity(), preshape).inverse().linear().col(2);
-  enum Outcome : char { kFailed, kCollision, kForceClosure, kGuardedForceClosure };
+  enum Outcome : char { kFailed, kCollision, kForceClosure, kGuardedForceClosure, kSkipped };
   std::vector<char> outcomes(params.samples, kFailed);
+  std::atomic<int> failures{0};
+  const auto missedBar = [&] { return max_failures && failures.load() > *max_failures; };
   // A simulator moves its hand's collision objects: one per thread, sharing hand and object.
   tbb::enumerable_thread_specific<std::unique_ptr<grasping::GraspSimulator>> simulators([&] {
     return std::make_unique<grasping::GraspSimulator>(simulator.hand(), simulator.object());
   });
-  tbb::parallel_for(0, params.samples, [&](int i) {
+  // One perturbed execution.
+  const auto execute = [&](int i) -> Outcome {
     std::seed_seq sample_seed{static_cast<std::uint32_t>(base_seed),
                               static_cast<std::uint32_t>(base_seed >> 32),
                               static_cast<std::uint32_t>(i)};
@@ -169,20 +173,29 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
     auto closed = local.close(hand_pose, preshape, closing);
     const bool collides = closed.reason == grasping::reason::kStartCollision;
     if (collides) {
-      outcomes[i] = kCollision;
-      if (!guarded) return;
+      if (!guarded) return kCollision;
       const std::optional<Pose> start =
           guardedApproachStop(local, hand_pose, hand_pose.linear() * approach_in_hand, preshape);
-      if (!start) return;
+      if (!start) return kCollision;
       closed = local.close(*start, preshape, closing);
     }
     if (closed.status.ok() &&
         grasping::evaluateGrasp(closed.contacts, local.object(), quality).force_closure)
-      outcomes[i] = collides ? kGuardedForceClosure : kForceClosure;
+      return collides ? kGuardedForceClosure : kForceClosure;
+    return collides ? kCollision : kFailed;
+  };
+  tbb::parallel_for(0, params.samples, [&](int i) {
+    if (missedBar()) {
+      outcomes[i] = kSkipped;
+      return;
+    }
+    outcomes[i] = execute(i);
+    if (outcomes[i] == kFailed || outcomes[i] == kCollision) ++failures;
   });
 
   RobustnessResult result;
   result.samples = params.samples;
+  result.gave_up = missedBar();
   for (char outcome : outcomes) {
     result.collisions += outcome == kCollision || outcome == kGuardedForceClosure;
     result.guarded_holds += outcome == kGuardedForceClosure;

@@ -189,6 +189,42 @@ TEST(Robustness, IsIdenticalAtOneAndTwoThreadsAndTheClosingsAgree) {
   EXPECT_LE(stepwise.score, one.wilson_high);
 }
 
+// A caller asking only whether r reaches a bar (max_failures) gets the full result when it does,
+// and gave_up exactly when the full run fails more often, at one thread and at two.
+TEST(Robustness, GivesUpExactlyWhenTheBarIsMissed) {
+  const auto hand = grasping::loadBuiltinHand("armar3");
+  const TriangleMesh mesh = primitives::makeCapsule(0.025, 0.12);
+  const grasping::GraspObject object(mesh);
+  const auto grasps = plannedGrasps(hand, object, mesh, 1);
+  ASSERT_FALSE(grasps.empty());
+  grasping::GraspSimulator sim(hand, object);
+  RobustnessParams rp;
+  rp.samples = 40;
+  rp.seed = 5;
+  rp.position_sigma_m = 0.02;  // twice the paper's error: some samples fail
+  for (const auto variant : {RobustnessVariant::kPaper, RobustnessVariant::kGuarded}) {
+    rp.variant = variant;
+    const auto full = evaluateRobustness(sim, grasps.front(), rp, 2);
+    const int failures = full.samples - full.force_closure;
+    ASSERT_GT(failures, 0) << toString(variant);
+    ASSERT_LT(failures, full.samples) << toString(variant);
+    EXPECT_FALSE(full.gave_up);
+    for (int threads : {1, 2}) {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+      const auto met = evaluateRobustness(sim, grasps.front(), rp, 2, failures);
+      EXPECT_FALSE(met.gave_up) << toString(variant) << threads;
+      EXPECT_EQ(met.force_closure, full.force_closure) << toString(variant) << threads;
+      EXPECT_EQ(met.collisions, full.collisions) << toString(variant) << threads;
+      const auto missed = evaluateRobustness(sim, grasps.front(), rp, 2, failures - 1);
+      EXPECT_TRUE(missed.gave_up) << toString(variant) << threads;
+      EXPECT_LE(missed.force_closure, full.force_closure) << toString(variant) << threads;
+      const auto unreachable = evaluateRobustness(sim, grasps.front(), rp, 2, -1);
+      EXPECT_TRUE(unreachable.gave_up);
+      EXPECT_EQ(unreachable.force_closure, 0);
+    }
+  }
+}
+
 // The guarded variant executes the paper's samples; the ones whose open hand starts clear are
 // closed exactly as in the paper variant, so it can only add holding samples, never lose one.
 TEST(Robustness, GuardedHoldsWhereverThePaperVariantHolds) {

@@ -49,6 +49,9 @@ struct RobustnessResult {
   // backs them off and closes (guarded_holds of them then reached force closure).
   int collisions = 0;
   int guarded_holds = 0;
+  // evaluateRobustness's max_failures was exceeded: the counts (and score, interval) cover only
+  // the samples run, and all that is known is that r < 1 - max_failures / samples.
+  bool gave_up = false;
   double score = 0;                        // r = force_closure / samples
   double wilson_low = 0, wilson_high = 0;  // 95 % Wilson score interval of r
   double time_s = 0;
@@ -63,8 +66,13 @@ std::pair<double, double> wilsonInterval(int successes, int trials, double z = 1
 // rotation axes along the object frame. `grasp_index` decorrelates the paper variant's samples
 // between grasps while keeping them a function of (seed, grasp_index). Throws InvalidArgument for
 // samples < 1 or a grasp without contacts.
+// max_failures: for a caller that only asks whether r reaches a bar (refinement's comparisons),
+// the samples not yet started are skipped once more than this many have failed. Whether that
+// happens (gave_up) does not depend on the thread count: it is exactly whether all samples
+// together fail more often, since samples are skipped only after the bar is already missed.
 RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
                                     const grasping::Grasp& grasp, const RobustnessParams& params,
-                                    std::uint64_t grasp_index = 0);
+                                    std::uint64_t grasp_index = 0,
+                                    std::optional<int> max_failures = std::nullopt);
 
 }  // namespace skelgrasp::evaluation
