@@ -19,7 +19,7 @@ struct RobustRefinementParams {
   bool enabled = true;
   // The ranking searches near its most robust scored grasps, this many of them (0: all scored).
   // 10, all the grasps the ranking scores by default: over the 58 YCB meshes, searching 10 rather
-  // than 5 lifted the median top-10 r by 0.5-3.5 points for about 0.2-0.3 s per object.
+  // than 5 lifted the median top-10 r by 0.5-3.5 points for 0.2-0.35 s more ranking per object.
   std::size_t max_grasps = 10;
   // Poses closed and judged per grasp besides its own (each costs one retreat search, one closing
   // and `samples` perturbed executions).
