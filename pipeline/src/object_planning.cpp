@@ -72,10 +72,14 @@ RankedPlan planAndRank(const HandModel& hand, const TriangleMesh& mesh,
   watch.restart();
   // The planner's object already holds a query tree over this mesh (same faces).
   const auto& query = target.surfaceQuery();
+  // How far a grasp's r is trusted: the share of its contacts on observed surface, weighted.
+  const auto trustOf = [&](double ratio) {
+    return 1 - params.observed_weight + params.observed_weight * ratio;
+  };
   std::vector<double> ratios, trust;
   for (const auto& g : out.plan.grasps) {
     ratios.push_back(observedContactRatio(g, mesh, observed, query));
-    trust.push_back(1 - params.observed_weight + params.observed_weight * ratios.back());
+    trust.push_back(trustOf(ratios.back()));
   }
   // The planner's hypothesis parameters with the scene check: refinement for robustness places
   // the hand anew and must keep it clear of the scene as the planner did.
@@ -92,8 +96,7 @@ RankedPlan planAndRank(const HandModel& hand, const TriangleMesh& mesh,
     if (robustness && robustness->refinement && robustness->refinement->refined) {
       // A moved grasp touches elsewhere: its trust is that of its own contacts.
       r.observed_contact_ratio = observedContactRatio(r.grasp, mesh, observed, query);
-      r.score = robustness->r *
-                (1 - params.observed_weight + params.observed_weight * r.observed_contact_ratio);
+      r.score = robustness->r * trustOf(r.observed_contact_ratio);
     }
     out.ranked.push_back(std::move(r));
   }
