@@ -143,13 +143,20 @@ TEST(Robustness, IsZeroWhenEveryPerturbedPoseCollides) {
   EXPECT_EQ(r.score, 0.0);
 }
 
+// ARMAR-III's best planned grasp on a capsule, with a simulator over it: the subject of the
+// tests that compare evaluations of one grasp.
+struct CapsuleGrasp {
+  grasping::HandModel hand = grasping::loadBuiltinHand("armar3");
+  grasping::GraspObject object{primitives::makeCapsule(0.025, 0.12)};
+  std::vector<Grasp> grasps = plannedGrasps(hand, object, object.mesh(), 1);
+  grasping::GraspSimulator sim{hand, object};
+};
+
 TEST(Robustness, IsIdenticalForTheSameSeed) {
-  const auto hand = grasping::loadBuiltinHand("armar3");
-  const TriangleMesh mesh = primitives::makeCapsule(0.025, 0.12);
-  const grasping::GraspObject object(mesh);
-  const auto grasps = plannedGrasps(hand, object, mesh, 1);
-  ASSERT_FALSE(grasps.empty());
-  grasping::GraspSimulator sim(hand, object);
+  CapsuleGrasp capsule;
+  ASSERT_FALSE(capsule.grasps.empty());
+  auto& sim = capsule.sim;
+  const auto& grasps = capsule.grasps;
   const Grasp& g = grasps.front();
   RobustnessParams rp;
   rp.samples = 30;
@@ -165,12 +172,10 @@ TEST(Robustness, IsIdenticalForTheSameSeed) {
 }
 
 TEST(Robustness, IsIdenticalAtOneAndTwoThreadsAndTheClosingsAgree) {
-  const auto hand = grasping::loadBuiltinHand("armar3");
-  const TriangleMesh mesh = primitives::makeCapsule(0.025, 0.12);
-  const grasping::GraspObject object(mesh);
-  const auto grasps = plannedGrasps(hand, object, mesh, 1);
-  ASSERT_FALSE(grasps.empty());
-  grasping::GraspSimulator sim(hand, object);
+  CapsuleGrasp capsule;
+  ASSERT_FALSE(capsule.grasps.empty());
+  auto& sim = capsule.sim;
+  const auto& grasps = capsule.grasps;
   RobustnessParams rp;
   rp.samples = 40;
   rp.seed = 5;
@@ -192,12 +197,10 @@ TEST(Robustness, IsIdenticalAtOneAndTwoThreadsAndTheClosingsAgree) {
 // A caller asking only whether r reaches a bar (max_failures) gets the full result when it does,
 // and gave_up exactly when the full run fails more often, at one thread and at two.
 TEST(Robustness, GivesUpExactlyWhenTheBarIsMissed) {
-  const auto hand = grasping::loadBuiltinHand("armar3");
-  const TriangleMesh mesh = primitives::makeCapsule(0.025, 0.12);
-  const grasping::GraspObject object(mesh);
-  const auto grasps = plannedGrasps(hand, object, mesh, 1);
-  ASSERT_FALSE(grasps.empty());
-  grasping::GraspSimulator sim(hand, object);
+  CapsuleGrasp capsule;
+  ASSERT_FALSE(capsule.grasps.empty());
+  auto& sim = capsule.sim;
+  const auto& grasps = capsule.grasps;
   RobustnessParams rp;
   rp.samples = 40;
   rp.seed = 5;
