@@ -5,12 +5,24 @@
 #include <CLI/CLI.hpp>
 
 #include <functional>
+#include <sstream>
 #include <string>
+#include <vector>
 
 namespace skelgrasp::cli {
 
 constexpr int kExitOk = 0;
 constexpr int kExitBadInput = 2;
+
+// The items of a comma-separated option value such as "armar3,sdh"; empty items are dropped.
+inline std::vector<std::string> splitList(const std::string& text, char separator = ',') {
+  std::vector<std::string> items;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, separator);) {
+    if (!item.empty()) items.push_back(item);
+  }
+  return items;
+}
 
 // A registered subcommand's action, run after parsing.
 using Action = std::function<int()>;

@@ -6,7 +6,6 @@
 #include <chrono>
 #include <filesystem>
 #include <iostream>
-#include <sstream>
 
 #include "cli.h"
 #include "mesh_list.h"
@@ -115,15 +114,6 @@ void timeGrasp(grasping::GraspSimulator& sim, const grasping::Preshape& preshape
   out.robustness_s.push_back(
       medianSeconds(1, [&] { r = evaluation::evaluateRobustness(sim, grasp, rp); }));
   score = r.score;
-}
-
-std::vector<std::string> splitList(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream in(text);
-  for (std::string item; std::getline(in, item, ',');) {
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
 }
 
 double ratio(double old_value, double new_value) {

@@ -5,12 +5,11 @@
 
 #include <filesystem>
 #include <iostream>
-#include <sstream>
 
 #include "cli.h"
 #include "mesh_list.h"
-#include "output_paths.h"
 #include "option_checks.h"
+#include "output_paths.h"
 #include "planner_options.h"
 #include "skeleton_options.h"
 #include "skelgrasp/common/json.h"
@@ -27,15 +26,6 @@ struct BenchPlanArgs {
   PlannerOptions planner;
   SkeletonOptions skeleton;
 };
-
-std::vector<std::string> splitList(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream in(text);
-  for (std::string item; std::getline(in, item, ',');) {
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
-}
 
 struct Totals {
   std::vector<double> ms, rates;

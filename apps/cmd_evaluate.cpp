@@ -4,7 +4,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <sstream>
 
 #include "cli.h"
 #include "mesh_list.h"
@@ -62,15 +61,6 @@ struct EvaluateArgs {
   RobustRefineOptions refine;
 };
 
-std::vector<std::string> split(const std::string& text, char sep) {
-  std::vector<std::string> out;
-  std::stringstream in(text);
-  for (std::string item; std::getline(in, item, sep);) {
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
-}
-
 // Directories, mesh files, or .txt files listing one mesh path per line (relative to the list).
 std::vector<std::string> expandObjects(const std::vector<std::string>& inputs) {
   std::vector<std::string> meshes;
@@ -98,9 +88,9 @@ int runEvaluate(const EvaluateArgs& a) {
   evaluation::BatchParams p;
   p.objects = expandObjects(a.objects);
   p.object_limit = a.limit;
-  p.hands = split(a.hands, ',');
+  p.hands = splitList(a.hands);
   p.planners.clear();
-  for (const auto& name : split(a.planners, ','))
+  for (const auto& name : splitList(a.planners))
     p.planners.push_back(evaluation::parsePlanner(name));
   p.out_dir = a.out;
   p.jobs = a.jobs;
