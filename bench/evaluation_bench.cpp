@@ -30,16 +30,28 @@ Grasp sideGrasp(GraspSimulator& sim, const HandModel& hand) {
   return grasp;
 }
 
+// One hand's side grasp of benchObject() and the robustness parameters both benchmarks judge it
+// with.
+struct SideGraspSetup {
+  SideGraspSetup(const std::string& hand_name, evaluation::RobustnessVariant variant, int samples)
+      : hand((setLogLevel(spdlog::level::warn), loadBuiltinHand(hand_name))) {
+    GraspSimulator sim(hand, benchObject());
+    grasp = sideGrasp(sim, hand);
+    params.samples = samples;
+    params.variant = variant;
+    params.quality.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
+  }
+  HandModel hand;
+  Grasp grasp;
+  evaluation::RobustnessParams params;
+};
+
 void BM_Robustness(benchmark::State& state, const std::string& hand_name,
                    evaluation::RobustnessVariant variant) {
-  setLogLevel(spdlog::level::warn);
-  const HandModel hand = loadBuiltinHand(hand_name);
-  GraspSimulator sim(hand, benchObject());
-  const Grasp grasp = sideGrasp(sim, hand);
-  evaluation::RobustnessParams params;
-  params.samples = 100;
-  params.variant = variant;
-  params.quality.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
+  const SideGraspSetup setup(hand_name, variant, 100);
+  GraspSimulator sim(setup.hand, benchObject());
+  const Grasp& grasp = setup.grasp;
+  const evaluation::RobustnessParams& params = setup.params;
   double score = 0;
   int collisions = 0;
   for (auto _ : state) {
@@ -61,14 +73,11 @@ void BM_Robustness(benchmark::State& state, const std::string& hand_name,
 // every iteration; the counters are the mean times and their ratio.
 void BM_EarlyStop(benchmark::State& state, const std::string& hand_name,
                   evaluation::RobustnessVariant variant) {
-  setLogLevel(spdlog::level::warn);
-  const HandModel hand = loadBuiltinHand(hand_name);
-  GraspSimulator sim(hand, benchObject());
-  const Grasp grasp = sideGrasp(sim, hand);
-  evaluation::RobustnessParams params;
-  params.samples = 50;  // the ranking's default; the refinement's search samples a pose 12 times
-  params.variant = variant;
-  params.quality.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
+  // 50 samples: the ranking's default; the refinement's search samples a pose 12 times.
+  const SideGraspSetup setup(hand_name, variant, 50);
+  GraspSimulator sim(setup.hand, benchObject());
+  const Grasp& grasp = setup.grasp;
+  const evaluation::RobustnessParams& params = setup.params;
   const int holds = evaluation::evaluateRobustness(sim, grasp, params).force_closure;
   const int bar = holds + static_cast<int>(state.range(0));
   using Clock = std::chrono::steady_clock;
