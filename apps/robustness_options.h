@@ -15,6 +15,9 @@ namespace skelgrasp::cli {
 
 // Most perturbed poses per grasp a command accepts (a million closings is hours).
 constexpr std::uint64_t kMaxRankingSamples = 1'000'000;
+// Farthest standoff the search for a more robust pose may try (m): beyond a hand's length the
+// fingers no longer reach the object.
+constexpr double kMaxRefineStandoffM = 0.2;
 
 // --robustness-variant, the same on every command that scores robustness.
 inline CLI::Option* addRobustnessVariantOption(CLI::App& cmd, std::string& variant) {
@@ -42,6 +45,7 @@ struct RobustRefineOptions {
   std::size_t grasps = evaluation::RobustRefinementParams{}.max_grasps;
   int evaluations = evaluation::RobustRefinementParams{}.max_evaluations;
   int samples = evaluation::RobustRefinementParams{}.samples;
+  double max_standoff_m = evaluation::RobustRefinementParams{}.max_standoff_m;
 
   void addTo(CLI::App& cmd) {
     cmd.add_flag("--no-robust-refine", disabled,
@@ -59,6 +63,10 @@ struct RobustRefineOptions {
                    "Perturbed executions per pose in that search")
         ->transform(countIn(1, kMaxRankingSamples))
         ->capture_default_str();
+    cmd.add_option("--robust-refine-max-standoff", max_standoff_m,
+                   "Farthest that search backs a grasp off (or moves it closer), in metres")
+        ->check(finiteIn(0, kMaxRefineStandoffM))
+        ->capture_default_str();
   }
 
   void applyTo(evaluation::RobustRefinementParams& p) const {
@@ -66,6 +74,7 @@ struct RobustRefineOptions {
     p.max_grasps = grasps;
     p.max_evaluations = evaluations;
     p.samples = samples;
+    p.max_standoff_m = max_standoff_m;
   }
 };
 

@@ -85,7 +85,15 @@ nlohmann::json rankingOptions(const RobustRankingParams& r) {
           {"screen_k", r.screen_k},
           {"screen_samples", r.screen_samples},
           {"samples", r.robustness.samples},
-          {"variant", toString(r.robustness.variant)}};
+          {"variant", toString(r.robustness.variant)},
+          // The search moves the returned grasps, so a batch resumed with another search would
+          // mix two kinds of grasps.
+          {"refinement",
+           {{"enabled", r.refinement.enabled},
+            {"max_grasps", r.refinement.max_grasps},
+            {"max_evaluations", r.refinement.max_evaluations},
+            {"samples", r.refinement.samples},
+            {"max_standoff_m", r.refinement.max_standoff_m}}}};
 }
 
 nlohmann::json resultOptions(const BatchParams& p) {

@@ -239,6 +239,19 @@ TEST(Cli, PlanScoresAndRanksByRobustness) {
   }
   EXPECT_EQ(runCli(plan + dir + "/x.json --robustness-samples 0", dir).exit_code, 2);
   EXPECT_EQ(runCli(plan + dir + "/x.json --robust-refine-samples 0", dir).exit_code, 2);
+  EXPECT_EQ(runCli(plan + dir + "/x.json --robust-refine-max-standoff -0.01", dir).exit_code, 2);
+  // With no standoff allowed, the search never backs a grasp off or moves it closer.
+  const CliRun no_standoff = runCli(plan + dir +
+                                        "/no_standoff.json --robustness-samples 12 "
+                                        "--robustness-top-k 4 --robustness-screen 4 "
+                                        "--robust-refine-max-standoff 0",
+                                    dir);
+  ASSERT_EQ(no_standoff.exit_code, 0) << no_standoff.err;
+  const auto fixed = readJsonFile(dir + "/no_standoff.json");
+  for (std::size_t i = 0; i < 4; ++i) {
+    const auto& f = fixed["grasps"][i]["robustness"]["refinement"];
+    if (f["refined"].get<bool>()) EXPECT_EQ(f["moves"]["standoff_m"].get<double>(), 0.0) << i;
+  }
   EXPECT_EQ(runCli(plan + dir + "/x.json --robustness-variant weird", dir).exit_code, 2);
 }
 

@@ -341,6 +341,10 @@ TEST_F(BatchTest, RobustRankingRecordsTheReturnedGraspsRAndIsPartOfTheOptions) {
   const std::string summary = textOf(out + "/summary.md");
   EXPECT_NE(summary.find("## Returned grasps (robust ranking)"), std::string::npos);
   EXPECT_EQ(readJsonFile(out + "/batch.json")["options"]["ranking"]["top_k"], 2);
+  // The search for more robust poses moves the returned grasps: another search is another batch.
+  auto other_search = p;
+  other_search.ranking.refinement.max_standoff_m += 0.01;
+  EXPECT_THROW(runBatch(other_search), InvalidArgument);
   p.ranking.enabled = false;
   EXPECT_THROW(runBatch(p), InvalidArgument);
   // A batch without ranking records no ranking options and no such table.
