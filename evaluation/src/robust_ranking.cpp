@@ -72,6 +72,9 @@ grasping::GraspRobustness graspRobustness(const RobustnessResult& result,
   r.sigma_m = positionSigmaM(params);
   r.sigma_rad = orientationSigmaRad(params);
   r.variant = toString(params.variant);
+  r.start_collisions = result.collisions - result.guarded_holds;
+  r.closing_failures = result.closing_failures;
+  r.no_force_closure = result.no_force_closure;
   return r;
 }
 

@@ -140,8 +140,15 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
   // Guarded execution: the hand comes in along the perturbed pose's approach direction.
   const Eigen::Vector3d approach_in_hand =
       simulator.handPoseForGcp(Pose::Identity(), preshape).inverse().linear().col(2);
-  enum Outcome : char { kFailed, kCollision, kForceClosure, kGuardedForceClosure, kSkipped };
-  std::vector<char> outcomes(params.samples, kFailed);
+  enum Outcome : char {
+    kNoForceClosure,
+    kClosingFailed,
+    kCollision,
+    kForceClosure,
+    kGuardedForceClosure,
+    kSkipped
+  };
+  std::vector<char> outcomes(params.samples, kSkipped);
   std::atomic<int> failures{0};
   const auto missedBar = [&] { return max_failures && failures.load() > *max_failures; };
   // A simulator moves its hand's collision objects: one per thread, sharing hand and object.
@@ -179,10 +186,11 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
       if (!start) return kCollision;
       closed = local.close(*start, preshape, closing);
     }
-    if (closed.status.ok() &&
-        grasping::evaluateGrasp(closed.contacts, local.object(), quality).force_closure)
+    // A guarded start that then fails is still a start in collision: the paper's pose was.
+    if (!closed.status.ok()) return collides ? kCollision : kClosingFailed;
+    if (grasping::evaluateGrasp(closed.contacts, local.object(), quality).force_closure)
       return collides ? kGuardedForceClosure : kForceClosure;
-    return collides ? kCollision : kFailed;
+    return collides ? kCollision : kNoForceClosure;
   };
   tbb::parallel_for(0, params.samples, [&](int i) {
     if (missedBar()) {
@@ -190,7 +198,7 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
       return;
     }
     outcomes[i] = execute(i);
-    if (outcomes[i] == kFailed || outcomes[i] == kCollision) ++failures;
+    if (outcomes[i] != kForceClosure && outcomes[i] != kGuardedForceClosure) ++failures;
   });
 
   RobustnessResult result;
@@ -200,6 +208,8 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
     result.collisions += outcome == kCollision || outcome == kGuardedForceClosure;
     result.guarded_holds += outcome == kGuardedForceClosure;
     result.force_closure += outcome == kForceClosure || outcome == kGuardedForceClosure;
+    result.closing_failures += outcome == kClosingFailed;
+    result.no_force_closure += outcome == kNoForceClosure;
   }
   result.score = static_cast<double>(result.force_closure) / result.samples;
   std::tie(result.wilson_low, result.wilson_high) =

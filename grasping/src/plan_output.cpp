@@ -48,7 +48,11 @@ nlohmann::json graspToJson(const Grasp& g, const HandModel& hand) {
                          {"mu", r.mu},
                          {"sigma_m", r.sigma_m},
                          {"sigma_rad", r.sigma_rad},
-                         {"variant", r.variant}};
+                         {"variant", r.variant},
+                         {"failures",
+                          {{"start_collision", r.start_collisions},
+                           {"closing", r.closing_failures},
+                           {"no_force_closure", r.no_force_closure}}}};
     if (r.refinement) {
       const GraspRobustRefinement& f = *r.refinement;
       out["robustness"]["refinement"] = {{"refined", f.refined},

@@ -222,6 +222,8 @@ py::list score(const Mesh& mesh, const HandPtr& hand, const py::object& grasps, 
       d["robustness_interval"] = py::make_tuple(robust[i]->wilson_low, robust[i]->wilson_high);
       d["robustness_samples"] = robust[i]->samples;
       d["robustness_collisions"] = robust[i]->collisions;
+      d["robustness_closing_failures"] = robust[i]->closing_failures;
+      d["robustness_no_force_closure"] = robust[i]->no_force_closure;
     } else {
       d["robustness"] = py::none();
     }
@@ -332,9 +334,11 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
             if (!g.grasp.robustness) return py::none();
             return fromJson(grasping::graspToJson(g.grasp, *g.hand)["robustness"]);
           },
-          "{r, ci95, samples, mu, sigma_m, sigma_rad, variant} when the robust ranking scored "
-          "the grasp, else None; with 'refinement' {refined, evaluations, search_samples, "
-          "r_before, preshape_before, moves} where refinement for robustness searched near it.")
+          "{r, ci95, samples, mu, sigma_m, sigma_rad, variant, failures} when the robust ranking "
+          "scored the grasp, else None (failures: {start_collision, closing, no_force_closure}, "
+          "why the failed samples failed); with 'refinement' {refined, evaluations, "
+          "search_samples, r_before, preshape_before, moves} where refinement for robustness "
+          "searched near it.")
       .def_property_readonly(
           "type", [](const Grasp& g) { return std::string(toString(g.grasp.type)); },
           "'power' or 'precision'.")

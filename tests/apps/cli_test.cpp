@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -190,6 +191,10 @@ TEST(Cli, PlanScoresAndRanksByRobustness) {
       EXPECT_EQ(r["variant"], "reference");
       EXPECT_DOUBLE_EQ(r["mu"].get<double>(), 0.5);
       EXPECT_DOUBLE_EQ(r["sigma_m"].get<double>(), 0.005);
+      const auto& failures = r["failures"];
+      EXPECT_EQ(failures["start_collision"].get<int>() + failures["closing"].get<int>() +
+                    failures["no_force_closure"].get<int>(),
+                12 - static_cast<int>(std::lround(value * 12)));
       EXPECT_LE(value, previous_r);  // non-increasing in r, ties by epsilon
       if (value == previous_r) {
         EXPECT_LE(g["epsilon"].get<double>(), previous_epsilon);

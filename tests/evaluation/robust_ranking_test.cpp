@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <cmath>
 #include <filesystem>
 #include <numeric>
 
@@ -67,6 +68,9 @@ TEST(RobustRanking, ScoresTheTopKAndRanksThemFirstByR) {
       EXPECT_DOUBLE_EQ(r.mu, grasping::QualityParams{}.friction);
       EXPECT_EQ(r.variant, "paper");
       EXPECT_DOUBLE_EQ(r.sigma_m, 0.010);
+      // Every failed sample has one cause.
+      EXPECT_EQ(r.start_collisions + r.closing_failures + r.no_force_closure,
+                r.samples - static_cast<int>(std::lround(r.r * r.samples)));
       EXPECT_DOUBLE_EQ(result.scores[i], r.r);  // no trust factor: the score is r
     } else {
       EXPECT_DOUBLE_EQ(result.scores[i], g.epsilon);

@@ -140,6 +140,7 @@ TEST(Robustness, IsZeroWhenEveryPerturbedPoseCollides) {
   rp.samples = 25;
   const auto r = evaluateRobustness(sim, g, rp);
   EXPECT_EQ(r.collisions, 25);
+  EXPECT_EQ(r.closing_failures + r.no_force_closure, 0);
   EXPECT_EQ(r.score, 0.0);
 }
 
@@ -233,7 +234,7 @@ TEST(Robustness, GivesUpExactlyWhenTheBarIsMissed) {
 TEST(Robustness, GuardedHoldsWhereverThePaperVariantHolds) {
   const TriangleMesh mesh = primitives::makeCapsule(0.03, 0.14);
   const grasping::GraspObject object(mesh);
-  int collisions = 0, guarded_holds = 0;
+  int collisions = 0, guarded_holds = 0, slipped = 0;
   for (const std::string hand_name : {"shadow", "sdh"}) {
     SCOPED_TRACE(hand_name);
     const auto hand = grasping::loadBuiltinHand(hand_name);
@@ -251,6 +252,15 @@ TEST(Robustness, GuardedHoldsWhereverThePaperVariantHolds) {
       EXPECT_EQ(paper.guarded_holds, 0);
       EXPECT_EQ(guarded.force_closure, paper.force_closure + guarded.guarded_holds);
       EXPECT_LE(guarded.guarded_holds, guarded.collisions);
+      // The free starts close alike in both variants, and every sample has exactly one outcome.
+      EXPECT_EQ(guarded.closing_failures, paper.closing_failures);
+      EXPECT_EQ(guarded.no_force_closure, paper.no_force_closure);
+      for (const auto& r : {paper, guarded}) {
+        EXPECT_EQ(r.collisions - r.guarded_holds + r.closing_failures + r.no_force_closure +
+                      r.force_closure,
+                  r.samples);
+      }
+      slipped += paper.no_force_closure;
       collisions += guarded.collisions;
       guarded_holds += guarded.guarded_holds;
     }
@@ -259,6 +269,7 @@ TEST(Robustness, GuardedHoldsWhereverThePaperVariantHolds) {
   // held after the guarded approach.
   EXPECT_GT(collisions, 0);
   EXPECT_GT(guarded_holds, 0);
+  EXPECT_GT(slipped, 0);  // and the sum covers a third kind of failure
   std::cout << "[ guarded  ] " << collisions << " samples started in collision, " << guarded_holds
             << " of them held" << std::endl;
 }

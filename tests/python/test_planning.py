@@ -151,6 +151,10 @@ def test_score_recomputes_quality_and_robustness(capsule, sdh, capsule_plan):
         assert 0.0 <= s["robustness"] <= 1.0 and s["robustness_samples"] == 4
         low, high = s["robustness_interval"]
         assert low <= s["robustness"] <= high
+        # Every failed sample has one cause (the paper variant has no guarded holds).
+        failed = (s["robustness_collisions"] + s["robustness_closing_failures"]
+                  + s["robustness_no_force_closure"])
+        assert failed == 4 - round(s["robustness"] * 4)
     single = skelgrasp.score(capsule, sdh, capsule_plan.grasps[0], robustness_samples=0)
     assert single[0]["robustness"] is None
     # Higher friction never loses force closure for the same contacts.

@@ -49,6 +49,12 @@ struct RobustnessResult {
   // backs them off and closes (guarded_holds of them then reached force closure).
   int collisions = 0;
   int guarded_holds = 0;
+  // Why the other failed samples failed, for a user asking what to change: the closing from a
+  // free start ended with fewer contacts than it needs, or it closed but not in force closure
+  // (contacts that slip at this friction). With the samples that started in collision and did not
+  // hold (collisions - guarded_holds) they add up to samples - force_closure, unless gave_up.
+  int closing_failures = 0;
+  int no_force_closure = 0;
   // evaluateRobustness's max_failures was exceeded: the counts (and score, interval) cover only
   // the samples run, and all that is known is that r < 1 - max_failures / samples.
   bool gave_up = false;

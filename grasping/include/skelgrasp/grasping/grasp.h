@@ -39,6 +39,9 @@ struct GraspRobustness {
   double sigma_m = 0;    // position error, standard deviation (m)
   double sigma_rad = 0;  // orientation error, standard deviation (rad)
   std::string variant;   // "paper" or "guarded" (the hand moves), "reference" (the object moves)
+  // Why the failed samples failed (they add up to samples - r * samples): the open hand started in
+  // the object, the closing ended with too few contacts, or it closed without force closure.
+  int start_collisions = 0, closing_failures = 0, no_force_closure = 0;
   std::optional<GraspRobustRefinement> refinement;  // set when the search ran on this grasp
 };
 
