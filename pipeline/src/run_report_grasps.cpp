@@ -21,13 +21,19 @@ void addGraspTable(HtmlReport& report, const std::vector<RankedGrasp>& ranked) {
                               ? fmt::format("{:.2f} [{:.2f}, {:.2f}]", g.robustness->r,
                                             g.robustness->ci95_low, g.robustness->ci95_high)
                               : "-";
+    // What a user changes depends on why samples failed: clearance for starts in the object,
+    // another place or more friction for slipping contacts.
+    const std::string failures =
+        g.robustness ? fmt::format("{} / {} / {}", g.robustness->start_collisions,
+                                   g.robustness->closing_failures, g.robustness->no_force_closure)
+                     : "-";
     rows.push_back({std::to_string(k), toString(g.type), g.strategy,
                     fmt::format("{:.4f}", g.epsilon),
-                    fmt::format("{:.0f}%", 100 * ranked[k].observed_contact_ratio), r,
+                    fmt::format("{:.0f}%", 100 * ranked[k].observed_contact_ratio), r, failures,
                     fmt::format("{:.4f}", ranked[k].score)});
   }
   report.table({"rank", "type", "strategy", "epsilon", "observed contacts", "r [95% interval]",
-                "rank score"},
+                "failed samples: start in object / too few contacts / slipped", "rank score"},
                rows);
 }
 

@@ -9,8 +9,8 @@
 
 namespace skelgrasp::pipeline::internal {
 
-// Rank, type, strategy, epsilon, observed contacts, r [95 % interval] ("-" when not scored) and
-// the rank score, one row per grasp.
+// Rank, type, strategy, epsilon, observed contacts, r [95 % interval] and its failed samples by
+// cause ("-" when not scored) and the rank score, one row per grasp.
 void addGraspTable(HtmlReport& report, const std::vector<RankedGrasp>& ranked);
 
 // An inline SVG bar chart (no file, works offline) of r over the scored grasps, in ten bins of

@@ -161,6 +161,8 @@ TEST_F(DemoScenePipeline, WritesTheReportWithItsPictures) {
   EXPECT_EQ(doc.at("schema"), "skelgrasp.run/3");
   // r with its interval per grasp and the histogram of r (inline SVG).
   EXPECT_NE(html.find("r [95% interval]"), std::string::npos);
+  EXPECT_NE(html.find("failed samples: start in object / too few contacts / slipped"),
+            std::string::npos);
   EXPECT_NE(html.find("robustness-histogram"), std::string::npos);
   ASSERT_EQ(doc.at("objects").size(), 1u);
   EXPECT_EQ(doc.at("objects")[0].at("grasps"), run.ranked.size());
