@@ -166,8 +166,14 @@ class ObjectEvaluator {
       ranking.scored = ranked.scored;
       ranking.time_s = ranked.time_s;
       double sum = 0;
-      for (const auto& g : result.grasps)
-        if (g.robustness) sum += g.robustness->r;
+      for (const auto& g : result.grasps) {
+        if (!g.robustness) continue;
+        sum += g.robustness->r;
+        ranking.samples += g.robustness->samples;
+        ranking.start_collisions += g.robustness->start_collisions;
+        ranking.closing_failures += g.robustness->closing_failures;
+        ranking.no_force_closure += g.robustness->no_force_closure;
+      }
       if (ranked.scored > 0) ranking.r_mean = sum / ranked.scored;
       if (!result.grasps.empty() && result.grasps.front().robustness)
         ranking.r_best = result.grasps.front().robustness->r;
@@ -183,6 +189,8 @@ class ObjectEvaluator {
     std::optional<double> r_mean;  // of the scored grasps
     std::optional<double> r_best;  // of the first grasp (ranked first)
     std::size_t refined = 0;       // scored grasps moved by refinement for robustness
+    // The scored grasps' samples, and the failed ones by cause.
+    std::size_t samples = 0, start_collisions = 0, closing_failures = 0, no_force_closure = 0;
     double time_s = 0;
   };
 
@@ -239,6 +247,10 @@ class ObjectEvaluator {
     m.ranking_s = ranking.time_s;
     m.ranked_r_best = ranking.r_best;
     m.ranked_refined = ranking.refined;
+    m.ranked_samples = ranking.samples;
+    m.ranked_start_collisions = ranking.start_collisions;
+    m.ranked_closing_failures = ranking.closing_failures;
+    m.ranked_no_force_closure = ranking.no_force_closure;
     out.runs.push_back(std::move(run));
     for (std::size_t i = 0; i < plan.grasps.size(); ++i) {
       const auto& g = plan.grasps[i];

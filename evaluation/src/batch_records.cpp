@@ -157,6 +157,10 @@ void to_json(nlohmann::json& j, const RunRecord& run) {
   j["ranking_s"] = m.ranking_s;
   j["ranked_r_best"] = orNull(m.ranked_r_best);
   j["ranked_refined"] = m.ranked_refined;
+  j["ranked_samples"] = m.ranked_samples;
+  j["ranked_failures"] = {{"start_collision", m.ranked_start_collisions},
+                          {"closing", m.ranked_closing_failures},
+                          {"no_force_closure", m.ranked_no_force_closure}};
 }
 
 void from_json(const nlohmann::json& j, RunRecord& run) {
@@ -199,6 +203,19 @@ void from_json(const nlohmann::json& j, RunRecord& run) {
   if (f.has("ranked_refined")) {
     m.ranked_r_best = f.realOrNull("ranked_r_best");
     m.ranked_refined = f.count("ranked_refined");
+  }
+  if (f.has("ranked_samples")) {
+    m.ranked_samples = f.count("ranked_samples");
+    const std::map<std::string, std::size_t> failures = f.counts("ranked_failures");
+    const auto cause = [&](const char* name) {
+      const auto it = failures.find(name);
+      if (it == failures.end())
+        throw RecordError(std::string("key 'ranked_failures.") + name + "' is missing");
+      return it->second;
+    };
+    m.ranked_start_collisions = cause("start_collision");
+    m.ranked_closing_failures = cause("closing");
+    m.ranked_no_force_closure = cause("no_force_closure");
   }
   run.measures = std::move(m);
 }

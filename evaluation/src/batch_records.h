@@ -56,6 +56,10 @@ struct RunMeasures {
   // Absent before that refinement existed: read as none / 0.
   std::optional<double> ranked_r_best;
   std::size_t ranked_refined = 0;
+  // The scored grasps' perturbed executions added up: all of them, and the failed ones by cause
+  // (robustness.h). Absent before the causes were recorded: read as 0 (and shown as unknown).
+  std::size_t ranked_samples = 0;
+  std::size_t ranked_start_collisions = 0, ranked_closing_failures = 0, ranked_no_force_closure = 0;
 };
 
 // One line of runs.jsonl: one object x hand x planner.

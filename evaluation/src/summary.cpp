@@ -75,6 +75,10 @@ BatchSummary aggregateSummary(const BatchRecords& records) {
       // An object left without a grasp counts as r = 0: the user gets nothing that holds.
       g.ranked_r.add(m.ranked_r_mean.value_or(0.0));
       g.plan_s.add(m.regularise_s + m.skeleton_s + m.planning_s + m.ranking_s);
+      g.ranked_samples += m.ranked_samples;
+      g.ranked_start_collisions += m.ranked_start_collisions;
+      g.ranked_closing_failures += m.ranked_closing_failures;
+      g.ranked_no_force_closure += m.ranked_no_force_closure;
     }
   }
   for (const auto& [key, list] : records.results) {

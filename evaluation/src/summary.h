@@ -40,6 +40,10 @@ struct PlannerSummary {
   std::size_t ranked_with_grasps = 0;  // of ranked_runs: at least one grasp returned
   Stat ranked_r;  // per ranked run: mean r of the scored (top) grasps, 0 without any grasp
   Stat plan_s;    // per ranked run: regularise + skeleton + planning + ranking seconds
+  // The scored grasps' samples over the ranked runs that recorded them, and the failed ones by
+  // cause.
+  std::size_t ranked_samples = 0;
+  std::size_t ranked_start_collisions = 0, ranked_closing_failures = 0, ranked_no_force_closure = 0;
 };
 
 struct BatchSummary {

@@ -11,6 +11,29 @@ double robustnessThroughput(std::size_t grasps, double seconds) {
   return seconds > 0 ? grasps / seconds : 0.0;
 }
 
+// Why the returned grasps' perturbed executions failed, over the ranked runs that recorded it;
+// empty when none did (batches from before the causes were recorded).
+std::string failureTable(const BatchSummary& summary) {
+  std::string md;
+  for (const auto& [key, g] : summary.groups) {
+    if (g.ranked_samples == 0) continue;
+    const double n = static_cast<double>(g.ranked_samples);
+    const std::size_t failed =
+        g.ranked_start_collisions + g.ranked_closing_failures + g.ranked_no_force_closure;
+    md += fmt::format("| {} | {} | {} | {:.1f}% | {:.1f}% | {:.1f}% | {:.1f}% |\n", key.first,
+                      toString(key.second), g.ranked_samples, 100 * (n - failed) / n,
+                      100 * g.ranked_start_collisions / n, 100 * g.ranked_closing_failures / n,
+                      100 * g.ranked_no_force_closure / n);
+  }
+  if (md.empty()) return md;
+  return "\nThe scored grasps' perturbed executions, added up over the objects: held, and failed "
+         "because the open hand started in the object, the closing ended with too few contacts, "
+         "or it closed without force closure (contacts that slip).\n\n"
+         "| hand | planner | samples | held | start in object | too few contacts | slipped "
+         "|\n|---|---|---|---|---|---|---|\n" +
+         md;
+}
+
 // The grasps as `plan` returns them (runs with robust ranking), empty when no run was ranked.
 std::string rankedTable(const BatchSummary& summary) {
   std::string md;
@@ -22,6 +45,7 @@ std::string rankedTable(const BatchSummary& summary) {
                       100 * g.ranked_r.median(), 100 * g.ranked_r.mean(), g.plan_s.median());
   }
   if (md.empty()) return md;
+  md += failureTable(summary);
   return "\n## Returned grasps (robust ranking)\n\n"
          "The grasps `skelgrasp plan` returns: ranked by robustness, r on the best "
          "(docs/planning.md, "

@@ -6,6 +6,7 @@
 #include <sys/file.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -334,12 +335,21 @@ TEST_F(BatchTest, RobustRankingRecordsTheReturnedGraspsRAndIsPartOfTheOptions) {
     const double r = run["ranked_r_mean"];
     EXPECT_GE(r, 0.0);
     EXPECT_LE(r, 1.0);
+    // The scored grasps' samples: each failed one has one cause, the rest held (r's mean).
+    const std::size_t samples = run["ranked_samples"];
+    EXPECT_EQ(samples, run["ranked_grasps"].get<std::size_t>() * 6);
+    const auto& failures = run["ranked_failures"];
+    const std::size_t failed = failures["start_collision"].get<std::size_t>() +
+                               failures["closing"].get<std::size_t>() +
+                               failures["no_force_closure"].get<std::size_t>();
+    EXPECT_EQ(samples - failed, static_cast<std::size_t>(std::lround(r * samples)));
   }
   EXPECT_GT(ranked_with_grasps, 0u);
   // The summary shows the returned grasps' table; the options record the ranking, so a resume
   // without it is refused.
   const std::string summary = textOf(out + "/summary.md");
   EXPECT_NE(summary.find("## Returned grasps (robust ranking)"), std::string::npos);
+  EXPECT_NE(summary.find("| start in object | too few contacts | slipped |"), std::string::npos);
   EXPECT_EQ(readJsonFile(out + "/batch.json")["options"]["ranking"]["top_k"], 2);
   // The search for more robust poses moves the returned grasps: another search is another batch.
   auto other_search = p;
