@@ -27,6 +27,16 @@ inline CLI::Option* addCentreCandidatesFlag(CLI::App& cmd, bool& centre_candidat
                       "object, the robust ones the ranking chooses from (docs/planning.md)");
 }
 
+// --surface-candidates, the same on every command that plans.
+inline CLI::Option* addSurfaceCandidatesOption(CLI::App& cmd, std::size_t& surface_candidates) {
+  return cmd
+      .add_option("--surface-candidates", surface_candidates,
+                  "Skeleton planner: also try this many surface-normal hypotheses and add their "
+                  "grasps to the pool the ranking chooses from (0 = none; docs/planning.md)")
+      ->transform(countIn(0, kMaxCount))
+      ->capture_default_str();
+}
+
 // Defaults are the library's Params (never a typed copy of a number), except the time limit.
 struct PlannerOptions {
   std::string planner = "skeleton";
@@ -42,6 +52,7 @@ struct PlannerOptions {
   bool reference_compat = false;
   bool no_fallback = false;  // skeleton planner: the skeleton strategies only
   bool centre_candidates = grasping::SkeletonPlannerParams{}.centre_candidates;
+  std::size_t surface_candidates = grasping::SkeletonPlannerParams{}.surface_candidates;
   std::string fc_test = defaultForceClosureTest();
   std::string closing = defaultClosingMethod();
   int refine_evaluations = grasping::RefinementParams{}.max_evaluations;
@@ -98,6 +109,7 @@ struct PlannerOptions {
                  "Skeleton planner: no fallback strategies for objects whose skeleton gives few "
                  "grasps (docs/planning.md)");
     addCentreCandidatesFlag(cmd, centre_candidates);
+    addSurfaceCandidatesOption(cmd, surface_candidates);
     addForceClosureTestOption(cmd, fc_test);
     addClosingMethodOption(cmd, closing);
     cmd.add_option("--refine-evaluations", refine_evaluations,
@@ -129,6 +141,7 @@ struct PlannerOptions {
     p.round_ratio = round_ratio;
     p.fallback = !no_fallback;
     p.centre_candidates = centre_candidates;
+    p.surface_candidates = surface_candidates;
     p.precision_retreat_m = precision_retreat_m;
     p.hypothesis = hypothesis();
     p.refinement.enabled = refine;

@@ -146,6 +146,7 @@ class ObjectEvaluator {
       sp.seed = seed;
       sp.vertex_distance_m = p_.vertex_distance_m;
       sp.centre_candidates = p_.centre_candidates;
+      sp.surface_candidates = p_.surface_candidates;
       sp.hypothesis = hypothesis;
       result = grasping::planSkeletonGrasps(hand, object, skel->skeleton, sp);
     } else {

@@ -139,6 +139,8 @@ nlohmann::json resultOptions(const BatchParams& p) {
         {"auto_millimetre_diagonal", p.load.auto_millimetre_diagonal}}},
   };
   if (p.ranking.enabled) options["ranking"] = rankingOptions(p.ranking);
+  // Only when on, so batches from before the option resume.
+  if (p.surface_candidates > 0) options["surface_candidates"] = p.surface_candidates;
   return options;
 }
 

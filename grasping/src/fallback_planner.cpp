@@ -312,5 +312,29 @@ void addFallbackGrasps(const HandModel& hand, const GraspObject& object,
   appendPlan(result, planFallbackGrasps(hand, object, fp));
 }
 
+void addSurfaceCandidates(const HandModel& hand, const GraspObject& object,
+                          const SkeletonPlannerParams& params, double elapsed_s,
+                          PlanResult& result) {
+  auto& summary = result.summary;
+  if (params.surface_candidates == 0 || summary.timed_out || summary.max_grasps_reached) return;
+  if (!hand.preshapes().count("power")) return;  // the surface planner closes the power preshape
+  SurfacePlannerParams sp;
+  sp.max_hypotheses = params.surface_candidates;
+  sp.seed = params.seed;
+  sp.hypothesis = params.hypothesis;
+  if (params.timeout_s > 0) {
+    const double left_s = params.timeout_s - elapsed_s;
+    if (left_s <= 0) {
+      summary.timed_out = true;
+      return;
+    }
+    sp.timeout_s = left_s;
+  }
+  if (params.max_grasps > 0) sp.max_grasps = params.max_grasps - result.grasps.size();
+  log().info("skeleton planner ({}): {} grasps so far, adding {} surface candidates", hand.name(),
+             result.grasps.size(), params.surface_candidates);
+  appendPlan(result, planSurfaceGrasps(hand, object, sp));
+}
+
 }  // namespace internal
 }  // namespace skelgrasp::grasping

@@ -21,4 +21,10 @@ std::size_t skeletonGraspLimit(const SkeletonPlannerParams& params);
 void addFallbackGrasps(const HandModel& hand, const GraspObject& object,
                        const SkeletonPlannerParams& params, double elapsed_s, PlanResult& result);
 
+// Then params.surface_candidates surface-normal hypotheses (planSurfaceGrasps, seeded by
+// params.seed), within the time and grasp count left; their grasps and counts are appended.
+void addSurfaceCandidates(const HandModel& hand, const GraspObject& object,
+                          const SkeletonPlannerParams& params, double elapsed_s,
+                          PlanResult& result);
+
 }  // namespace skelgrasp::grasping::internal

@@ -211,6 +211,7 @@ PlanResult planSkeletonGrasps(const HandModel& hand, const GraspObject& object,
     }
   }
   internal::addFallbackGrasps(hand, object, params, watch.seconds(), result);
+  internal::addSurfaceCandidates(hand, object, params, watch.seconds(), result);
   finishPlan(result, watch.seconds());
   log().info(
       "skeleton planner ({}): {} hypotheses, {} generated, {} force closure ({:.0f}%), {} kept, "

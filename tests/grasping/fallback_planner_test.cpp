@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -194,6 +195,34 @@ TEST(FallbackPlanner, CentreCandidatesOfAGripperArePrecisionGrasps) {
   }
   EXPECT_GT(centre, 0u);
   expectSound(p.result, hand, *p.object);
+}
+
+// Surface candidates: the surface planner's hypotheses join the pool, counted in the summary, with
+// their own strategy name; the other strategies' grasps are unchanged.
+TEST(FallbackPlanner, SurfaceCandidatesJoinThePool) {
+  const HandModel hand = loadBuiltinHand("armar3");
+  const TriangleMesh capsule = primitives::makeCapsule(0.03, 0.14, 48);
+  ASSERT_EQ(SkeletonPlannerParams{}.surface_candidates, 0u);
+  SkeletonPlannerParams with_surface;
+  constexpr std::size_t kSurfaceHypotheses = 30;
+  with_surface.surface_candidates = kSurfaceHypotheses;
+  const auto with = planOn(capsule, hand, with_surface), without = planOn(capsule, hand);
+  expectSound(with.result, hand, *with.object);
+  EXPECT_EQ(with.result.summary.hypotheses, without.result.summary.hypotheses + kSurfaceHypotheses);
+  std::map<std::string, std::size_t> others_with, others_without;
+  std::size_t surface = 0;
+  for (const Grasp& g : with.result.grasps) {
+    if (g.strategy != "surface") {
+      ++others_with[g.strategy];
+      continue;
+    }
+    ++surface;
+    EXPECT_EQ(g.preshape, "power");
+  }
+  for (const Grasp& g : without.result.grasps) ++others_without[g.strategy];
+  EXPECT_EQ(others_with, others_without);
+  EXPECT_GT(surface, 0u);
+  EXPECT_EQ(with.result.grasps.size(), without.result.grasps.size() + surface);
 }
 
 TEST(FallbackPlanner, SwitchedOffLeavesTheBallToTheSkeleton) {

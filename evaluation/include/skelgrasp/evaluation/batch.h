@@ -36,6 +36,8 @@ struct BatchParams {
   double vertex_distance_m = 0;          // skeleton planner d
   // Skeleton planner: power grasps about the centre on every object (SkeletonPlannerParams).
   bool centre_candidates = grasping::SkeletonPlannerParams{}.centre_candidates;
+  // Skeleton planner: surface-normal hypotheses added to the pool (SkeletonPlannerParams).
+  std::size_t surface_candidates = grasping::SkeletonPlannerParams{}.surface_candidates;
   // Used when no skeleton run gives the pose count.
   std::size_t surface_hypotheses = grasping::SurfacePlannerParams{}.max_hypotheses;
   // Robustness for up to this many grasps per run, drawn uniformly (seeded) from the kept grasps;

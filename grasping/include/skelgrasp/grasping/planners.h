@@ -45,6 +45,13 @@ struct SkeletonPlannerParams {
   // the centre candidates fill up to max_grasps (so that the limit does not shut them out). Off
   // with `fallback` (the skeleton strategies only, as the paper) or here.
   bool centre_candidates = true;
+  // Surface candidates: this many surface-normal hypotheses (planSurfaceGrasps: random surface
+  // points, approach along the normal, power preshape) are tried after the other strategies,
+  // within the time and grasp count left, and their grasps (strategy "surface") added to the
+  // pool the robust ranking chooses from. 0: none. The surface planner's pool holds better than
+  // the centre-aimed candidates on handles and small round objects for some hands (the Shadow
+  // hand: docs/results.md, "Why the returned grasps' perturbed executions fail").
+  std::size_t surface_candidates = 0;
   // Retreat, closing, quality (mu, contact model), min epsilon. extra_retreat_m is the hand's
   // power retreat for power grasps and precision_retreat_m for precision grasps.
   HypothesisParams hypothesis;
