@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <random>
 
 #include <Eigen/Eigenvalues>
@@ -261,6 +262,34 @@ std::size_t skeletonGraspLimit(const SkeletonPlannerParams& params) {
   return (params.max_grasps + 1) / 2;
 }
 
+namespace {
+
+// What a strategy run after the others may still spend: the time and grasp count the plan has left
+// (0: no limit). nullopt when the caller's limit is reached (max_grasps_reached) or the time is up
+// (timed_out); both flags are the plan's from here on.
+struct Budget {
+  double timeout_s = 0;
+  std::size_t max_grasps = 0;
+};
+std::optional<Budget> budgetLeft(const SkeletonPlannerParams& params, double elapsed_s,
+                                 PlanResult& result) {
+  auto& summary = result.summary;
+  summary.max_grasps_reached = params.max_grasps > 0 && result.grasps.size() >= params.max_grasps;
+  if (summary.max_grasps_reached) return std::nullopt;
+  Budget budget;
+  if (params.timeout_s > 0) {
+    budget.timeout_s = params.timeout_s - elapsed_s;
+    if (budget.timeout_s <= 0) {
+      summary.timed_out = true;
+      return std::nullopt;
+    }
+  }
+  if (params.max_grasps > 0) budget.max_grasps = params.max_grasps - result.grasps.size();
+  return budget;
+}
+
+}  // namespace
+
 void addFallbackGrasps(const HandModel& hand, const GraspObject& object,
                        const SkeletonPlannerParams& params, double elapsed_s, PlanResult& result) {
   auto& summary = result.summary;
@@ -275,22 +304,14 @@ void addFallbackGrasps(const HandModel& hand, const GraspObject& object,
     }
   }
   if (!why && !params.centre_candidates) return;
-  // From here on the flag is the plan's: whether the caller's limit is reached, by either part.
-  summary.max_grasps_reached = params.max_grasps > 0 && result.grasps.size() >= params.max_grasps;
-  if (summary.max_grasps_reached) return;
+  const std::optional<Budget> budget = budgetLeft(params, elapsed_s, result);
+  if (!budget) return;
   FallbackPlannerParams fp;
   fp.seed = params.seed;
   fp.strategies = params.fallback_strategies;
   fp.hypothesis = params.hypothesis;
-  if (params.timeout_s > 0) {
-    const double left_s = params.timeout_s - elapsed_s;
-    if (left_s <= 0) {
-      summary.timed_out = true;
-      return;
-    }
-    fp.timeout_s = left_s;
-  }
-  if (params.max_grasps > 0) fp.max_grasps = params.max_grasps - result.grasps.size();
+  fp.timeout_s = budget->timeout_s;
+  fp.max_grasps = budget->max_grasps;
   if (why) {
     // The trigger is recorded as one more rejected hypothesis (the skeleton strategies as a
     // whole), so the rejection counts still add up to the hypotheses that were not kept.
@@ -315,22 +336,16 @@ void addFallbackGrasps(const HandModel& hand, const GraspObject& object,
 void addSurfaceCandidates(const HandModel& hand, const GraspObject& object,
                           const SkeletonPlannerParams& params, double elapsed_s,
                           PlanResult& result) {
-  auto& summary = result.summary;
-  if (params.surface_candidates == 0 || summary.timed_out || summary.max_grasps_reached) return;
+  if (params.surface_candidates == 0 || result.summary.timed_out) return;
   if (!hand.preshapes().count("power")) return;  // the surface planner closes the power preshape
+  const std::optional<Budget> budget = budgetLeft(params, elapsed_s, result);
+  if (!budget) return;
   SurfacePlannerParams sp;
   sp.max_hypotheses = params.surface_candidates;
   sp.seed = params.seed;
   sp.hypothesis = params.hypothesis;
-  if (params.timeout_s > 0) {
-    const double left_s = params.timeout_s - elapsed_s;
-    if (left_s <= 0) {
-      summary.timed_out = true;
-      return;
-    }
-    sp.timeout_s = left_s;
-  }
-  if (params.max_grasps > 0) sp.max_grasps = params.max_grasps - result.grasps.size();
+  sp.timeout_s = budget->timeout_s;
+  sp.max_grasps = budget->max_grasps;
   log().info("skeleton planner ({}): {} grasps so far, adding {} surface candidates", hand.name(),
              result.grasps.size(), params.surface_candidates);
   appendPlan(result, planSurfaceGrasps(hand, object, sp));
