@@ -95,7 +95,7 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
           double spur_radius_factor, bool robustness, int robustness_samples,
           const std::string& robustness_variant, std::size_t robustness_top_k,
           std::size_t robustness_screen, std::optional<double> robustness_mu, bool robust_refine,
-          bool centre_candidates) {
+          bool centre_candidates, std::size_t surface_candidates) {
   if (planner != "skeleton" && planner != "surface")
     throw InvalidArgument("planner: '" + planner + "' is not skeleton or surface");
   grasping::HypothesisParams hypothesis;
@@ -126,6 +126,7 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
     p.vertex_distance_m = vertex_distance_m;
     p.round_ratio = round_ratio;
     p.centre_candidates = centre_candidates;
+    p.surface_candidates = surface_candidates;
     p.hypothesis = hypothesis;
     out.result = grasping::planSkeletonGrasps(*hand, object, out.skeleton->result.skeleton, p);
   } else {
@@ -435,6 +436,7 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
       py::arg("robustness_mu") = ranking.friction,
       py::arg("robust_refine") = ranking.refinement.enabled,
       py::arg("centre_candidates") = planner.centre_candidates,
+      py::arg("surface_candidates") = planner.surface_candidates,
       R"doc(
 Plans grasps for ``mesh`` with ``hand`` (``skelgrasp plan``): planner 'skeleton' (paper Alg. 1)
 or 'surface' (surface-normal baseline). Deterministic for a seed. The defaults are the library's
@@ -447,7 +449,8 @@ friction ``robustness_mu`` or ``mu``, samples seeded by ``seed``) and are ranked
 ``robustness=False`` keeps the epsilon order. ``robust_refine`` searches near the most robust
 scored grasps for more robust poses (docs/planning.md, "Refinement for robustness"). ``centre_candidates`` (skeleton planner) also tries
 power grasps about the object's centre on every object, the robust grasps the ranking chooses
-from. A mesh the skeleton stage cannot process raises ValueError.)doc");
+from; ``surface_candidates`` (skeleton planner) adds that many surface-normal hypotheses to the
+same pool (0: none; docs/planning.md, "Surface candidates"). A mesh the skeleton stage cannot process raises ValueError.)doc");
 
   py::class_<Closing>(m, "CloseResult", "A hand closed at a pose, from :func:`close`.")
       .def_property_readonly(
