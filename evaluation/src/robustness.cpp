@@ -107,6 +107,29 @@ double orientationSigmaRad(const RobustnessParams& params) {
                                                       : kPaperOrientationSigmaDeg));
 }
 
+PoseError samplePoseError(const RobustnessParams& params, std::uint64_t grasp_index, int sample) {
+  // Paper: fresh samples per grasp; reference: one default-seeded sequence for every grasp. Each
+  // sample draws from its own generator (base seed + sample index), so the samples, and the
+  // score, do not depend on how many threads run them.
+  const bool paper_samples = params.variant != RobustnessVariant::kReference;
+  const std::uint64_t base_seed =
+      paper_samples ? params.seed * 0x9E3779B97F4A7C15ULL + grasp_index : params.seed;
+  std::seed_seq sample_seed{static_cast<std::uint32_t>(base_seed),
+                            static_cast<std::uint32_t>(base_seed >> 32),
+                            static_cast<std::uint32_t>(sample)};
+  std::mt19937_64 rng(sample_seed);
+  std::normal_distribution<double> position(0.0, positionSigmaM(params)),
+      angle(0.0, orientationSigmaRad(params));
+  PoseError error;
+  error.translation = Eigen::Vector3d(position(rng), position(rng), position(rng));
+  const double roll = angle(rng), pitch = angle(rng), yaw = angle(rng);
+  error.rotation = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+                    Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+                    Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
+                       .toRotationMatrix();
+  return error;
+}
+
 RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
                                     const grasping::Grasp& grasp, const RobustnessParams& params,
                                     std::uint64_t grasp_index, std::optional<int> max_failures) {
@@ -120,8 +143,6 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
       (params.orientation_sigma_rad && !(*params.orientation_sigma_rad >= 0))) {
     throw InvalidArgument("robustness: pose error sigmas must be >= 0");
   }
-  const double sigma_p = positionSigmaM(params);
-  const double sigma_r = orientationSigmaRad(params);
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   for (const auto& c : grasp.contacts)
     centre += c.point / static_cast<double>(grasp.contacts.size());
@@ -132,11 +153,6 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
   // Only the verdict counts: with the LP test (default) no hull is built at all.
   quality.compute_volume = false;
   quality.compute_epsilon = false;
-  // Paper: fresh samples per grasp; reference: one default-seeded sequence for every grasp. Each
-  // sample draws from its own generator (base seed + sample index), so the samples, and the
-  // score, do not depend on how many threads run them.
-  const std::uint64_t base_seed =
-      paper_samples ? params.seed * 0x9E3779B97F4A7C15ULL + grasp_index : params.seed;
   // Guarded execution: the hand comes in along the perturbed pose's approach direction.
   const Eigen::Vector3d approach_in_hand =
       simulator.handPoseForGcp(Pose::Identity(), preshape).inverse().linear().col(2);
@@ -157,19 +173,10 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
   });
   // One perturbed execution.
   const auto execute = [&](int i) -> Outcome {
-    std::seed_seq sample_seed{static_cast<std::uint32_t>(base_seed),
-                              static_cast<std::uint32_t>(base_seed >> 32),
-                              static_cast<std::uint32_t>(i)};
-    std::mt19937_64 rng(sample_seed);
-    std::normal_distribution<double> position(0.0, sigma_p), angle(0.0, sigma_r);
-    const Eigen::Vector3d dp(position(rng), position(rng), position(rng));
-    const double roll = angle(rng), pitch = angle(rng), yaw = angle(rng);
+    const PoseError sampled = samplePoseError(params, grasp_index, i);
     Pose error = Pose::Identity();
-    error.linear() = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
-                      Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
-                      Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
-                         .toRotationMatrix();
-    error.translation() = dp;
+    error.linear() = sampled.rotation;
+    error.translation() = sampled.translation;
     // The error acts about the contact centre: x -> c + R (x - c) + dp. Moving the object by that
     // error is moving the hand by its inverse.
     const Pose about = Eigen::Translation3d(centre) * error * Eigen::Translation3d(-centre);
@@ -204,6 +211,9 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
   RobustnessResult result;
   result.samples = params.samples;
   result.gave_up = missedBar();
+  result.held.resize(outcomes.size());
+  for (std::size_t i = 0; i < outcomes.size(); ++i)
+    result.held[i] = outcomes[i] == kForceClosure || outcomes[i] == kGuardedForceClosure;
   for (char outcome : outcomes) {
     result.collisions += outcome == kCollision || outcome == kGuardedForceClosure;
     result.guarded_holds += outcome == kGuardedForceClosure;

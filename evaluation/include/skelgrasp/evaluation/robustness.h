@@ -3,6 +3,9 @@
 // hand poses that still close to a force-closure grasp.
 #include <cstdint>
 #include <optional>
+#include <vector>
+
+#include <Eigen/Geometry>
 
 #include "skelgrasp/grasping/grasp.h"
 #include "skelgrasp/grasping/grasp_simulator.h"
@@ -58,10 +61,23 @@ struct RobustnessResult {
   // evaluateRobustness's max_failures was exceeded: the counts (and score, interval) cover only
   // the samples run, and all that is known is that r < 1 - max_failures / samples.
   bool gave_up = false;
+  // Per sample, in sample order: whether it held (false also for a sample skipped after
+  // max_failures). With samplePoseError this says where around the grasp the holds lie.
+  std::vector<bool> held;
   double score = 0;                        // r = force_closure / samples
   double wilson_low = 0, wilson_high = 0;  // 95 % Wilson score interval of r
   double time_s = 0;
 };
+
+// One sample's pose error: a translation and a rotation (object-frame axes), applied about the
+// centre of the grasp's contacts (evaluateRobustness).
+struct PoseError {
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+};
+// The error of sample `sample` of evaluateRobustness(..., params, grasp_index): a function of the
+// seed, the variant, the sigmas, grasp_index and the sample index only.
+PoseError samplePoseError(const RobustnessParams& params, std::uint64_t grasp_index, int sample);
 
 // Wilson score interval for k successes in n trials (z = 1.96).
 std::pair<double, double> wilsonInterval(int successes, int trials, double z = 1.959964);
