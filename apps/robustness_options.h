@@ -46,6 +46,7 @@ struct RobustRefineOptions {
   int evaluations = evaluation::RobustRefinementParams{}.max_evaluations;
   int samples = evaluation::RobustRefinementParams{}.samples;
   double max_standoff_m = evaluation::RobustRefinementParams{}.max_standoff_m;
+  int mean_shift_steps = evaluation::RobustRefinementParams{}.mean_shift_steps;
 
   void addTo(CLI::App& cmd) {
     cmd.add_flag("--no-robust-refine", disabled,
@@ -67,6 +68,11 @@ struct RobustRefineOptions {
                    "Farthest that search backs a grasp off (or moves it closer), in metres")
         ->check(finiteIn(0, kMaxRefineStandoffM))
         ->capture_default_str();
+    cmd.add_option("--robust-refine-mean-shift", mean_shift_steps,
+                   "Mean-shift steps after that search: the best pose moved towards where its "
+                   "perturbed executions held, tilts included (0 = none)")
+        ->transform(countIn(0, kMaxRankingSamples))
+        ->capture_default_str();
   }
 
   void applyTo(evaluation::RobustRefinementParams& p) const {
@@ -75,6 +81,7 @@ struct RobustRefineOptions {
     p.max_evaluations = evaluations;
     p.samples = samples;
     p.max_standoff_m = max_standoff_m;
+    p.mean_shift_steps = mean_shift_steps;
   }
 };
 

@@ -93,7 +93,8 @@ nlohmann::json rankingOptions(const RobustRankingParams& r) {
             {"max_grasps", r.refinement.max_grasps},
             {"max_evaluations", r.refinement.max_evaluations},
             {"samples", r.refinement.samples},
-            {"max_standoff_m", r.refinement.max_standoff_m}}}};
+            {"max_standoff_m", r.refinement.max_standoff_m},
+            {"mean_shift_steps", r.refinement.mean_shift_steps}}}};
 }
 
 nlohmann::json resultOptions(const BatchParams& p) {

@@ -53,6 +53,9 @@ bool refineScoredGrasp(grasping::GraspSimulator& simulator, grasping::Grasp& gra
       record.shift_y_m = refined.shift_y_m;
       record.standoff_m = refined.standoff_m;
       record.roll_rad = refined.roll_rad;
+      record.mean_shift_steps = refined.mean_shift_steps;
+      record.mean_shift_m = refined.mean_shift_m;
+      record.mean_shift_rad = refined.mean_shift_rad;
     }
   }
   grasp.robustness->refinement = record;

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "skelgrasp/common/logging.h"
@@ -32,6 +33,44 @@ bool samePose(const Pose& a, const Pose& b) {
   return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle() <= kSamePoseAngleRad;
 }
 
+// The point evaluateRobustness perturbs a grasp about.
+Eigen::Vector3d contactCentre(const grasping::Grasp& grasp) {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (const auto& c : grasp.contacts)
+    centre += c.point / static_cast<double>(grasp.contacts.size());
+  return centre;
+}
+
+// The mean-shift move of a pose whose perturbed executions under `params` on `stream` held as
+// `held` says (sample order): the mean of the pose errors that held, about the contacts' centre,
+// as a move of the hand. For a pose error e ~ N(0, S) and r_S the r smoothed by it,
+// E[e | held] = S grad log r_S: the step climbs r, and it is the cross-entropy method's update of
+// the search distribution's mean. None when all or none held (no direction).
+std::optional<Pose> meanShiftMove(const std::vector<bool>& held, const RobustnessParams& params,
+                                  std::uint64_t stream, const Eigen::Vector3d& centre) {
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero(), rotation = Eigen::Vector3d::Zero();
+  int holds = 0;
+  for (std::size_t i = 0; i < held.size(); ++i) {
+    if (!held[i]) continue;
+    const PoseError error = samplePoseError(params, stream, static_cast<int>(i));
+    const Eigen::AngleAxisd turn(error.rotation);
+    translation += error.translation;
+    // Rotation vectors average well at the paper's few degrees.
+    rotation += turn.angle() * turn.axis();
+    ++holds;
+  }
+  if (holds == 0 || holds == static_cast<int>(held.size())) return std::nullopt;
+  translation /= holds;
+  rotation /= holds;
+  Pose error = Pose::Identity();
+  if (rotation.norm() > 0)
+    error.linear() = Eigen::AngleAxisd(rotation.norm(), rotation.normalized()).toRotationMatrix();
+  error.translation() = translation;
+  const Pose about = Eigen::Translation3d(centre) * error * Eigen::Translation3d(-centre);
+  // The paper's errors move the hand; the reference's move the object, the hand by the inverse.
+  return params.variant == RobustnessVariant::kReference ? about.inverse() : about;
+}
+
 }  // namespace
 
 RobustRefinementOutcome refineForRobustness(grasping::GraspSimulator& simulator,
@@ -43,10 +82,10 @@ RobustRefinementOutcome refineForRobustness(grasping::GraspSimulator& simulator,
   if (!(params.max_evaluations >= 0 && params.samples >= 1 && params.min_gain_samples >= 0 &&
         params.shift_step_m > 0 && params.standoff_step_m > 0 && params.roll_step_rad > 0 &&
         params.max_shift_m >= 0 && params.max_standoff_m >= 0 && params.max_roll_rad >= 0 &&
-        params.max_halvings >= 0)) {
+        params.max_halvings >= 0 && params.mean_shift_steps >= 0)) {
     throw InvalidArgument(
-        "robust refinement: steps must be > 0, samples >= 1, evaluations, gains, bounds and "
-        "halvings >= 0");
+        "robust refinement: steps must be > 0, samples >= 1, evaluations, gains, bounds, "
+        "halvings and mean-shift steps >= 0");
   }
   const grasping::HandModel& hand = simulator.hand();
   RobustnessParams search = robustness;
@@ -56,6 +95,8 @@ RobustRefinementOutcome refineForRobustness(grasping::GraspSimulator& simulator,
   if (grasp.contacts.empty()) return out;
   const RobustnessResult seed_r = evaluateRobustness(simulator, grasp, search, stream);
   int best_holds = seed_r.force_closure;
+  // Which of the search samples the best pose so far held in: where the mean shift moves it.
+  std::vector<bool> best_held = seed_r.held;
   out.search_r_before = out.search_r_after = seed_r.score;
   // No pose can beat one that held in every sample by the required gain.
   if (best_holds + params.min_gain_samples > params.samples) return out;
@@ -74,8 +115,9 @@ RobustRefinementOutcome refineForRobustness(grasping::GraspSimulator& simulator,
   // it returns. Unless a minimum epsilon makes epsilon part of the verdict.
   const bool verdict_only = !(planner.min_epsilon > 0);
   std::vector<Pose> tried = {grasp.hand_pose};
+  int evaluation_limit = params.max_evaluations;
   auto judge = [&](const Pose& gcp, const grasping::Preshape& preshape, double standoff) -> bool {
-    if (out.evaluations >= params.max_evaluations) return false;
+    if (out.evaluations >= evaluation_limit) return false;
     ++out.evaluations;
     grasping::HypothesisParams moved = planner;
     moved.extra_retreat_m = std::max(0.0, baseExtraRetreat(preshape.name) + standoff);
@@ -93,6 +135,7 @@ RobustRefinementOutcome refineForRobustness(grasping::GraspSimulator& simulator,
         evaluateRobustness(simulator, *judged.grasp, search, stream, params.samples - needed);
     if (r.gave_up || r.force_closure < needed) return false;
     best_holds = r.force_closure;
+    best_held = r.held;
     out.search_r_after = r.score;
     grasping::Grasp& moved_grasp = *judged.grasp;
     moved_grasp.id = grasp.id;
@@ -140,7 +183,29 @@ RobustRefinementOutcome refineForRobustness(grasping::GraspSimulator& simulator,
   compass.run(
       {params.standoff_step_m, params.shift_step_m, params.shift_step_m, params.roll_step_rad},
       {true, true, true, true}, params.max_halvings,
-      [&] { return out.evaluations < params.max_evaluations; }, improves);
+      [&] { return out.evaluations < evaluation_limit; }, improves);
+  // Then tilt and shift the best pose towards where its search samples held: all six degrees of
+  // freedom, where the compass moves four. Each step is judged like a compass move (one more
+  // pose, on the same samples), outside the compass's budget.
+  const Pose compass_hand_pose = out.grasp.hand_pose;
+  const Eigen::Vector3d compass_centre = contactCentre(out.grasp);
+  for (int step = 0; step < params.mean_shift_steps && best_holds < params.samples; ++step) {
+    const std::optional<Pose> move =
+        meanShiftMove(best_held, search, stream, contactCentre(out.grasp));
+    if (!move) break;
+    const grasping::Preshape& best_preshape = hand.preshape(out.grasp.preshape);
+    // The grasp's own centre point, already backed off: no extra standoff on top of it.
+    evaluation_limit = out.evaluations + 1;
+    if (!judge(*move * out.grasp.gcp_pose, best_preshape, -baseExtraRetreat(best_preshape.name)))
+      break;
+    ++out.mean_shift_steps;
+  }
+  if (out.mean_shift_steps > 0) {
+    // Both poses close the same hand: compare the hand roots'.
+    const Pose shift = out.grasp.hand_pose * compass_hand_pose.inverse();
+    out.mean_shift_m = (shift * compass_centre - compass_centre).norm();
+    out.mean_shift_rad = Eigen::AngleAxisd(shift.linear()).angle();
+  }
   const Moves& best_moves = compass.best();
   out.shift_x_m = best_moves[kShiftX];
   out.shift_y_m = best_moves[kShiftY];

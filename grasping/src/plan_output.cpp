@@ -64,7 +64,11 @@ nlohmann::json graspToJson(const Grasp& g, const HandModel& hand) {
                                           {{"shift_x_m", f.shift_x_m},
                                            {"shift_y_m", f.shift_y_m},
                                            {"standoff_m", f.standoff_m},
-                                           {"roll_rad", f.roll_rad}}}};
+                                           {"roll_rad", f.roll_rad}}},
+                                         {"mean_shift",
+                                          {{"steps", f.mean_shift_steps},
+                                           {"distance_m", f.mean_shift_m},
+                                           {"angle_rad", f.mean_shift_rad}}}};
     }
   }
   return withRefinementJson(g, std::move(out));

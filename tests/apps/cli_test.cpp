@@ -239,12 +239,15 @@ TEST(Cli, PlanScoresAndRanksByRobustness) {
     const auto& r = searched["grasps"][i]["robustness"];
     ASSERT_TRUE(r.contains("refinement")) << i;
     EXPECT_LE(r["refinement"]["r_before"].get<double>(), r["r"].get<double>()) << i;
-    EXPECT_LE(r["refinement"]["evaluations"].get<int>(), 3) << i;
+    // 3 compass poses and the default one mean-shift step.
+    EXPECT_LE(r["refinement"]["evaluations"].get<int>(), 3 + 1) << i;
     EXPECT_EQ(r["refinement"]["search_samples"], 12) << i;
+    EXPECT_LE(r["refinement"]["mean_shift"]["steps"].get<int>(), 1) << i;
   }
   EXPECT_EQ(runCli(plan + dir + "/x.json --robustness-samples 0", dir).exit_code, 2);
   EXPECT_EQ(runCli(plan + dir + "/x.json --robust-refine-samples 0", dir).exit_code, 2);
   EXPECT_EQ(runCli(plan + dir + "/x.json --robust-refine-max-standoff -0.01", dir).exit_code, 2);
+  EXPECT_EQ(runCli(plan + dir + "/x.json --robust-refine-mean-shift -1", dir).exit_code, 2);
   // With no standoff allowed, the search never backs a grasp off or moves it closer.
   const CliRun no_standoff = runCli(plan + dir +
                                         "/no_standoff.json --robustness-samples 12 "
@@ -256,6 +259,19 @@ TEST(Cli, PlanScoresAndRanksByRobustness) {
   for (std::size_t i = 0; i < 4; ++i) {
     const auto& f = fixed["grasps"][i]["robustness"]["refinement"];
     if (f["refined"].get<bool>()) EXPECT_EQ(f["moves"]["standoff_m"].get<double>(), 0.0) << i;
+  }
+  // Without mean-shift steps the search is the compass alone, within its budget.
+  const CliRun no_shift = runCli(plan + dir +
+                                     "/no_shift.json --robustness-samples 12 "
+                                     "--robustness-top-k 4 --robustness-screen 4 "
+                                     "--robust-refine-evaluations 3 --robust-refine-mean-shift 0",
+                                 dir);
+  ASSERT_EQ(no_shift.exit_code, 0) << no_shift.err;
+  const auto compass_only = readJsonFile(dir + "/no_shift.json");
+  for (std::size_t i = 0; i < 4; ++i) {
+    const auto& f = compass_only["grasps"][i]["robustness"]["refinement"];
+    EXPECT_EQ(f["mean_shift"]["steps"], 0) << i;
+    EXPECT_LE(f["evaluations"].get<int>(), 3) << i;
   }
   EXPECT_EQ(runCli(plan + dir + "/x.json --robustness-variant weird", dir).exit_code, 2);
 }

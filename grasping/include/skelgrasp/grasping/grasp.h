@@ -24,6 +24,10 @@ struct GraspRobustRefinement {
   // The moves, in the planner's grasp centre point frame (z = approach): shift across the
   // approach, extra standoff (added to the retreat; negative: closer), roll about the approach.
   double shift_x_m = 0, shift_y_m = 0, standoff_m = 0, roll_rad = 0;
+  // Mean-shift steps taken after those moves (RobustRefinementParams::mean_shift_steps): how many,
+  // how far they carried the contacts' centre (m) and the angle they turned the hand (rad).
+  int mean_shift_steps = 0;
+  double mean_shift_m = 0, mean_shift_rad = 0;
   std::string preshape_before;  // the planner's preshape (differs from the grasp's when switched)
 };
 
