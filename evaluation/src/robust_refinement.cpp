@@ -33,21 +33,13 @@ bool samePose(const Pose& a, const Pose& b) {
   return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle() <= kSamePoseAngleRad;
 }
 
-// The point evaluateRobustness perturbs a grasp about.
-Eigen::Vector3d contactCentre(const grasping::Grasp& grasp) {
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-  for (const auto& c : grasp.contacts)
-    centre += c.point / static_cast<double>(grasp.contacts.size());
-  return centre;
-}
-
-// The mean-shift move of a pose whose perturbed executions under `params` on `stream` held as
-// `held` says (sample order): the mean of the pose errors that held, about the contacts' centre,
-// as a move of the hand. For a pose error e ~ N(0, S) and r_S the r smoothed by it,
-// E[e | held] = S grad log r_S: the step climbs r, and it is the cross-entropy method's update of
-// the search distribution's mean. None when all or none held (no direction).
-std::optional<Pose> meanShiftMove(const std::vector<bool>& held, const RobustnessParams& params,
-                                  std::uint64_t stream, const Eigen::Vector3d& centre) {
+// The mean-shift error of a pose whose perturbed executions under `params` on `stream` held as
+// `held` says (sample order): the mean of the pose errors that held. For a pose error e ~ N(0, S)
+// and r_S the r smoothed by it, E[e | held] = S grad log r_S: the step climbs r, and it is the
+// cross-entropy method's update of the search distribution's mean. None when all or none held
+// (no direction).
+std::optional<PoseError> meanHeldError(const std::vector<bool>& held,
+                                       const RobustnessParams& params, std::uint64_t stream) {
   Eigen::Vector3d translation = Eigen::Vector3d::Zero(), rotation = Eigen::Vector3d::Zero();
   int holds = 0;
   for (std::size_t i = 0; i < held.size(); ++i) {
@@ -60,15 +52,12 @@ std::optional<Pose> meanShiftMove(const std::vector<bool>& held, const Robustnes
     ++holds;
   }
   if (holds == 0 || holds == static_cast<int>(held.size())) return std::nullopt;
-  translation /= holds;
   rotation /= holds;
-  Pose error = Pose::Identity();
+  PoseError mean;
+  mean.translation = translation / holds;
   if (rotation.norm() > 0)
-    error.linear() = Eigen::AngleAxisd(rotation.norm(), rotation.normalized()).toRotationMatrix();
-  error.translation() = translation;
-  const Pose about = Eigen::Translation3d(centre) * error * Eigen::Translation3d(-centre);
-  // The paper's errors move the hand; the reference's move the object, the hand by the inverse.
-  return params.variant == RobustnessVariant::kReference ? about.inverse() : about;
+    mean.rotation = Eigen::AngleAxisd(rotation.norm(), rotation.normalized()).toRotationMatrix();
+  return mean;
 }
 
 }  // namespace
@@ -188,16 +177,16 @@ RobustRefinementOutcome refineForRobustness(grasping::GraspSimulator& simulator,
   // freedom, where the compass moves four. Each step is judged like a compass move (one more
   // pose, on the same samples), outside the compass's budget.
   const Pose compass_hand_pose = out.grasp.hand_pose;
-  const Eigen::Vector3d compass_centre = contactCentre(out.grasp);
+  const Eigen::Vector3d compass_centre = perturbationCentre(out.grasp);
   for (int step = 0; step < params.mean_shift_steps && best_holds < params.samples; ++step) {
-    const std::optional<Pose> move =
-        meanShiftMove(best_held, search, stream, contactCentre(out.grasp));
-    if (!move) break;
+    const std::optional<PoseError> mean = meanHeldError(best_held, search, stream);
+    if (!mean) break;
+    const Pose gcp =
+        perturbedPose(out.grasp.gcp_pose, *mean, perturbationCentre(out.grasp), search.variant);
     const grasping::Preshape& best_preshape = hand.preshape(out.grasp.preshape);
     // The grasp's own centre point, already backed off: no extra standoff on top of it.
     evaluation_limit = out.evaluations + 1;
-    if (!judge(*move * out.grasp.gcp_pose, best_preshape, -baseExtraRetreat(best_preshape.name)))
-      break;
+    if (!judge(gcp, best_preshape, -baseExtraRetreat(best_preshape.name))) break;
     ++out.mean_shift_steps;
   }
   if (out.mean_shift_steps > 0) {

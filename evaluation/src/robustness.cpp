@@ -130,6 +130,22 @@ PoseError samplePoseError(const RobustnessParams& params, std::uint64_t grasp_in
   return error;
 }
 
+Eigen::Vector3d perturbationCentre(const grasping::Grasp& grasp) {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (const auto& c : grasp.contacts)
+    centre += c.point / static_cast<double>(grasp.contacts.size());
+  return centre;
+}
+
+Pose perturbedPose(const Pose& pose, const PoseError& error, const Eigen::Vector3d& centre,
+                   RobustnessVariant variant) {
+  Pose move = Pose::Identity();
+  move.linear() = error.rotation;
+  move.translation() = error.translation;
+  const Pose about = Eigen::Translation3d(centre) * move * Eigen::Translation3d(-centre);
+  return variant == RobustnessVariant::kReference ? about.inverse() * pose : about * pose;
+}
+
 RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
                                     const grasping::Grasp& grasp, const RobustnessParams& params,
                                     std::uint64_t grasp_index, std::optional<int> max_failures) {
@@ -143,9 +159,7 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
       (params.orientation_sigma_rad && !(*params.orientation_sigma_rad >= 0))) {
     throw InvalidArgument("robustness: pose error sigmas must be >= 0");
   }
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-  for (const auto& c : grasp.contacts)
-    centre += c.point / static_cast<double>(grasp.contacts.size());
+  const Eigen::Vector3d centre = perturbationCentre(grasp);
   const auto& preshape = simulator.hand().preshape(grasp.preshape);
   grasping::ClosingParams closing = params.closing;
   if (!paper_samples) closing.palm_contacts = false;  // the reference adds no palm contacts here
@@ -173,15 +187,8 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
   });
   // One perturbed execution.
   const auto execute = [&](int i) -> Outcome {
-    const PoseError sampled = samplePoseError(params, grasp_index, i);
-    Pose error = Pose::Identity();
-    error.linear() = sampled.rotation;
-    error.translation() = sampled.translation;
-    // The error acts about the contact centre: x -> c + R (x - c) + dp. Moving the object by that
-    // error is moving the hand by its inverse.
-    const Pose about = Eigen::Translation3d(centre) * error * Eigen::Translation3d(-centre);
-    const Pose hand_pose =
-        paper_samples ? about * grasp.hand_pose : about.inverse() * grasp.hand_pose;
+    const Pose hand_pose = perturbedPose(grasp.hand_pose, samplePoseError(params, grasp_index, i),
+                                         centre, params.variant);
     auto& local = *simulators.local();
     // close() starts with the collision test of the open hand: one test per sample, not two.
     auto closed = local.close(hand_pose, preshape, closing);

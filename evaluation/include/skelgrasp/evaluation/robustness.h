@@ -78,6 +78,13 @@ struct PoseError {
 // The error of sample `sample` of evaluateRobustness(..., params, grasp_index): a function of the
 // seed, the variant, the sigmas, grasp_index and the sample index only.
 PoseError samplePoseError(const RobustnessParams& params, std::uint64_t grasp_index, int sample);
+// The point the errors act about: the mean of the grasp's contact points.
+Eigen::Vector3d perturbationCentre(const grasping::Grasp& grasp);
+// `pose` (of the hand, or of its grasp centre point) under `error` about `centre`:
+// x -> c + R (x - c) + t moves the hand in the paper's variants; the reference moves the object
+// by it, which is moving the hand by the inverse.
+Pose perturbedPose(const Pose& pose, const PoseError& error, const Eigen::Vector3d& centre,
+                   RobustnessVariant variant);
 
 // Wilson score interval for k successes in n trials (z = 1.96).
 std::pair<double, double> wilsonInterval(int successes, int trials, double z = 1.959964);
