@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <vector>
 
 #include "cli_support.h"
 #include "skelgrasp/common/json.h"
@@ -227,16 +228,28 @@ TEST(Cli, PlanScoresAndRanksByRobustness) {
   for (std::size_t i = 0; i < 4; ++i)
     EXPECT_FALSE(robust["grasps"][i]["robustness"].contains("refinement")) << i;
 
+  // The robustness records of the 4 grasps a plan scored (12 samples, no screening) with
+  // `options`; none when the run failed.
+  const auto scoredRobustness = [&](const std::string& name, const std::string& options) {
+    const CliRun run = runCli(plan + dir + "/" + name +
+                                  " --robustness-samples 12 --robustness-top-k 4 "
+                                  "--robustness-screen 4 " +
+                                  options,
+                              dir);
+    EXPECT_EQ(run.exit_code, 0) << name << ": " << run.err;
+    std::vector<nlohmann::json> records;
+    if (run.exit_code != 0) return records;
+    const auto doc = readJsonFile(dir + "/" + name);
+    for (std::size_t i = 0; i < 4 && i < doc["grasps"].size(); ++i)
+      records.push_back(doc["grasps"][i]["robustness"]);
+    return records;
+  };
   // By default refinement for robustness searches near the scored grasps (all 4 here, at most 5)
   // and records it; a grasp it moved is at least as robust as the planner's on the same samples.
-  const CliRun refined = runCli(plan + dir +
-                                    "/refined.json --robustness-samples 12 --robustness-top-k 4 "
-                                    "--robustness-screen 4 --robust-refine-evaluations 3",
-                                dir);
-  ASSERT_EQ(refined.exit_code, 0) << refined.err;
-  const auto searched = readJsonFile(dir + "/refined.json");
-  for (std::size_t i = 0; i < 4; ++i) {
-    const auto& r = searched["grasps"][i]["robustness"];
+  const auto searched = scoredRobustness("refined.json", "--robust-refine-evaluations 3");
+  ASSERT_EQ(searched.size(), 4u);
+  for (std::size_t i = 0; i < searched.size(); ++i) {
+    const auto& r = searched[i];
     ASSERT_TRUE(r.contains("refinement")) << i;
     EXPECT_LE(r["refinement"]["r_before"].get<double>(), r["r"].get<double>()) << i;
     // 3 compass poses and the default one mean-shift step.
@@ -249,27 +262,18 @@ TEST(Cli, PlanScoresAndRanksByRobustness) {
   EXPECT_EQ(runCli(plan + dir + "/x.json --robust-refine-max-standoff -0.01", dir).exit_code, 2);
   EXPECT_EQ(runCli(plan + dir + "/x.json --robust-refine-mean-shift -1", dir).exit_code, 2);
   // With no standoff allowed, the search never backs a grasp off or moves it closer.
-  const CliRun no_standoff = runCli(plan + dir +
-                                        "/no_standoff.json --robustness-samples 12 "
-                                        "--robustness-top-k 4 --robustness-screen 4 "
-                                        "--robust-refine-max-standoff 0",
-                                    dir);
-  ASSERT_EQ(no_standoff.exit_code, 0) << no_standoff.err;
-  const auto fixed = readJsonFile(dir + "/no_standoff.json");
-  for (std::size_t i = 0; i < 4; ++i) {
-    const auto& f = fixed["grasps"][i]["robustness"]["refinement"];
+  const auto fixed = scoredRobustness("no_standoff.json", "--robust-refine-max-standoff 0");
+  ASSERT_EQ(fixed.size(), 4u);
+  for (std::size_t i = 0; i < fixed.size(); ++i) {
+    const auto& f = fixed[i]["refinement"];
     if (f["refined"].get<bool>()) EXPECT_EQ(f["moves"]["standoff_m"].get<double>(), 0.0) << i;
   }
   // Without mean-shift steps the search is the compass alone, within its budget.
-  const CliRun no_shift = runCli(plan + dir +
-                                     "/no_shift.json --robustness-samples 12 "
-                                     "--robustness-top-k 4 --robustness-screen 4 "
-                                     "--robust-refine-evaluations 3 --robust-refine-mean-shift 0",
-                                 dir);
-  ASSERT_EQ(no_shift.exit_code, 0) << no_shift.err;
-  const auto compass_only = readJsonFile(dir + "/no_shift.json");
-  for (std::size_t i = 0; i < 4; ++i) {
-    const auto& f = compass_only["grasps"][i]["robustness"]["refinement"];
+  const auto compass_only = scoredRobustness(
+      "no_shift.json", "--robust-refine-evaluations 3 --robust-refine-mean-shift 0");
+  ASSERT_EQ(compass_only.size(), 4u);
+  for (std::size_t i = 0; i < compass_only.size(); ++i) {
+    const auto& f = compass_only[i]["refinement"];
     EXPECT_EQ(f["mean_shift"]["steps"], 0) << i;
     EXPECT_LE(f["evaluations"].get<int>(), 3) << i;
   }

@@ -105,39 +105,52 @@ TEST(RobustRefinement, NeverReturnsAGraspLessRobustThanThePlannersOnRealObjects)
   }
 }
 
-// A power grasp pushed off the middle of a cylinder: the search returns a more robust kept grasp
-// of the same strategy, or the grasp itself.
-TEST(RobustRefinement, ImprovesAnOffCentreGraspOrKeepsIt) {
-  const auto p = planOn("sdh", primitives::makeCylinder(0.035, 0.2, 48, 10), 20);
+// The SDH's power grasp (strategy 2a) on a cylinder, closed again 12 mm off the axis, across the
+// approach and the cylinder's axis (z): a kept grasp with more robust poses near it.
+struct OffCentreGrasp {
+  Planned p = planOn("sdh", primitives::makeCylinder(0.035, 0.2, 48, 10), 20);
+  grasping::GraspSimulator sim{p.hand, *p.object};
+  grasping::HypothesisParams hypothesis = p.params.hypothesis;
+  grasping::Grasp grasp;
+};
+
+// Fills `off` (a void function, so that its assertions end the test).
+void closeOffCentre(OffCentreGrasp& off) {
   const grasping::Grasp* power = nullptr;
-  for (const auto& g : p.plan.grasps)
+  for (const auto& g : off.p.plan.grasps)
     if (g.type == grasping::GraspType::kPower && g.strategy == "2a") power = &g;
   ASSERT_NE(power, nullptr);
-  // The same hypothesis 12 mm off the axis, across the approach and the cylinder's axis (z).
   const Eigen::Vector3d approach = power->gcp_pose.linear().col(2);
   const Eigen::Vector3d across = approach.cross(Eigen::Vector3d::UnitZ()).normalized();
   constexpr double kOffsetM = 0.012;
   Pose gcp = power->gcp_pose;
   gcp.translation() += power->retreat_m * approach + kOffsetM * across;
-  grasping::GraspSimulator sim(p.hand, *p.object);
-  grasping::HypothesisParams hp = p.params.hypothesis;
-  hp.extra_retreat_m = p.hand.thresholds().power_retreat_m;
-  auto off = grasping::evaluateHypothesis(sim, gcp, p.hand.preshape("power"), hp);
-  ASSERT_TRUE(off.grasp) << (off.reason ? off.reason : "");
-  off.grasp->type = grasping::GraspType::kPower;
+  off.hypothesis.extra_retreat_m = off.p.hand.thresholds().power_retreat_m;
+  auto closed =
+      grasping::evaluateHypothesis(off.sim, gcp, off.p.hand.preshape("power"), off.hypothesis);
+  ASSERT_TRUE(closed.grasp) << (closed.reason ? closed.reason : "");
+  off.grasp = std::move(*closed.grasp);
+  off.grasp.type = grasping::GraspType::kPower;
+}
 
+// A power grasp pushed off the middle of a cylinder: the search returns a more robust kept grasp
+// of the same strategy, or the grasp itself.
+TEST(RobustRefinement, ImprovesAnOffCentreGraspOrKeepsIt) {
+  OffCentreGrasp off;
+  ASSERT_NO_FATAL_FAILURE(closeOffCentre(off));
   RobustRefinementParams params;
   params.max_evaluations = 16;
   params.switch_preshape = false;
-  const auto result = refineForRobustness(sim, *off.grasp, hp, judgedAs(p, 100), params, 7);
+  const auto result =
+      refineForRobustness(off.sim, off.grasp, off.hypothesis, judgedAs(off.p, 100), params, 7);
   EXPECT_GE(result.search_r_after, result.search_r_before);
   EXPECT_LE(result.evaluations, params.max_evaluations + params.mean_shift_steps);
   if (result.refined) {
     EXPECT_GT(result.search_r_after, result.search_r_before);
     EXPECT_TRUE(result.grasp.force_closure);
-    EXPECT_EQ(result.grasp.strategy, off.grasp->strategy);
+    EXPECT_EQ(result.grasp.strategy, off.grasp.strategy);
   } else {
-    EXPECT_TRUE(result.grasp.hand_pose.isApprox(off.grasp->hand_pose));
+    EXPECT_TRUE(result.grasp.hand_pose.isApprox(off.grasp.hand_pose));
   }
 }
 
@@ -146,29 +159,15 @@ TEST(RobustRefinement, ImprovesAnOffCentreGraspOrKeepsIt) {
 // robust on 400 samples the search never saw (measured: 0.63 -> 0.69; the step follows the holds,
 // which for the SDH's asymmetric power grasp lie further off the axis, not back on it).
 TEST(RobustRefinement, MeanShiftStepsAreMoreRobustOnFreshSamples) {
-  const auto p = planOn("sdh", primitives::makeCylinder(0.035, 0.2, 48, 10), 20);
-  const grasping::Grasp* power = nullptr;
-  for (const auto& g : p.plan.grasps)
-    if (g.type == grasping::GraspType::kPower && g.strategy == "2a") power = &g;
-  ASSERT_NE(power, nullptr);
-  const Eigen::Vector3d approach = power->gcp_pose.linear().col(2);
-  const Eigen::Vector3d across = approach.cross(Eigen::Vector3d::UnitZ()).normalized();
-  constexpr double kOffsetM = 0.012;
-  Pose gcp = power->gcp_pose;
-  gcp.translation() += power->retreat_m * approach + kOffsetM * across;
-  grasping::GraspSimulator sim(p.hand, *p.object);
-  grasping::HypothesisParams hp = p.params.hypothesis;
-  hp.extra_retreat_m = p.hand.thresholds().power_retreat_m;
-  auto off = grasping::evaluateHypothesis(sim, gcp, p.hand.preshape("power"), hp);
-  ASSERT_TRUE(off.grasp) << (off.reason ? off.reason : "");
-  off.grasp->type = grasping::GraspType::kPower;
-
+  OffCentreGrasp off;
+  ASSERT_NO_FATAL_FAILURE(closeOffCentre(off));
   RobustRefinementParams params;
   params.max_evaluations = 0;
   params.switch_preshape = false;
   params.samples = 60;
   params.mean_shift_steps = 3;
-  const auto result = refineForRobustness(sim, *off.grasp, hp, judgedAs(p, 100), params, 3);
+  const auto result =
+      refineForRobustness(off.sim, off.grasp, off.hypothesis, judgedAs(off.p, 100), params, 3);
   EXPECT_LE(result.evaluations, params.mean_shift_steps);
   EXPECT_LE(result.mean_shift_steps, result.evaluations);
   EXPECT_EQ(result.refined, result.mean_shift_steps > 0);
@@ -177,9 +176,9 @@ TEST(RobustRefinement, MeanShiftStepsAreMoreRobustOnFreshSamples) {
   constexpr int kFreshSamples = 400;
   constexpr std::uint64_t kFreshStream = 99;  // neither the search's (3) nor the scoring's (0)
   const double fresh_before =
-      evaluateRobustness(sim, *off.grasp, judgedAs(p, kFreshSamples), kFreshStream).score;
+      evaluateRobustness(off.sim, off.grasp, judgedAs(off.p, kFreshSamples), kFreshStream).score;
   const double fresh_after =
-      evaluateRobustness(sim, result.grasp, judgedAs(p, kFreshSamples), kFreshStream).score;
+      evaluateRobustness(off.sim, result.grasp, judgedAs(off.p, kFreshSamples), kFreshStream).score;
   EXPECT_GT(fresh_after, fresh_before);
   EXPECT_GT(result.mean_shift_m, 0);
   EXPECT_TRUE(result.grasp.force_closure);
