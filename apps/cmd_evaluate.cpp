@@ -54,6 +54,7 @@ struct EvaluateArgs {
   std::uint64_t seed = evaluation::BatchParams{}.seed;
   bool reference_compat = false;
   std::string fc_test = defaultForceClosureTest();
+  bool wrench_volume = grasping::QualityParams{}.compute_volume;
   std::string closing = defaultClosingMethod();
   bool restart = false;
   bool retry_failed = false;
@@ -117,6 +118,7 @@ int runEvaluate(const EvaluateArgs& a) {
   p.quality.friction = a.mu;
   p.quality.reference_compat = a.reference_compat;
   p.quality.fc_test = grasping::parseForceClosureTest(a.fc_test);
+  p.quality.compute_volume = a.wrench_volume;
   p.robustness.closing.method = grasping::parseClosingMethod(a.closing);
   p.ranking.enabled = a.robust_ranking;
   p.ranking.robustness.variant = p.robustness.variant;
@@ -182,6 +184,7 @@ void registerEvaluateCommands(CLI::App& app, Action& action) {
   cmd->add_flag("--reference-compat", a->reference_compat,
                 "Quality as the reference code (docs/hands.md)");
   addForceClosureTestOption(*cmd, a->fc_test);
+  addWrenchVolumeFlag(*cmd, a->wrench_volume);
   addClosingMethodOption(*cmd, a->closing);
   cmd->add_option("--vertex-distance", a->vertex_distance_m,
                   "Skeleton planner vertex distance d (m, 0 = every vertex)")

@@ -85,6 +85,7 @@ int runClose(const CloseArgs& args) {
   quality_params.reference_compat = args.reference_compat;
   quality_params.fc_test = grasping::parseForceClosureTest(args.fc_test);
   quality_params.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
+  quality_params.compute_volume = true;  // one grasp: the whole hull is cheap
   const auto quality = closing.status.ok()
                            ? grasping::evaluateGrasp(closing.contacts, object, quality_params)
                            : grasping::WrenchSpaceResult{};
@@ -105,7 +106,7 @@ int runClose(const CloseArgs& args) {
                               {"force_closure", quality.force_closure},
                               {"epsilon", quality.epsilon},
                               {"closure_margin", quality.closure_margin},
-                              {"volume", quality.volume},
+                              {"volume", numberOrNull(quality.volume)},
                               {"hull_facets", quality.hull_facets}};
   if (!args.render.empty()) {
     grasping::renderGraspPng(args.render, object.mesh(), hand, hand_pose, preshape.joints,
@@ -133,8 +134,8 @@ int runClose(const CloseArgs& args) {
         c.palm ? " (palm)" : "");
   }
   std::cout << fmt::format("force closure: {}, epsilon {:.5f}, volume {:.3g}, {} hull facets\n",
-                           quality.force_closure ? "yes" : "no", quality.epsilon, quality.volume,
-                           quality.hull_facets);
+                           quality.force_closure ? "yes" : "no", quality.epsilon,
+                           quality.volume.value_or(0.0), quality.hull_facets);
   return kExitOk;
 }
 
@@ -159,12 +160,13 @@ int runQuality(const QualityArgs& args) {
   params.torsional_friction_m = args.torsion_m;
   params.reference_compat = args.reference_compat;
   params.fc_test = grasping::parseForceClosureTest(args.fc_test);
+  params.compute_volume = true;  // one contact set: the whole hull is cheap
   const auto q = grasping::evaluateWrenchSpace(contacts, center, torque_scale, params);
   if (args.json) {
     std::cout << nlohmann::json({{"force_closure", q.force_closure},
                                  {"epsilon", q.epsilon},
                                  {"closure_margin", q.closure_margin},
-                                 {"volume", q.volume},
+                                 {"volume", numberOrNull(q.volume)},
                                  {"hull_facets", q.hull_facets},
                                  {"wrenches", q.wrenches},
                                  {"rank", q.rank},
@@ -175,8 +177,8 @@ int runQuality(const QualityArgs& args) {
               << std::endl;
   } else {
     std::cout << fmt::format("force closure: {}, epsilon {:.6f}, volume {:.6g}, {} hull facets{}\n",
-                             q.force_closure ? "yes" : "no", q.epsilon, q.volume, q.hull_facets,
-                             q.note.empty() ? "" : " (" + q.note + ")");
+                             q.force_closure ? "yes" : "no", q.epsilon, q.volume.value_or(0.0),
+                             q.hull_facets, q.note.empty() ? "" : " (" + q.note + ")");
   }
   return kExitOk;
 }

@@ -54,6 +54,7 @@ struct PlannerOptions {
   bool centre_candidates = grasping::SkeletonPlannerParams{}.centre_candidates;
   std::size_t surface_candidates = grasping::SkeletonPlannerParams{}.surface_candidates;
   std::string fc_test = defaultForceClosureTest();
+  bool wrench_volume = grasping::QualityParams{}.compute_volume;
   std::string closing = defaultClosingMethod();
   int refine_evaluations = grasping::RefinementParams{}.max_evaluations;
   bool refine = grasping::RefinementParams{}.enabled;
@@ -111,6 +112,7 @@ struct PlannerOptions {
     addCentreCandidatesFlag(cmd, centre_candidates);
     addSurfaceCandidatesOption(cmd, surface_candidates);
     addForceClosureTestOption(cmd, fc_test);
+    addWrenchVolumeFlag(cmd, wrench_volume);
     addClosingMethodOption(cmd, closing);
     cmd.add_option("--refine-evaluations", refine_evaluations,
                    "Skeleton planner: poses tried around each closed hypothesis by local "
@@ -128,6 +130,7 @@ struct PlannerOptions {
     h.quality.friction = mu;
     h.quality.reference_compat = reference_compat;
     h.quality.fc_test = grasping::parseForceClosureTest(fc_test);
+    h.quality.compute_volume = wrench_volume;
     h.closing.method = grasping::parseClosingMethod(closing);
     return h;
   }

@@ -1,6 +1,7 @@
 #pragma once
 // --fc-test and --closing, shared by the commands that judge grasps (close, quality, plan, run,
-// evaluate, bench plan; --closing not on quality, which closes nothing).
+// evaluate, bench plan; --closing not on quality, which closes nothing), and --wrench-volume
+// (the commands that plan).
 #include <CLI/CLI.hpp>
 
 #include <string>
@@ -36,6 +37,13 @@ inline CLI::Option* addClosingMethodOption(CLI::App& cmd, std::string& value) {
                   "steps, the old path)")
       ->check(CLI::IsMember({"stepwise", "fast"}))
       ->capture_default_str();
+}
+
+// The grasp wrench space volume needs the whole 6D hull; epsilon alone does not (docs/hands.md).
+inline CLI::Option* addWrenchVolumeFlag(CLI::App& cmd, bool& value) {
+  return cmd.add_flag("--wrench-volume", value,
+                      "Also compute each grasp's wrench space volume (the whole 6D hull: planning "
+                      "takes up to twice as long; without it grasps.json has \"volume\": null)");
 }
 
 }  // namespace skelgrasp::cli

@@ -22,6 +22,10 @@ nlohmann::json numberOrNull(double value) {
   return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
 }
 
+nlohmann::json numberOrNull(const std::optional<double>& value) {
+  return value ? numberOrNull(*value) : nlohmann::json(nullptr);
+}
+
 nlohmann::json poseToJson(const Pose& pose) {
   const auto v = toXyzQuatWxyz(pose);
   return {{"position", {v[0], v[1], v[2]}}, {"quaternion_wxyz", {v[3], v[4], v[5], v[6]}}};

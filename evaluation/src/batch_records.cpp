@@ -2,6 +2,8 @@
 
 #include <limits>
 
+#include "skelgrasp/common/json.h"
+
 namespace skelgrasp::evaluation::internal {
 namespace {
 
@@ -221,9 +223,15 @@ void from_json(const nlohmann::json& j, RunRecord& run) {
 }
 
 void to_json(nlohmann::json& j, const GraspRecord& g) {
-  j = {{"object", g.object},   {"hand", g.hand},     {"planner", toString(g.planner)},
-       {"grasp", g.grasp},     {"type", g.type},     {"strategy", g.strategy},
-       {"epsilon", g.epsilon}, {"volume", g.volume}, {"time_ms", g.time_ms}};
+  j = {{"object", g.object},
+       {"hand", g.hand},
+       {"planner", toString(g.planner)},
+       {"grasp", g.grasp},
+       {"type", g.type},
+       {"strategy", g.strategy},
+       {"epsilon", g.epsilon},
+       {"volume", numberOrNull(g.volume)},
+       {"time_ms", g.time_ms}};
   const auto& r = g.robustness;
   j["robustness"] = r ? nlohmann::json(r->score) : nlohmann::json(nullptr);
   j["robustness_low"] = r ? nlohmann::json(r->low) : nlohmann::json(nullptr);
@@ -240,7 +248,7 @@ void from_json(const nlohmann::json& j, GraspRecord& g) {
   g.type = f.text("type");
   g.strategy = f.text("strategy");
   g.epsilon = f.real("epsilon");
-  g.volume = f.real("volume");
+  g.volume = f.realOrNull("volume");
   g.time_ms = f.real("time_ms");
   g.robustness.reset();
   // The four robustness keys are null together (a grasp not scored) or numbers together.

@@ -90,7 +90,8 @@ struct GraspRecord {
   int grasp = -1;        // id in the run, best epsilon first
   std::string type;      // grasping::toString(GraspType)
   std::string strategy;  // "1a" ... "4" or "surface"
-  double epsilon = 0, volume = 0;
+  double epsilon = 0;
+  std::optional<double> volume;               // none when not computed
   double time_ms = 0;                         // the run's time per valid grasp
   std::optional<GraspRobustness> robustness;  // none when not scored
 };

@@ -39,7 +39,7 @@ nlohmann::json graspToJson(const Grasp& g, const HandModel& hand) {
       {"contacts", contacts},
       {"force_closure", g.force_closure},
       {"epsilon", g.epsilon},
-      {"volume", g.volume}};
+      {"volume", numberOrNull(g.volume)}};
   if (g.robustness) {
     const GraspRobustness& r = *g.robustness;
     out["robustness"] = {{"r", r.r},
@@ -95,7 +95,7 @@ nlohmann::json planToJson(const PlanResult& r, const HandModel& hand, const std:
   for (const auto& g : r.grasps) grasps.push_back(graspToJson(g, hand));
   nlohmann::json summary = planSummaryJson(r.summary);
   summary["kept"] = r.grasps.size();
-  return {{"schema", "skelgrasp.grasps/2"},
+  return {{"schema", "skelgrasp.grasps/3"},
           {"object", object},
           {"hand", hand.name()},
           {"planner", r.planner},

@@ -33,6 +33,9 @@ constexpr double kForceHullInsideMargin = 1e-9;
 // reference-compatible test: when every facet is within this of containing the origin.
 constexpr double kHullClosureMargin = 1e-12;
 constexpr double kReferenceHullTolerance = 1e-4;
+// Epsilon by expansion stops when its lower and upper bounds are this close (wrench units, the
+// order of the joggle Qhull applies; epsilon of closure grasps is 1e-4 to 1).
+constexpr double kExpansionTolerance = 1e-12;
 }  // namespace
 
 const char* toString(ForceClosureTest test) {
@@ -172,6 +175,84 @@ Hull convexHull(const std::vector<Eigen::Matrix<double, Dim, 1>>& points, bool w
   return hull;
 }
 
+// Epsilon without the whole hull: the hull of a growing subset of the wrenches (docs/hands.md,
+// "Epsilon by expansion"). The subset's hull lies inside the whole one, so its nearest facet
+// bounds epsilon from below; every facet normal's support over all wrenches bounds it from above.
+// Each round adds the support points of the facets nearer than that upper bound, as the
+// expanding-polytope algorithm does, until the bounds meet. The closest facet is found with a
+// third of the wrenches and a third of the facets of the whole hull on 6D wrench sets of 45
+// (mustard bottle, Shadow hand: 0.9 -> 0.4 s for its 194 hulls).
+struct Epsilon {
+  bool ok = false;
+  double value = 0;
+  int facets = 0;  // of the last subset hull
+  std::string error;
+};
+
+Epsilon epsilonByExpansion(const std::vector<Wrench>& wrenches) {
+  const std::size_t n = wrenches.size();
+  std::vector<char> in_subset(n, 0);
+  std::vector<std::size_t> subset;
+  const auto add = [&](std::size_t i) {
+    if (in_subset[i]) return false;
+    in_subset[i] = 1;
+    subset.push_back(i);
+    return true;
+  };
+  // Seed: the extreme wrench along each axis, both ways (full-dimensional in practice).
+  for (int axis = 0; axis < 6; ++axis) {
+    std::size_t lo = 0, hi = 0;
+    for (std::size_t i = 1; i < n; ++i) {
+      if (wrenches[i][axis] < wrenches[lo][axis]) lo = i;
+      if (wrenches[i][axis] > wrenches[hi][axis]) hi = i;
+    }
+    add(lo);
+    add(hi);
+  }
+  Epsilon out;
+  while (true) {
+    std::vector<Wrench> points;
+    points.reserve(subset.size());
+    for (std::size_t i : subset) points.push_back(wrenches[i]);
+    const Hull hull = convexHull<6>(points, false);
+    if (!hull.ok) {
+      // A flat or too small subset: fall back to every wrench (whose rank was checked).
+      if (subset.size() == n) {
+        out.error = hull.error;
+        return out;
+      }
+      for (std::size_t i = 0; i < n; ++i) add(i);
+      continue;
+    }
+    double lower = std::numeric_limits<double>::infinity();
+    for (const auto& facet : hull.facets) lower = std::min(lower, -facet.second);
+    // Per facet, the support of all wrenches along its normal and the wrench attaining it.
+    std::vector<std::pair<double, std::size_t>> support(hull.facets.size());
+    double upper = std::numeric_limits<double>::infinity();
+    for (std::size_t f = 0; f < hull.facets.size(); ++f) {
+      const Eigen::VectorXd& normal = hull.facets[f].first;
+      support[f] = {-std::numeric_limits<double>::infinity(), 0};
+      for (std::size_t i = 0; i < n; ++i) {
+        const double reach = normal.dot(wrenches[i]);
+        if (reach > support[f].first) support[f] = {reach, i};
+      }
+      upper = std::min(upper, support[f].first);
+    }
+    bool grew = false;
+    if (upper - lower > kExpansionTolerance) {
+      for (std::size_t f = 0; f < hull.facets.size(); ++f) {
+        if (-hull.facets[f].second < upper) grew = add(support[f].second) || grew;
+      }
+    }
+    if (!grew) {
+      out.ok = true;
+      out.value = lower;
+      out.facets = static_cast<int>(hull.facets.size());
+      return out;
+    }
+  }
+}
+
 // The LP decides; the hull is built only for a closure grasp whose epsilon is wanted. Epsilon is
 // clamped at 0: inside the tolerance band the joggled hull may put the origin on a facet.
 void decideByLp(const ClosureLpResult& lp, const std::vector<Wrench>& wrenches,
@@ -185,6 +266,16 @@ void decideByLp(const ClosureLpResult& lp, const std::vector<Wrench>& wrenches,
     return;
   }
   if (!params.compute_epsilon) return;
+  if (!params.compute_volume) {
+    const Epsilon epsilon = epsilonByExpansion(wrenches);
+    if (!epsilon.ok) {
+      result.note = "qhull failed: " + epsilon.error.substr(0, epsilon.error.find('\n'));
+      return;
+    }
+    result.hull_facets = epsilon.facets;
+    result.epsilon = std::max(0.0, epsilon.value);
+    return;
+  }
   const Hull hull = convexHull<6>(wrenches, params.compute_volume);
   if (!hull.ok) {
     result.note = "qhull failed: " + hull.error.substr(0, hull.error.find('\n'));
@@ -231,6 +322,7 @@ WrenchSpaceResult evaluateWrenchSpace(const std::vector<Contact>& contacts,
         hull_bytes, "the number of contacts or --cone-edges");
   }
   WrenchSpaceResult result;
+  if (params.compute_volume) result.volume = 0.0;  // until a 6D hull gives it
   const bool use_lp = params.fc_test == ForceClosureTest::kLp && !params.reference_compat;
   if (use_lp) result.closure_margin = 0;
   const auto wrenches = contactWrenches(contacts, center, torque_scale, params);
@@ -284,7 +376,7 @@ WrenchSpaceResult evaluateWrenchSpace(const std::vector<Contact>& contacts,
     return result;
   }
   result.hull_facets = static_cast<int>(hull.facets.size());
-  result.volume = hull.volume;
+  if (params.compute_volume) result.volume = hull.volume;
   double min_origin = std::numeric_limits<double>::infinity();
   double min_centre = std::numeric_limits<double>::infinity();
   double max_offset = -std::numeric_limits<double>::infinity();

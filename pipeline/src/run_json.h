@@ -1,5 +1,5 @@
 #pragma once
-// Pieces of the run outputs (grasps.json schema skelgrasp.run/3, docs/pipeline.md, and the scan
+// Pieces of the run outputs (grasps.json schema skelgrasp.run/4, docs/pipeline.md, and the scan
 // picture) shared by the one-target and the scene writers.
 #include <nlohmann/json.hpp>
 
@@ -13,7 +13,7 @@
 
 namespace skelgrasp::pipeline::internal {
 
-inline constexpr const char* kRunSchema = "skelgrasp.run/3";
+inline constexpr const char* kRunSchema = "skelgrasp.run/4";
 
 struct ObjectEntry {
   std::size_t id = 0;

@@ -50,7 +50,7 @@ struct Closing {
                           {"force_closure", quality.force_closure},
                           {"epsilon", quality.epsilon},
                           {"closure_margin", quality.closure_margin},
-                          {"volume", quality.volume},
+                          {"volume", numberOrNull(quality.volume)},
                           {"hull_facets", quality.hull_facets}};
   }
 };
@@ -95,12 +95,13 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
           double spur_radius_factor, bool robustness, int robustness_samples,
           const std::string& robustness_variant, std::size_t robustness_top_k,
           std::size_t robustness_screen, std::optional<double> robustness_mu, bool robust_refine,
-          bool centre_candidates, std::size_t surface_candidates) {
+          bool centre_candidates, std::size_t surface_candidates, bool wrench_volume) {
   if (planner != "skeleton" && planner != "surface")
     throw InvalidArgument("planner: '" + planner + "' is not skeleton or surface");
   grasping::HypothesisParams hypothesis;
   hypothesis.min_epsilon = min_epsilon;
   hypothesis.quality = qualityParams(mu, fc_test, reference_compat);
+  hypothesis.quality.compute_volume = wrench_volume;
   hypothesis.closing.method = grasping::parseClosingMethod(closing);
   skeleton::SkeletonParams skeleton_params;
   skeleton_params.regularisation.method = geometry::parseRegularisationMethod(regularisation);
@@ -157,6 +158,7 @@ Closing closeHand(const Mesh& mesh, const HandPtr& hand, const std::string& pres
   closing_params.method = grasping::parseClosingMethod(closing);
   auto quality = qualityParams(mu, fc_test, reference_compat);
   quality.torsional_friction_m = hand->closingDefaults().torsional_friction_m;
+  quality.compute_volume = true;  // one grasp: the whole hull is cheap
   py::gil_scoped_release release;
   const grasping::GraspObject object(mesh.mesh);
   grasping::GraspSimulator simulator(*hand, object);
@@ -217,7 +219,7 @@ py::list score(const Mesh& mesh, const HandPtr& hand, const py::object& grasps, 
     d["force_closure"] = judged[i].force_closure;
     d["epsilon"] = judged[i].epsilon;
     d["closure_margin"] = judged[i].closure_margin;
-    d["volume"] = judged[i].volume;
+    d["volume"] = judged[i].volume ? py::object(py::float_(*judged[i].volume)) : py::none();
     if (robust[i]) {
       d["robustness"] = robust[i]->score;
       d["robustness_interval"] = py::make_tuple(robust[i]->wilson_low, robust[i]->wilson_high);
@@ -328,7 +330,9 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
           "epsilon", [](const Grasp& g) { return g.grasp.epsilon; },
           "Ferrari-Canny epsilon (L1) of the grasp wrench space.")
       .def_property_readonly(
-          "volume", [](const Grasp& g) { return g.grasp.volume; }, "Grasp wrench space volume.")
+          "volume", [](const Grasp& g) { return g.grasp.volume; },
+          "Grasp wrench space volume, or None when not computed (``plan(..., "
+          "wrench_volume=True)``).")
       .def_property_readonly(
           "robustness",
           [](const Grasp& g) -> py::object {
@@ -402,7 +406,7 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
       .def(
           "to_dict",
           [](const Plan& p) { return fromJson(grasping::planToJson(p.result, *p.hand, p.object)); },
-          "grasps.json as ``skelgrasp plan`` writes it (schema skelgrasp.grasps/2).")
+          "grasps.json as ``skelgrasp plan`` writes it (schema skelgrasp.grasps/3).")
       .def("__len__", [](const Plan& p) { return p.result.grasps.size(); })
       .def("__repr__", [](const Plan& p) {
         return "<skelgrasp.PlanResult: " +
@@ -437,6 +441,7 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
       py::arg("robust_refine") = ranking.refinement.enabled,
       py::arg("centre_candidates") = planner.centre_candidates,
       py::arg("surface_candidates") = planner.surface_candidates,
+      py::arg("wrench_volume") = planner.hypothesis.quality.compute_volume,
       R"doc(
 Plans grasps for ``mesh`` with ``hand`` (``skelgrasp plan``): planner 'skeleton' (paper Alg. 1)
 or 'surface' (surface-normal baseline). Deterministic for a seed. The defaults are the library's
@@ -450,7 +455,8 @@ friction ``robustness_mu`` or ``mu``, samples seeded by ``seed``) and are ranked
 scored grasps for more robust poses (docs/planning.md, "Refinement for robustness"). ``centre_candidates`` (skeleton planner) also tries
 power grasps about the object's centre on every object, the robust grasps the ranking chooses
 from; ``surface_candidates`` (skeleton planner) adds that many surface-normal hypotheses to the
-same pool (0: none; docs/planning.md, "Surface candidates"). A mesh the skeleton stage cannot process raises ValueError.)doc");
+same pool (0: none; docs/planning.md, "Surface candidates"). ``wrench_volume`` also computes each
+grasp's wrench space volume (the whole 6D hull, slower; else ``Grasp.volume`` is None). A mesh the skeleton stage cannot process raises ValueError.)doc");
 
   py::class_<Closing>(m, "CloseResult", "A hand closed at a pose, from :func:`close`.")
       .def_property_readonly(

@@ -232,7 +232,7 @@ ValueError with the command line's message.)doc");
           [](const Run& r) {
             return fromJson(pipeline::runToJson(r.result, *r.hand, r.scan, r.name));
           },
-          "grasps.json as ``skelgrasp run`` writes it (schema skelgrasp.run/3).")
+          "grasps.json as ``skelgrasp run`` writes it (schema skelgrasp.run/4).")
       .def("__len__", [](const Run& r) { return r.result.ranked.size(); });
 
   py::class_<pipeline::SceneObjectRun>(
@@ -289,7 +289,7 @@ ValueError with the command line's message.)doc");
           [](const SceneRun& r) {
             return fromJson(pipeline::sceneRunToJson(r.result, *r.hand, r.scan, r.name));
           },
-          "grasps.json as ``skelgrasp run --object all`` writes it (schema skelgrasp.run/3).")
+          "grasps.json as ``skelgrasp run --object all`` writes it (schema skelgrasp.run/4).")
       .def("__len__", [](const SceneRun& r) { return r.result.objects.size(); });
 
   const pipeline::RunParams run_defaults;

@@ -92,6 +92,7 @@ TEST(Cli, QualityScoresAContactFile) {
   EXPECT_TRUE(j["force_closure"].get<bool>());
   EXPECT_GT(j["epsilon"].get<double>(), 0);
   EXPECT_GT(j["hull_facets"].get<int>(), 0);
+  EXPECT_GT(j["volume"].get<double>(), 0);  // one contact set: always with the volume
   // Default torque scale: 2 / longest side of the contacts' bounding box.
   EXPECT_NEAR(j["torque_scale"].get<double>(), 2 / 0.05196, 1e-2);
 
@@ -134,7 +135,7 @@ TEST(Cli, PlanWritesTheDocumentedGraspsJson) {
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_EQ(countLines(run.out), 1);
   const auto j = readJsonFile(dir + "/grasps.json");
-  EXPECT_EQ(j["schema"], "skelgrasp.grasps/2");
+  EXPECT_EQ(j["schema"], "skelgrasp.grasps/3");
   EXPECT_EQ(j["planner"], "skeleton");
   EXPECT_EQ(j["hand"], "sdh");
   EXPECT_EQ(j["units"], "m");
@@ -151,8 +152,26 @@ TEST(Cli, PlanWritesTheDocumentedGraspsJson) {
     }
     EXPECT_EQ(g["gcp_pose"]["quaternion_wxyz"].size(), 4u);
     EXPECT_TRUE(g["force_closure"].get<bool>());
+    EXPECT_TRUE(g["volume"].is_null());  // only with --wrench-volume
   }
   EXPECT_GT(std::filesystem::file_size(dir + "/grasps.png"), 1000u);
+
+  // --wrench-volume: the same grasps, epsilon from the whole hull (equal up to Qhull's joggle).
+  const CliRun volume = runCli("plan " + dir +
+                                   "/bottle.ply --hand sdh --max-grasps 5 "
+                                   "--wrench-volume --out " +
+                                   dir + "/volume.json",
+                               dir);
+  ASSERT_EQ(volume.exit_code, 0) << volume.err;
+  const auto v = readJsonFile(dir + "/volume.json");
+  ASSERT_EQ(v["grasps"].size(), j["grasps"].size());
+  for (std::size_t i = 0; i < v["grasps"].size(); ++i) {
+    EXPECT_EQ(v["grasps"][i]["hand_pose"], j["grasps"][i]["hand_pose"]) << i;
+    EXPECT_NEAR(v["grasps"][i]["epsilon"].get<double>(), j["grasps"][i]["epsilon"].get<double>(),
+                1e-7)
+        << i;
+    EXPECT_GT(v["grasps"][i]["volume"].get<double>(), 0) << i;
+  }
 
   const CliRun surface =
       runCli("plan " + dir + "/bottle.ply --hand sdh --planner surface --hypotheses 20 --out " +
@@ -266,7 +285,9 @@ TEST(Cli, PlanScoresAndRanksByRobustness) {
   ASSERT_EQ(fixed.size(), 4u);
   for (std::size_t i = 0; i < fixed.size(); ++i) {
     const auto& f = fixed[i]["refinement"];
-    if (f["refined"].get<bool>()) EXPECT_EQ(f["moves"]["standoff_m"].get<double>(), 0.0) << i;
+    if (f["refined"].get<bool>()) {
+      EXPECT_EQ(f["moves"]["standoff_m"].get<double>(), 0.0) << i;
+    }
   }
   // Without mean-shift steps the search is the compass alone, within its budget.
   const auto compass_only = scoredRobustness(

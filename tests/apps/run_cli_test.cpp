@@ -40,7 +40,7 @@ TEST(RunCli, ScanToRankedGraspsWithReport) {
   EXPECT_NE(r.err.find("skeleton planner"), std::string::npos);  // progress on stderr
 
   const auto j = readJsonFile(dir + "/out/grasps.json");
-  EXPECT_EQ(j["schema"], "skelgrasp.run/3");
+  EXPECT_EQ(j["schema"], "skelgrasp.run/4");
   EXPECT_EQ(j["hand"], "sdh");
   ASSERT_EQ(j["scene"]["plane"].size(), 4u);
   EXPECT_GT(j["scene"]["plane"][2].get<double>(), 0.99);  // z up, the objects above
@@ -97,7 +97,7 @@ TEST(RunCli, EveryObjectInOneRun) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(lastLine(r.out).find("objects got grasps"), std::string::npos) << r.out;
   const auto j = readJsonFile(dir + "/out/grasps.json");
-  EXPECT_EQ(j["schema"], "skelgrasp.run/3");
+  EXPECT_EQ(j["schema"], "skelgrasp.run/4");
   const auto& objects = j["objects"];
   ASSERT_EQ(objects.size(), 2u) << objects.dump();
   std::size_t listed = 0, hypotheses = 0;

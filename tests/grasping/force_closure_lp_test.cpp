@@ -23,6 +23,8 @@ namespace {
 // A disagreement is explained by rounding when the winning side is this close to the boundary:
 // n l* (LP says closure, hull does not) or the hull's epsilon (hull says closure, LP does not).
 constexpr double kBoundaryBand = 1e-8;
+// Two joggled hulls (Qhull's QJ) of the same wrenches give epsilons this close (wrench units).
+constexpr double kJoggledEpsilonTolerance = 1e-7;
 
 Contact contact(const Eigen::Vector3d& p, const Eigen::Vector3d& n) {
   Contact c;
@@ -315,19 +317,32 @@ TEST(ForceClosureLp, MarginIsInvariantToContactOrderAndTorqueScale) {
   EXPECT_GT(closures, 50);
 }
 
-// kLp with epsilon: the hull only for closure sets, and then the same epsilon and volume as kHull.
+// kLp with epsilon: the hull only for closure sets, and then the same epsilon and volume as kHull;
+// without the volume, epsilon by expansion (hulls of subsets) agrees with the whole hull's.
 TEST(ForceClosureLp, LpOnlyModeRunsNoHullAndKeepsTheVerdict) {
   std::mt19937_64 rng(5);
+  int compared = 0;
   for (int i = 0; i < 300; ++i) {
     ContactSet set = randomSet(rng);
+    set.params.compute_volume = true;
     const auto full = evaluateWrenchSpace(set.contacts, set.center, set.torque_scale, set.params);
     QualityParams hull_params = set.params;
     hull_params.fc_test = ForceClosureTest::kHull;
     const auto hull = evaluateWrenchSpace(set.contacts, set.center, set.torque_scale, hull_params);
+    QualityParams expansion_params = set.params;
+    expansion_params.compute_volume = false;
+    const auto expansion =
+        evaluateWrenchSpace(set.contacts, set.center, set.torque_scale, expansion_params);
+    EXPECT_EQ(expansion.force_closure, full.force_closure) << i;
+    EXPECT_FALSE(expansion.volume.has_value()) << i;
     if (full.force_closure && hull.force_closure) {
       EXPECT_EQ(full.epsilon, hull.epsilon) << i;
       EXPECT_EQ(full.volume, hull.volume) << i;
       EXPECT_EQ(full.hull_facets, hull.hull_facets) << i;
+      // Both hulls are joggled (QJ), by up to ~1e-9 of the wrenches' size.
+      EXPECT_NEAR(expansion.epsilon, full.epsilon, kJoggledEpsilonTolerance) << i;
+      EXPECT_GT(expansion.hull_facets, 0) << i;
+      ++compared;
     }
     QualityParams verdict_only = set.params;
     verdict_only.compute_epsilon = false;
@@ -341,6 +356,7 @@ TEST(ForceClosureLp, LpOnlyModeRunsNoHullAndKeepsTheVerdict) {
       EXPECT_GT(full.hull_facets, 0);
     }
   }
+  EXPECT_GT(compared, 50);
 }
 
 TEST(ForceClosureLp, GivesTheSameMarginsFromSeveralThreads) {

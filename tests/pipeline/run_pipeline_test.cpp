@@ -158,7 +158,7 @@ TEST_F(DemoScenePipeline, WritesTheReportWithItsPictures) {
 
   std::ifstream json_file(dir + "/grasps.json");
   const auto doc = nlohmann::json::parse(json_file);
-  EXPECT_EQ(doc.at("schema"), "skelgrasp.run/3");
+  EXPECT_EQ(doc.at("schema"), "skelgrasp.run/4");
   // r with its interval per grasp and the histogram of r (inline SVG).
   EXPECT_NE(html.find("r [95% interval]"), std::string::npos);
   EXPECT_NE(html.find("failed samples: start in object / too few contacts / slipped"),

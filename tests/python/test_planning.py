@@ -79,7 +79,7 @@ def test_plan_invariants(capsule, sdh, capsule_plan):
         assert np.allclose(np.linalg.norm(normals, axis=1), 1.0)
         assert g.to_dict()["hand_pose"]["position"] == pytest.approx(list(g.hand_pose[:3, 3]))
     document = result.to_dict()
-    assert document["schema"] == "skelgrasp.grasps/2" and document["hand"] == "sdh"
+    assert document["schema"] == "skelgrasp.grasps/3" and document["hand"] == "sdh"
     assert document["object"] == "capsule" and document["summary"] == result.summary
     assert [g["epsilon"] for g in document["grasps"]] == epsilons
     assert result.skeleton is not None and result.skeleton.ok
@@ -131,6 +131,19 @@ def test_surface_candidates_join_the_skeleton_planners_pool(capsule):
     assert result.summary["hypotheses"] == without.summary["hypotheses"] + hypotheses
     surface = [g for g in result.grasps if g.strategy == "surface"]
     assert surface and len(result.grasps) == len(without.grasps) + len(surface)
+
+
+def test_wrench_volume_is_computed_on_request_only(capsule, sdh):
+    assert "wrench_volume: bool = False" in skelgrasp.plan.__doc__
+    without = skelgrasp.plan(capsule, sdh, seed=1, max_grasps=5, robustness=False)
+    with_volume = skelgrasp.plan(capsule, sdh, seed=1, max_grasps=5, robustness=False,
+                                 wrench_volume=True)
+    assert len(without.grasps) == len(with_volume.grasps) > 0
+    for a, b in zip(without.grasps, with_volume.grasps):
+        assert a.volume is None and b.volume > 0
+        # Epsilon from subset hulls agrees with the whole hull's (both joggled by Qhull).
+        assert abs(a.epsilon - b.epsilon) < 1e-7
+    assert all(g["volume"] is None for g in without.to_dict()["grasps"])
 
 
 def test_close_at_a_planned_grasp_reproduces_its_contacts(capsule, sdh, capsule_plan):

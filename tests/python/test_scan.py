@@ -38,7 +38,7 @@ def test_reconstruct_and_run_on_the_mug_scan():
 
     run = skelgrasp.run(cloud, skelgrasp.hand("armar3"), max_grasps=2)
     document = run.to_dict()
-    assert document["schema"] == "skelgrasp.run/3" and len(document["grasps"]) == len(run)
+    assert document["schema"] == "skelgrasp.run/4" and len(document["grasps"]) == len(run)
     assert run.status[0] in ("ok", "no_result") and len(run.observed) == len(run.mesh.vertices)
     for g in run.grasps:
         assert g.force_closure and math.isfinite(g.rank_score)
@@ -51,7 +51,7 @@ def test_run_every_object_of_the_scan_in_one_run():
     scene = skelgrasp.run(cloud, hand, objects="all", max_grasps=2, robustness=False)
     assert isinstance(scene, skelgrasp.SceneRunResult) and len(scene) >= 1
     document = scene.to_dict()
-    assert document["schema"] == "skelgrasp.run/3"
+    assert document["schema"] == "skelgrasp.run/4"
     assert [o["id"] for o in document["objects"]] == [o.id for o in scene.objects]
     listed = 0
     for o in scene.objects:

@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "skelgrasp/common/atomic_file.h"  // writeFileAtomically, for existing callers
@@ -19,6 +20,8 @@ nlohmann::json poseToJson(const Pose& pose);
 Pose poseFromJson(const nlohmann::json& j);
 // A double that may be NaN: NaN becomes null.
 nlohmann::json numberOrNull(double value);
+// A value that may be absent (not computed): absent becomes null.
+nlohmann::json numberOrNull(const std::optional<double>& value);
 
 // Written atomically (atomic_file.h): readers never see a half-written file. Creates parent
 // directories. Throws IoError.

@@ -77,7 +77,7 @@ struct Grasp {
   std::vector<Contact> contacts;
   bool force_closure = false;
   double epsilon = 0;
-  double volume = 0;
+  std::optional<double> volume;  // grasp wrench space volume, when computed (--wrench-volume)
   // Set for the grasps the robust ranking scored (evaluation/robust_ranking.h), else unset.
   std::optional<GraspRobustness> robustness;
   std::optional<GraspRefinement> refinement;  // set when local refinement ran on this grasp

@@ -1,7 +1,7 @@
 #pragma once
 // Grasps in formats robot stacks load (docs/export.md): MoveIt's moveit_msgs/Grasp list as YAML,
 // and the hand's closed configuration as sensor_msgs/JointState-like name/position lists (JSON).
-// The input is our own grasps.json (schemas skelgrasp.grasps/1-2 and skelgrasp.run/1-3).
+// The input is our own grasps.json (schemas skelgrasp.grasps/1-3 and skelgrasp.run/1-4).
 #include <nlohmann/json.hpp>
 
 #include <optional>

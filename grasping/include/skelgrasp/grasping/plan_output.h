@@ -1,5 +1,5 @@
 #pragma once
-// grasps.json (schema skelgrasp.grasps/2, docs/planning.md) and pictures of planned grasps.
+// grasps.json (schema skelgrasp.grasps/3, docs/planning.md) and pictures of planned grasps.
 #include <nlohmann/json.hpp>
 
 #include <string>

@@ -34,8 +34,9 @@ struct QualityParams {
   // known (planners, batch robustness); the hand-free functions below, which cannot know it, take
   // nullopt as point contacts.
   std::optional<double> torsional_friction_m;
-  // false: skip the hull volume (force closure and epsilon only), e.g. for robustness samples.
-  bool compute_volume = true;
+  // true: also the hull volume, which needs the whole 6D hull of the wrenches. false (default):
+  // epsilon comes from the hulls of a growing subset of them, 2-3x faster (docs/hands.md).
+  bool compute_volume = false;
   // kLp decides closure without a hull; reference_compat always uses the hull and its own rule.
   ForceClosureTest fc_test = ForceClosureTest::kLp;
   // false (with kLp): only the verdict and the margin, no Qhull at all (epsilon and volume stay
@@ -57,8 +58,9 @@ struct WrenchSpaceResult {
   // > kClosureMarginTolerance with force closure, 0 without. NaN when the LP did not run (kHull,
   // reference_compat).
   double closure_margin = std::numeric_limits<double>::quiet_NaN();
-  double volume = 0;  // 6D volume of the hull (0 when the wrenches do not span 6D or not computed)
-  int hull_facets = 0;
+  // 6D volume of the hull when compute_volume (0 when no 6D hull was built); nullopt otherwise.
+  std::optional<double> volume;
+  int hull_facets = 0;  // of the last hull built (by expansion: the last subset's)
   int wrenches = 0;
   int rank = 0;      // dimension spanned by the wrenches (6 needed for force closure)
   std::string note;  // why the hull is degenerate, if it is

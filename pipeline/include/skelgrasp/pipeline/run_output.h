@@ -11,7 +11,7 @@
 
 namespace skelgrasp::pipeline {
 
-// The grasps.json document of a run (schema skelgrasp.run/3, docs/pipeline.md), as
+// The grasps.json document of a run (schema skelgrasp.run/4, docs/pipeline.md), as
 // writeRunOutputs writes it (the Python module's to_dict()).
 nlohmann::json runToJson(const RunResult& result, const grasping::HandModel& hand,
                          const perception::Scan& scan, const std::string& input_name);
@@ -24,7 +24,7 @@ void writeRunOutputs(const std::string& dir, const RunResult& result,
                      const grasping::HandModel& hand, const perception::Scan& scan,
                      const std::string& input_name);
 
-// The grasps.json document of a scene run (schema skelgrasp.run/3 with every object), as
+// The grasps.json document of a scene run (schema skelgrasp.run/4 with every object), as
 // writeSceneRunOutputs writes it (the Python module's to_dict()).
 nlohmann::json sceneRunToJson(const SceneRunResult& result, const grasping::HandModel& hand,
                               const perception::Scan& scan, const std::string& input_name);
