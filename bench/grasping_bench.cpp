@@ -3,6 +3,9 @@
 // Run: build/bench/grasping_bench
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include <time.h>
 
 #include "bench_support.h"
@@ -152,4 +155,51 @@ SKELGRASP_FC_BENCH(armar3);
 SKELGRASP_FC_BENCH(sdh);
 SKELGRASP_FC_BENCH(shadow);
 SKELGRASP_FC_BENCH(parallel_gripper);
+
+// Epsilon of one closed grasp three ways in one loop (thread CPU time per call): the whole hull
+// (kHull), the whole hull with its volume (kLp + compute_volume, the default before 2026-11-26)
+// and by expansion (kLp, the default). Counters *_ms, whole_over_expansion,
+// volume_over_expansion, and the largest epsilon difference seen (epsilon_gap). Only a closure
+// grasp (counter closure = 1) builds hulls on the kLp paths; on the bench object that is
+// ARMAR-III's.
+void BM_EpsilonByExpansion(benchmark::State& state, const std::string& hand_name) {
+  setLogLevel(spdlog::level::warn);
+  const HandModel hand = loadBuiltinHand(hand_name);
+  GraspSimulator sim(hand, benchObject());
+  const auto& preshape = hand.preshape("power");
+  const auto closing = sim.close(sideGrasp(sim, preshape), preshape);
+  QualityParams expansion;
+  expansion.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
+  QualityParams whole = expansion, with_volume = expansion;
+  whole.fc_test = ForceClosureTest::kHull;
+  with_volume.compute_volume = true;
+  double whole_s = 0, volume_s = 0, expansion_s = 0, gap = 0;
+  for (auto _ : state) {
+    const double t0 = threadCpuSeconds();
+    const auto a = evaluateGrasp(closing.contacts, benchObject(), whole);
+    const double t1 = threadCpuSeconds();
+    const auto b = evaluateGrasp(closing.contacts, benchObject(), with_volume);
+    const double t2 = threadCpuSeconds();
+    const auto c = evaluateGrasp(closing.contacts, benchObject(), expansion);
+    const double t3 = threadCpuSeconds();
+    whole_s += t1 - t0;
+    volume_s += t2 - t1;
+    expansion_s += t3 - t2;
+    gap = std::max({gap, std::abs(a.epsilon - c.epsilon), std::abs(b.epsilon - c.epsilon)});
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["whole_ms"] = 1e3 * whole_s / n;
+  state.counters["volume_ms"] = 1e3 * volume_s / n;
+  state.counters["expansion_ms"] = 1e3 * expansion_s / n;
+  state.counters["whole_over_expansion"] = expansion_s > 0 ? whole_s / expansion_s : 0;
+  state.counters["volume_over_expansion"] = expansion_s > 0 ? volume_s / expansion_s : 0;
+  state.counters["epsilon_gap"] = gap;
+  state.counters["closure"] =
+      evaluateGrasp(closing.contacts, benchObject(), expansion).force_closure;
+}
+BENCHMARK_CAPTURE(BM_EpsilonByExpansion, armar3, std::string("armar3"))
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EpsilonByExpansion, sdh, std::string("sdh"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EpsilonByExpansion, shadow, std::string("shadow"))
+    ->Unit(benchmark::kMillisecond);
 }  // namespace
