@@ -59,6 +59,7 @@ struct EvaluateArgs {
   bool restart = false;
   bool retry_failed = false;
   bool robust_ranking = evaluation::BatchParams{}.ranking.enabled;
+  std::size_t screen_k = evaluation::BatchParams{}.ranking.screen_k;
   int screen_samples = evaluation::BatchParams{}.ranking.screen_samples;
   RobustRefineOptions refine;
 };
@@ -122,6 +123,7 @@ int runEvaluate(const EvaluateArgs& a) {
   p.robustness.closing.method = grasping::parseClosingMethod(a.closing);
   p.ranking.enabled = a.robust_ranking;
   p.ranking.robustness.variant = p.robustness.variant;
+  p.ranking.screen_k = a.screen_k;
   p.ranking.screen_samples = a.screen_samples;
   a.refine.applyTo(p.ranking.refinement);
   p.load.units = parseLengthUnit(a.units);
@@ -179,6 +181,7 @@ void registerEvaluateCommands(CLI::App& app, Action& action) {
                   evaluation::RobustRankingParams{}.top_k,
                   evaluation::RobustRankingParams{}.screen_k,
                   evaluation::RobustRankingParams{}.robustness.samples));
+  addScreenOption(*cmd, a->screen_k);
   addScreenSamplesOption(*cmd, a->screen_samples);
   a->refine.addTo(*cmd);
   cmd->add_flag("--reference-compat", a->reference_compat,

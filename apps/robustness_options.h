@@ -30,6 +30,16 @@ inline CLI::Option* addRobustnessVariantOption(CLI::App& cmd, std::string& varia
       ->capture_default_str();
 }
 
+// --robustness-screen, the same on every command that ranks by robustness.
+inline CLI::Option* addScreenOption(CLI::App& cmd, std::size_t& screen_k) {
+  return cmd
+      .add_option("--robustness-screen", screen_k,
+                  "Grasps screened with a cheap r to choose those scored, the best by epsilon "
+                  "(0 = all; none when at most --robustness-top-k)")
+      ->transform(countIn(0, kMaxCount))
+      ->capture_default_str();
+}
+
 // --robustness-screen-samples, the same on every command that ranks by robustness.
 inline CLI::Option* addScreenSamplesOption(CLI::App& cmd, int& screen_samples) {
   return cmd
@@ -107,11 +117,7 @@ struct RobustnessOptions {
                    "Grasps scored for robustness, the best by the screening (0 = all)")
         ->transform(countIn(0, kMaxCount))
         ->capture_default_str();
-    cmd.add_option("--robustness-screen", screen_k,
-                   "Grasps screened with a cheap r to choose those scored, the best by epsilon "
-                   "(0 = all; none when at most --robustness-top-k)")
-        ->transform(countIn(0, kMaxCount))
-        ->capture_default_str();
+    addScreenOption(cmd, screen_k);
     addScreenSamplesOption(cmd, screen_samples);
     // No shown default: unset means the planner's friction.
     cmd.add_option("--robustness-mu", mu, "Friction coefficient of r (default: --mu)")

@@ -91,17 +91,23 @@ TEST(EvaluateCli, AResumeWithAnotherMuRefusesInOneLineAndRestartStartsAfresh) {
 
 // Killed with SIGKILL in the middle of a batch, evaluate resumes to exactly the results of an
 // uninterrupted batch.
-// The robust ranking's screening sample count reaches the batch and is one of its recorded
-// options.
+// The robust ranking's screening (how many grasps, how many samples each) and the wrench volume
+// reach the batch and are among its recorded options; the kept grasps then carry a volume.
 TEST(EvaluateCli, RecordsTheScreeningSamplesOfTheRobustRanking) {
   const std::string dir = test::tempDir("cli_eval_screen");
   const std::string objects = objectsDir(dir, {"capsule"}), out = dir + "/out";
   const CliRun run = runCli("evaluate --objects " + objects + " --out " + out + kFastOptions +
-                                " --robust-ranking --robustness-screen-samples 3",
+                                " --robust-ranking --robustness-screen 12"
+                                " --robustness-screen-samples 3 --wrench-volume",
                             dir);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const auto batch = readJsonFile(out + "/batch.json");
+  EXPECT_EQ(batch["options"]["ranking"]["screen_k"], 12) << batch.dump();
   EXPECT_EQ(batch["options"]["ranking"]["screen_samples"], 3) << batch.dump();
+  EXPECT_EQ(batch["options"]["quality"]["compute_volume"], true) << batch.dump();
+  const auto grasps = jsonLines(out + "/results.jsonl");
+  ASSERT_FALSE(grasps.empty());
+  for (const auto& g : grasps) EXPECT_GT(g["volume"].get<double>(), 0) << g.dump();
 }
 
 TEST(EvaluateCli, ABatchKilledMidwayResumesToTheUninterruptedResults) {
