@@ -219,7 +219,7 @@ py::list score(const Mesh& mesh, const HandPtr& hand, const py::object& grasps, 
     d["force_closure"] = judged[i].force_closure;
     d["epsilon"] = judged[i].epsilon;
     d["closure_margin"] = judged[i].closure_margin;
-    d["volume"] = judged[i].volume ? py::object(py::float_(*judged[i].volume)) : py::none();
+    d["volume"] = py::cast(judged[i].volume);  // None when not computed
     if (robust[i]) {
       d["robustness"] = robust[i]->score;
       d["robustness_interval"] = py::make_tuple(robust[i]->wilson_low, robust[i]->wilson_high);

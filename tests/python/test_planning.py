@@ -174,6 +174,7 @@ def test_score_recomputes_quality_and_robustness(capsule, sdh, capsule_plan):
     for s, g in zip(scores, capsule_plan.grasps):
         assert s["force_closure"] == g.force_closure
         assert s["epsilon"] == pytest.approx(g.epsilon, rel=1e-9)
+        assert s["volume"] is None  # the whole hull only on request
         assert 0.0 <= s["robustness"] <= 1.0 and s["robustness_samples"] == 4
         low, high = s["robustness_interval"]
         assert low <= s["robustness"] <= high
