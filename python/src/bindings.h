@@ -5,7 +5,8 @@
 namespace skelgrasp::python {
 
 void bindGeometry(pybind11::module_& m);  // Mesh, PointCloud, load_*, skeleton
-void bindGrasping(pybind11::module_& m);  // hands, plan, close, score, pictures
+void bindGrasping(pybind11::module_& m);  // hands, plan, pictures
+void bindScoring(pybind11::module_& m);   // close, score, score_grasps
 void bindPipeline(pybind11::module_& m);  // reconstruct, run
 
 }  // namespace skelgrasp::python

@@ -172,4 +172,26 @@ evaluation::RobustRankingParams robustRankingParams(bool robustness, int samples
   return p;
 }
 
+py::list contactsList(const std::vector<grasping::Contact>& contacts) {
+  py::list out;
+  for (const auto& c : contacts) {
+    py::dict d;
+    d["point"] = fromPoints({c.point}).attr("reshape")(3);
+    d["normal"] = fromPoints({c.normal}).attr("reshape")(3);
+    d["link"] = c.link;
+    d["palm"] = c.palm;
+    out.append(d);
+  }
+  return out;
+}
+
+grasping::QualityParams qualityParams(double mu, const std::string& fc_test,
+                                      bool reference_compat) {
+  grasping::QualityParams q;
+  q.friction = mu;
+  q.fc_test = grasping::parseForceClosureTest(fc_test);
+  q.reference_compat = reference_compat;
+  return q;
+}
+
 }  // namespace skelgrasp::python

@@ -18,6 +18,7 @@
 #include "skelgrasp/evaluation/robust_ranking.h"
 #include "skelgrasp/grasping/grasp.h"
 #include "skelgrasp/grasping/hand_model.h"
+#include "skelgrasp/grasping/planners.h"
 #include "skelgrasp/perception/scan.h"
 #include "skelgrasp/skeleton/extraction.h"
 
@@ -59,6 +60,15 @@ struct Grasp {
   double rank_score = std::numeric_limits<double>::quiet_NaN();
 };
 
+// What plan() returns: the planner's result with the hand, the object's name and (skeleton
+// planner) the skeleton, for to_dict(), render_plan() and score().
+struct Plan {
+  grasping::PlanResult result;
+  HandPtr hand;
+  std::string object;
+  std::optional<SkeletonOutput> skeleton;
+};
+
 // N x 3 float64 (any float or int dtype converts) -> points; throws InvalidArgument naming `what`
 // for another shape or a non-finite entry.
 std::vector<Eigen::Vector3d> toPoints(const py::object& array, const std::string& what);
@@ -86,6 +96,12 @@ evaluation::RobustRankingParams robustRankingParams(bool robustness, int samples
                                                     const std::string& variant, std::size_t top_k,
                                                     std::size_t screen_k, std::optional<double> mu,
                                                     std::uint64_t seed, bool refine);
+
+// Contacts as a list of {point, normal, link, palm} dicts (Grasp.contacts, CloseResult.contacts).
+py::list contactsList(const std::vector<grasping::Contact>& contacts);
+
+// The quality keywords plan(), close() and score() share (--mu, --fc-test, --reference-compat).
+grasping::QualityParams qualityParams(double mu, const std::string& fc_test, bool reference_compat);
 
 // {joint name: value} for the movable joints of `hand` in configuration `q`.
 py::dict jointsDict(const grasping::HandModel& hand, const Eigen::VectorXd& q);
