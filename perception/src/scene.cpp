@@ -209,6 +209,18 @@ std::vector<std::size_t> selectTargets(const std::vector<ClusterInfo>& info,
   return selected;
 }
 
+// Points clearly below the plane (beyond its inlier band). Many of them mean the "support" may
+// be a face of the one object a table-less cloud holds (a milk carton seen from the side): the
+// object then lies behind it, and the fix is --plane none, which the message should say.
+std::size_t pointsBelow(const PointCloud& cloud, const std::vector<int>& indices,
+                        const SupportPlane& plane, double band_m) {
+  std::size_t below = 0;
+  for (int i : indices) {
+    if (plane.signedDistance(cloud.points[i]) < -band_m) ++below;
+  }
+  return below;
+}
+
 void validate(const SceneParams& p) {
   if (!(p.plane_distance_m > 0) || p.plane_max_iterations <= 0 || p.min_plane_fraction < 0 ||
       p.min_plane_fraction > 1 || !(p.cluster_tolerance_m > 0) ||
@@ -446,15 +458,22 @@ SceneResult parseScene(const PointCloud& cloud, const SceneParams& params,
   }
   result.cluster_time_s = watch.seconds();
   if (clusters.empty()) {
-    result.status = Status::Make(
-        StatusCode::kNoResult,
-        result.plane
-            ? "no object above the support plane (" + std::to_string(candidates.size()) +
-                  " points above it, no " + toString(result.segmentation) + " segment of " +
-                  std::to_string(params.min_cluster_points) + " or more; " +
-                  std::to_string(result.dropped.size()) + " fragment(s) dropped)"
-            : "no object cluster of " + std::to_string(params.min_cluster_points) +
-                  " or more points");
+    std::string message =
+        "no object cluster of " + std::to_string(params.min_cluster_points) + " or more points";
+    if (result.plane) {
+      message = "no object above the support plane (" + std::to_string(candidates.size()) +
+                " points above it, no " + toString(result.segmentation) + " segment of " +
+                std::to_string(params.min_cluster_points) + " or more; " +
+                std::to_string(result.dropped.size()) + " fragment(s) dropped)";
+      const std::size_t below =
+          pointsBelow(cloud, scene_indices, *result.plane, params.plane_distance_m);
+      if (!masked && below >= params.min_cluster_points) {
+        message += "; " + std::to_string(below) +
+                   " points lie below it: if the cloud is one object without a table, the plane "
+                   "is a face of it, pass --plane none";
+      }
+    }
+    result.status = Status::Make(StatusCode::kNoResult, message);
     return result;
   }
   for (const auto& members : clusters) {

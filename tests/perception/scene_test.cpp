@@ -141,6 +141,22 @@ TEST(Scene, ReportsMissingPlaneAndMissingObjects) {
   ASSERT_TRUE(alone.status.ok());
   EXPECT_EQ(alone.clusters.size(), 1u);
   EXPECT_FALSE(alone.plane);
+
+  // A lone box seen mostly face on: its front face passes for the support and the rest of the box
+  // lies behind it. The message points to --plane none, and with it the box is one object.
+  const TriangleMesh box = primitives::makeBox({0.1, 0.25, 0.3});
+  const auto box_view = renderDepth({box}, lookAt({0.7, 0.35, 0.3}, {0, 0, 0}));
+  const PointCloud carton = filtered(box_view.cloud);
+  const SceneResult face = parseScene(carton);
+  EXPECT_EQ(face.status.code, StatusCode::kNoResult);
+  EXPECT_NE(face.status.message.find("below it"), std::string::npos) << face.status.message;
+  EXPECT_NE(face.status.message.find("--plane none"), std::string::npos) << face.status.message;
+  const SceneResult whole = parseScene(carton, none);
+  ASSERT_TRUE(whole.status.ok()) << whole.status.message;
+  EXPECT_EQ(whole.clusters.size(), 1u);
+  // An empty table has nothing below it: no such hint.
+  EXPECT_EQ(no_object.status.message.find("below it"), std::string::npos)
+      << no_object.status.message;
 }
 
 // The visible table ends where objects at its edge hide it; objects lie inside the hull of the
