@@ -55,6 +55,7 @@ struct EvaluateArgs {
   bool reference_compat = false;
   std::string fc_test = defaultForceClosureTest();
   bool wrench_volume = grasping::QualityParams{}.compute_volume;
+  std::optional<double> torsional_friction_m;  // unset: each hand's contact model
   std::string closing = defaultClosingMethod();
   bool restart = false;
   bool retry_failed = false;
@@ -119,6 +120,7 @@ int runEvaluate(const EvaluateArgs& a) {
   p.quality.friction = a.mu;
   p.quality.reference_compat = a.reference_compat;
   p.quality.fc_test = grasping::parseForceClosureTest(a.fc_test);
+  p.quality.torsional_friction_m = a.torsional_friction_m;
   p.quality.compute_volume = a.wrench_volume;
   p.robustness.closing.method = grasping::parseClosingMethod(a.closing);
   p.ranking.enabled = a.robust_ranking;
@@ -187,6 +189,7 @@ void registerEvaluateCommands(CLI::App& app, Action& action) {
   cmd->add_flag("--reference-compat", a->reference_compat,
                 "Quality as the reference code (docs/hands.md)");
   addForceClosureTestOption(*cmd, a->fc_test);
+  addTorsionalFrictionOption(*cmd, a->torsional_friction_m);
   addWrenchVolumeFlag(*cmd, a->wrench_volume);
   addClosingMethodOption(*cmd, a->closing);
   cmd->add_option("--vertex-distance", a->vertex_distance_m,

@@ -59,6 +59,7 @@ struct CloseArgs {
   bool reference_compat = false;
   std::string fc_test = defaultForceClosureTest();
   std::string closing = defaultClosingMethod();
+  std::optional<double> torsional_friction_m;  // unset: the hand's contact model
   HandOptions hand;
 };
 
@@ -84,7 +85,8 @@ int runClose(const CloseArgs& args) {
   quality_params.friction = args.mu;
   quality_params.reference_compat = args.reference_compat;
   quality_params.fc_test = grasping::parseForceClosureTest(args.fc_test);
-  quality_params.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
+  quality_params.torsional_friction_m =
+      args.torsional_friction_m.value_or(hand.closingDefaults().torsional_friction_m);
   quality_params.compute_volume = true;  // one grasp: the whole hull is cheap
   const auto quality = closing.status.ok()
                            ? grasping::evaluateGrasp(closing.contacts, object, quality_params)
@@ -209,6 +211,7 @@ void registerHandCommands(CLI::App& app, Action& action) {
   close->add_flag("--reference-compat", c->reference_compat,
                   "Quality as the reference code (fact sheet §9)");
   addForceClosureTestOption(*close, c->fc_test);
+  addTorsionalFrictionOption(*close, c->torsional_friction_m);
   addClosingMethodOption(*close, c->closing);
   close->add_flag("--json", c->json, "Print JSON");
   close->add_option("--render", c->render, "Render object and hand (preshape, closed) to this PNG");

@@ -38,6 +38,7 @@ struct ScoreArgs {
   std::string closing = defaultClosingMethod();
   std::string fc_test = defaultForceClosureTest();
   bool reference_compat = false;
+  std::optional<double> torsional_friction_m;  // unset: the hand's contact model
   std::string units = "auto";
 };
 
@@ -46,6 +47,7 @@ evaluation::ScoreParams scoreParams(const ScoreArgs& a) {
   p.frictions = a.mu;
   p.quality.fc_test = grasping::parseForceClosureTest(a.fc_test);
   p.quality.reference_compat = a.reference_compat;
+  p.quality.torsional_friction_m = a.torsional_friction_m;
   p.closing.method = grasping::parseClosingMethod(a.closing);
   p.compute_robustness = !a.no_robustness;
   p.robustness.samples = a.samples;
@@ -134,6 +136,7 @@ void registerScoreCommand(CLI::App& app, Action& action) {
       ->capture_default_str();
   addClosingMethodOption(*cmd, a->closing);
   addForceClosureTestOption(*cmd, a->fc_test);
+  addTorsionalFrictionOption(*cmd, a->torsional_friction_m);
   cmd->add_flag("--reference-compat", a->reference_compat,
                 "Quality as the reference code (docs/hands.md)");
   cmd->add_option("--units", a->units, "Mesh units: auto, m or mm")->capture_default_str();

@@ -57,6 +57,7 @@ struct PlannerOptions {
   bool wrench_volume = grasping::QualityParams{}.compute_volume;
   std::string closing = defaultClosingMethod();
   int refine_evaluations = grasping::RefinementParams{}.max_evaluations;
+  std::optional<double> torsional_friction_m;  // unset: the hand's contact model
   bool refine = grasping::RefinementParams{}.enabled;
   double precision_retreat_m = grasping::SkeletonPlannerParams{}.precision_retreat_m;
 
@@ -112,6 +113,7 @@ struct PlannerOptions {
     addCentreCandidatesFlag(cmd, centre_candidates);
     addSurfaceCandidatesOption(cmd, surface_candidates);
     addForceClosureTestOption(cmd, fc_test);
+    addTorsionalFrictionOption(cmd, torsional_friction_m);
     addWrenchVolumeFlag(cmd, wrench_volume);
     addClosingMethodOption(cmd, closing);
     cmd.add_option("--refine-evaluations", refine_evaluations,
@@ -130,6 +132,7 @@ struct PlannerOptions {
     h.quality.friction = mu;
     h.quality.reference_compat = reference_compat;
     h.quality.fc_test = grasping::parseForceClosureTest(fc_test);
+    h.quality.torsional_friction_m = torsional_friction_m;
     h.quality.compute_volume = wrench_volume;
     h.closing.method = grasping::parseClosingMethod(closing);
     return h;

@@ -4,8 +4,10 @@
 // (the commands that plan).
 #include <CLI/CLI.hpp>
 
+#include <optional>
 #include <string>
 
+#include "option_checks.h"
 #include "skelgrasp/grasping/grasp_simulator.h"
 #include "skelgrasp/grasping/quality.h"
 
@@ -44,6 +46,17 @@ inline CLI::Option* addWrenchVolumeFlag(CLI::App& cmd, bool& value) {
   return cmd.add_flag("--wrench-volume", value,
                       "Also compute each grasp's wrench space volume (the whole 6D hull: planning "
                       "takes up to twice as long; without it grasps.json has \"volume\": null)");
+}
+
+// Soft-finger contacts (docs/hands.md): unset means the hand's own contact model (point contacts
+// for the built-in hands), so no default is shown.
+inline CLI::Option* addTorsionalFrictionOption(CLI::App& cmd, std::optional<double>& value) {
+  return cmd
+      .add_option("--torsional-friction", value,
+                  "Soft-finger contacts: torsional friction length in metres, about 2/3 mu times "
+                  "the pad's contact radius (default: the hand's; 0, point contacts, for the "
+                  "built-in hands)")
+      ->check(lengthOrZero());
 }
 
 }  // namespace skelgrasp::cli

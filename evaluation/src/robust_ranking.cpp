@@ -72,6 +72,7 @@ grasping::GraspRobustness graspRobustness(const RobustnessResult& result,
   r.ci95_high = result.wilson_high;
   r.samples = result.samples;
   r.mu = params.quality.friction;
+  r.torsional_friction_m = params.quality.torsional_friction_m.value_or(0.0);
   r.sigma_m = positionSigmaM(params);
   r.sigma_rad = orientationSigmaRad(params);
   r.variant = toString(params.variant);

@@ -46,6 +46,7 @@ nlohmann::json graspToJson(const Grasp& g, const HandModel& hand) {
                          {"ci95", {r.ci95_low, r.ci95_high}},
                          {"samples", r.samples},
                          {"mu", r.mu},
+                         {"torsional_friction_m", r.torsional_friction_m},
                          {"sigma_m", r.sigma_m},
                          {"sigma_rad", r.sigma_rad},
                          {"variant", r.variant},

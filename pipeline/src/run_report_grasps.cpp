@@ -90,12 +90,16 @@ void addRobustnessHistogram(HtmlReport& report, const std::vector<RankedGrasp>& 
     report.paragraph("No grasp was scored for robustness.");
     return;
   }
+  const std::string contacts = any->torsional_friction_m > 0
+                                   ? fmt::format(", soft-finger contacts with {:.1f} mm torsion",
+                                                 1000 * any->torsional_friction_m)
+                                   : std::string();
   report.paragraph(fmt::format(
       "Robustness r of the {} scored grasps: the share of {} perturbed executions ({} variant, "
-      "position sigma {:.0f} mm, orientation sigma {:.1f} deg, mu {:.2f}) that still reach force "
-      "closure.",
-      scored, any->samples, any->variant, 1000 * any->sigma_m, any->sigma_rad * 180 / M_PI,
-      any->mu));
+      "position sigma {:.0f} mm, orientation sigma {:.1f} deg, mu {:.2f}{}) that still reach "
+      "force closure.",
+      scored, any->samples, any->variant, 1000 * any->sigma_m, any->sigma_rad * 180 / M_PI, any->mu,
+      contacts));
   report.rawHtml(robustnessHistogramSvg(counts));
 }
 

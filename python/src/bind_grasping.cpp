@@ -35,13 +35,16 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
           double spur_radius_factor, bool robustness, int robustness_samples,
           const std::string& robustness_variant, std::size_t robustness_top_k,
           std::size_t robustness_screen, std::optional<double> robustness_mu, bool robust_refine,
-          bool centre_candidates, std::size_t surface_candidates, bool wrench_volume) {
+          bool centre_candidates, std::size_t surface_candidates, bool wrench_volume,
+          std::optional<double> torsional_friction) {
   if (planner != "skeleton" && planner != "surface")
     throw InvalidArgument("planner: '" + planner + "' is not skeleton or surface");
   grasping::HypothesisParams hypothesis;
   hypothesis.min_epsilon = min_epsilon;
   hypothesis.quality = qualityParams(mu, fc_test, reference_compat);
   hypothesis.quality.compute_volume = wrench_volume;
+  checkTorsionalFriction(torsional_friction);
+  hypothesis.quality.torsional_friction_m = torsional_friction;
   hypothesis.closing.method = grasping::parseClosingMethod(closing);
   skeleton::SkeletonParams skeleton_params;
   skeleton_params.regularisation.method = geometry::parseRegularisationMethod(regularisation);
@@ -260,6 +263,7 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
       py::arg("centre_candidates") = planner.centre_candidates,
       py::arg("surface_candidates") = planner.surface_candidates,
       py::arg("wrench_volume") = planner.hypothesis.quality.compute_volume,
+      py::arg("torsional_friction") = planner.hypothesis.quality.torsional_friction_m,
       R"doc(
 Plans grasps for ``mesh`` with ``hand`` (``skelgrasp plan``): planner 'skeleton' (paper Alg. 1)
 or 'surface' (surface-normal baseline). Deterministic for a seed. The defaults are the library's
@@ -274,7 +278,10 @@ scored grasps for more robust poses (docs/planning.md, "Refinement for robustnes
 power grasps about the object's centre on every object, the robust grasps the ranking chooses
 from; ``surface_candidates`` (skeleton planner) adds that many surface-normal hypotheses to the
 same pool (0: none; docs/planning.md, "Surface candidates"). ``wrench_volume`` also computes each
-grasp's wrench space volume (the whole 6D hull, slower; else ``Grasp.volume`` is None). A mesh the skeleton stage cannot process raises ValueError.)doc");
+grasp's wrench space volume (the whole 6D hull, slower; else ``Grasp.volume`` is None).
+``torsional_friction`` (metres) judges contacts as soft fingers (docs/hands.md; None: the hand's
+own model, point contacts for the built-in hands), in planning and in r. A mesh the skeleton stage
+cannot process raises ValueError.)doc");
 
   m.def(
       "render_plan",

@@ -49,7 +49,8 @@ struct Closing {
 
 Closing closeHand(const Mesh& mesh, const HandPtr& hand, const std::string& preshape_name,
                   const py::object& gcp_pose, double mu, const std::string& fc_test,
-                  const std::string& closing, bool reference_compat) {
+                  const std::string& closing, bool reference_compat,
+                  std::optional<double> torsional_friction) {
   Closing out;
   out.hand = hand;
   out.gcp_pose = toPose(gcp_pose, "gcp_pose");
@@ -58,7 +59,9 @@ Closing closeHand(const Mesh& mesh, const HandPtr& hand, const std::string& pres
   grasping::ClosingParams closing_params;
   closing_params.method = grasping::parseClosingMethod(closing);
   auto quality = qualityParams(mu, fc_test, reference_compat);
-  quality.torsional_friction_m = hand->closingDefaults().torsional_friction_m;
+  checkTorsionalFriction(torsional_friction);
+  quality.torsional_friction_m =
+      torsional_friction.value_or(hand->closingDefaults().torsional_friction_m);
   quality.compute_volume = true;  // one grasp: the whole hull is cheap
   py::gil_scoped_release release;
   const grasping::GraspObject object(mesh.mesh);
@@ -87,10 +90,13 @@ std::vector<Grasp> graspsOf(const py::object& grasps) {
 
 py::list score(const Mesh& mesh, const HandPtr& hand, const py::object& grasps, double mu,
                const std::string& fc_test, bool reference_compat, int robustness_samples,
-               const std::string& robustness_variant, std::uint64_t seed) {
+               const std::string& robustness_variant, std::uint64_t seed,
+               std::optional<double> torsional_friction) {
   const std::vector<Grasp> list = graspsOf(grasps);
   auto quality = qualityParams(mu, fc_test, reference_compat);
-  quality.torsional_friction_m = hand->closingDefaults().torsional_friction_m;
+  checkTorsionalFriction(torsional_friction);
+  quality.torsional_friction_m =
+      torsional_friction.value_or(hand->closingDefaults().torsional_friction_m);
   if (robustness_samples < 0) throw InvalidArgument("robustness_samples: must be >= 0");
   evaluation::RobustnessParams robustness;
   robustness.samples = robustness_samples;
@@ -205,10 +211,12 @@ void bindScoring(py::module_& m) {
         py::arg("gcp_pose"), py::kw_only(), py::arg("mu") = quality.friction,
         py::arg("fc_test") = std::string(toString(quality.fc_test)),
         py::arg("closing") = std::string(toString(grasping::ClosingParams{}.method)),
-        py::arg("reference_compat") = quality.reference_compat, R"doc(
+        py::arg("reference_compat") = quality.reference_compat,
+        py::arg("torsional_friction") = quality.torsional_friction_m, R"doc(
 Closes ``hand`` in ``preshape`` with its grasp centre point at ``gcp_pose`` (4 x 4, or x y z qw qx
-qy qz; object frame) and judges the contacts (``skelgrasp close``). Raises ValueError for an
-unknown preshape or a pose that is not a rigid transform.)doc");
+qy qz; object frame) and judges the contacts (``skelgrasp close``); ``torsional_friction``
+(metres) judges them as soft fingers (None: the hand's model). Raises ValueError for an unknown
+preshape or a pose that is not a rigid transform.)doc");
 
   const evaluation::RobustnessParams robustness;
   m.def("score", &score, py::arg("mesh"), py::arg("hand"), py::arg("grasps"), py::kw_only(),
@@ -217,13 +225,15 @@ unknown preshape or a pose that is not a rigid transform.)doc");
         py::arg("reference_compat") = quality.reference_compat,
         py::arg("robustness_samples") = robustness.samples,
         py::arg("robustness_variant") = std::string(evaluation::toString(robustness.variant)),
-        py::arg("seed") = robustness.seed, R"doc(
+        py::arg("seed") = robustness.seed,
+        py::arg("torsional_friction") = quality.torsional_friction_m, R"doc(
 Re-scores grasps (a Grasp, a list of them or a PlanResult) planned with ``hand`` on ``mesh``:
 force closure, epsilon, closure margin and volume of their contacts with these quality
 parameters, and the robustness r (paper Sec. V-B: the share of ``robustness_samples`` perturbed
 hand poses that still close to force closure, with its 95 % Wilson interval; 0 samples skips
 it). Every grasp faces the same perturbations (as in :func:`plan`'s ranking), so a planned grasp's
-r is reproduced with plan's seed and sample count. Returns one dict per grasp.)doc");
+r is reproduced with plan's seed and sample count (and its ``torsional_friction``: soft-finger
+contacts, None for the hand's model). Returns one dict per grasp.)doc");
 
   const evaluation::ScoreParams score_params;
   m.def("score_grasps", &scoreGraspsFile, py::arg("mesh"), py::arg("hand"), py::arg("grasps"),

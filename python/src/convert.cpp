@@ -194,4 +194,9 @@ grasping::QualityParams qualityParams(double mu, const std::string& fc_test,
   return q;
 }
 
+void checkTorsionalFriction(const std::optional<double>& torsional_friction) {
+  if (torsional_friction && !(*torsional_friction >= 0 && std::isfinite(*torsional_friction)))
+    throw InvalidArgument("torsional_friction: must be None or a finite length >= 0 (metres)");
+}
+
 }  // namespace skelgrasp::python

@@ -211,6 +211,7 @@ TEST(Cli, PlanScoresAndRanksByRobustness) {
       EXPECT_EQ(r["variant"], "reference");
       EXPECT_DOUBLE_EQ(r["mu"].get<double>(), 0.5);
       EXPECT_DOUBLE_EQ(r["sigma_m"].get<double>(), 0.005);
+      EXPECT_DOUBLE_EQ(r["torsional_friction_m"].get<double>(), 0.0);  // the SDH: point contacts
       const auto& failures = r["failures"];
       EXPECT_EQ(failures["start_collision"].get<int>() + failures["closing"].get<int>() +
                     failures["no_force_closure"].get<int>(),

@@ -96,6 +96,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadCliInput{"vertex_distance_negative",
                     "evaluate --objects {dir}/objects --vertex-distance -0.01 --out {dir}/out",
                     "--vertex-distance: -0.01 is outside [0, 1000]"},
+        BadCliInput{"torsion_negative",
+                    "score {dir}/grasps.json {dir}/box.ply --torsional-friction -0.002 --out "
+                    "{dir}/out",
+                    "--torsional-friction: -0.002 is outside [0, 1000]"},
         BadCliInput{"octree_nan", "run {dir}/scan.pcd --octree-resolution nan --out {dir}/out",
                     "--octree-resolution: 'nan' is not a finite number"},
         BadCliInput{"cameras", "reconstruct {dir} --cameras 1,7 --out {dir}/out/m.ply",

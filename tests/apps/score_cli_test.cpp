@@ -154,6 +154,50 @@ TEST(ScoreCliCapsule, TwoFrictionsInOneRun) {
   }
 }
 
+// Soft-finger contacts (--torsional-friction) on plan and score: plan records the model with r,
+// score reproduces plan's numbers with the same option, and soft contacts never hold less than
+// point contacts on the same closings (each edge wrench w becomes w + t and w - t, whose hull
+// holds w): epsilon and r at least as large, force closure kept.
+TEST(ScoreCliYcb, SoftFingerContactsOnPlanAndScore) {
+  const std::string mesh = ycbMesh();
+  if (mesh.empty()) GTEST_SKIP() << "no ../shared/data/objects/ycb meshes";
+  const std::string dir = test::tempDir("cli_score_soft");
+  const std::string torsion = " --torsional-friction 0.0023";
+  const CliRun plan = runCli("plan " + mesh + " --hand sdh --max-grasps 3 --robustness-samples 8" +
+                                 torsion + " --out " + dir + "/grasps.json",
+                             dir);
+  ASSERT_EQ(plan.exit_code, 0) << plan.err;
+  const nlohmann::json grasps = readJsonFile(dir + "/grasps.json");
+  ASSERT_FALSE(grasps["grasps"].empty());
+  const std::string score = "score " + dir + "/grasps.json " + mesh +
+                            " --hand sdh --mu 0.35,0.5 --robustness-samples 8 --out " + dir;
+  const CliRun soft = runCli(score + "/soft.json" + torsion, dir);
+  ASSERT_EQ(soft.exit_code, 0) << soft.err;
+  const CliRun point = runCli(score + "/point.json", dir);
+  ASSERT_EQ(point.exit_code, 0) << point.err;
+  const nlohmann::json soft_scores = readJsonFile(dir + "/soft.json");
+  const nlohmann::json point_scores = readJsonFile(dir + "/point.json");
+  EXPECT_DOUBLE_EQ(soft_scores["parameters"]["torsional_friction_m"].get<double>(), 0.0023);
+  EXPECT_DOUBLE_EQ(point_scores["parameters"]["torsional_friction_m"].get<double>(), 0.0);
+  expectScoresMatchPlan(grasps, soft_scores);
+  constexpr double kOneSampleOfEight = 1.0 / 8 + 1e-9;
+  for (std::size_t i = 0; i < grasps["grasps"].size(); ++i) {
+    SCOPED_TRACE(::testing::Message() << "grasp " << i);
+    const auto& planned = grasps["grasps"][i];
+    const auto& s = soft_scores["grasps"][i]["closure"][0];
+    const auto& p = point_scores["grasps"][i]["closure"][0];
+    if (planned.contains("robustness")) {
+      EXPECT_DOUBLE_EQ(planned["robustness"]["torsional_friction_m"].get<double>(), 0.0023);
+      EXPECT_NEAR(planned["robustness"]["r"].get<double>(), s["robustness"]["r"].get<double>(),
+                  kOneSampleOfEight);
+    }
+    if (p["force_closure"].get<bool>()) EXPECT_TRUE(s["force_closure"].get<bool>());
+    const double point_epsilon = p["epsilon"].get<double>();
+    EXPECT_GE(s["epsilon"].get<double>(), point_epsilon * (1 - 1e-7) - 1e-12);
+    EXPECT_GE(s["robustness"]["r"].get<double>(), p["robustness"]["r"].get<double>());
+  }
+}
+
 // Plan's grasps relabelled as one object of a two-object run file: --object picks them.
 TEST(ScoreCliYcb, RunFileWithSeveralObjects) {
   const std::string mesh = ycbMesh();

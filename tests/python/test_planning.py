@@ -146,6 +146,31 @@ def test_wrench_volume_is_computed_on_request_only(capsule, sdh):
     assert all(g["volume"] is None for g in without.to_dict()["grasps"])
 
 
+def test_soft_finger_contacts_are_a_keyword_of_plan_close_and_score(capsule, sdh):
+    assert "torsional_friction: Optional[float] = None" in skelgrasp.plan.__doc__
+    soft = skelgrasp.plan(capsule, sdh, seed=5, max_grasps=3, robustness_samples=6,
+                          torsional_friction=0.0023)
+    scored = [g for g in soft.grasps if g.robustness is not None]
+    assert scored and all(g.robustness["torsional_friction_m"] == 0.0023 for g in scored)
+    # score with the same contact model gives plan's r back; point contacts never hold more
+    # (the soft wrenches' hull holds the point ones').
+    again = skelgrasp.score(capsule, sdh, soft, robustness_samples=6, seed=5,
+                            torsional_friction=0.0023)
+    point = skelgrasp.score(capsule, sdh, soft, robustness_samples=6, seed=5)
+    for g, s, p in zip(soft.grasps, again, point):
+        if g.robustness is not None:
+            assert s["robustness"] == g.robustness["r"]
+        assert s["robustness"] >= p["robustness"]
+        assert s["epsilon"] >= p["epsilon"] * (1 - 1e-7) - 1e-12
+        assert s["force_closure"] or not p["force_closure"]
+    best = soft.grasps[0]
+    closed = skelgrasp.close(capsule, sdh, best.to_dict()["preshape"], best.gcp_pose,
+                             torsional_friction=0.0023)
+    assert closed.epsilon == pytest.approx(best.epsilon, rel=1e-6)
+    with pytest.raises(ValueError, match="torsional_friction"):
+        skelgrasp.plan(capsule, sdh, torsional_friction=-0.001)
+
+
 def test_close_at_a_planned_grasp_reproduces_its_contacts(capsule, sdh, capsule_plan):
     best = capsule_plan.grasps[0]
     closed = skelgrasp.close(capsule, sdh, best.to_dict()["preshape"], best.gcp_pose)

@@ -39,10 +39,11 @@ struct GraspRobustness {
   double r = 0;
   double ci95_low = 0, ci95_high = 1;
   int samples = 0;
-  double mu = 0;         // friction coefficient of the force-closure test
-  double sigma_m = 0;    // position error, standard deviation (m)
-  double sigma_rad = 0;  // orientation error, standard deviation (rad)
-  std::string variant;   // "paper" or "guarded" (the hand moves), "reference" (the object moves)
+  double mu = 0;                    // friction coefficient of the force-closure test
+  double torsional_friction_m = 0;  // its soft-finger torsion length (0: point contacts)
+  double sigma_m = 0;               // position error, standard deviation (m)
+  double sigma_rad = 0;             // orientation error, standard deviation (rad)
+  std::string variant;  // "paper" or "guarded" (the hand moves), "reference" (the object moves)
   // Why the failed samples failed (they add up to samples - r * samples): the open hand started in
   // the object, the closing ended with too few contacts, or it closed without force closure.
   int start_collisions = 0, closing_failures = 0, no_force_closure = 0;
