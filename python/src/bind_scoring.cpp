@@ -146,7 +146,8 @@ py::list score(const Mesh& mesh, const HandPtr& hand, const py::object& grasps, 
 py::object scoreGraspsFile(const Mesh& mesh, const HandPtr& hand, const py::object& grasps,
                            const std::vector<double>& mu, int robustness_samples,
                            const std::string& robustness_variant, std::uint64_t seed,
-                           const std::string& closing, const std::optional<long long>& object) {
+                           const std::string& closing, const std::optional<long long>& object,
+                           std::optional<double> torsional_friction) {
   nlohmann::json file;
   std::string source = "grasps";
   if (py::isinstance<py::str>(grasps)) {
@@ -164,6 +165,8 @@ py::object scoreGraspsFile(const Mesh& mesh, const HandPtr& hand, const py::obje
   params.robustness.variant = evaluation::parseRobustnessVariant(robustness_variant);
   params.robustness.seed = seed;
   params.closing.method = grasping::parseClosingMethod(closing);
+  checkTorsionalFriction(torsional_friction);
+  params.quality.torsional_friction_m = torsional_friction;
   const auto placements = grasping::readGraspPlacements(file, *hand, object);
   nlohmann::json out;
   {
@@ -242,12 +245,14 @@ contacts, None for the hand's model). Returns one dict per grasp.)doc");
         py::arg("robustness_variant") = std::string(evaluation::toString(robustness.variant)),
         py::arg("seed") = robustness.seed,
         py::arg("closing") = std::string(toString(score_params.closing.method)),
-        py::arg("object") = py::none(), R"doc(
+        py::arg("object") = py::none(),
+        py::arg("torsional_friction") = score_params.quality.torsional_friction_m, R"doc(
 ``skelgrasp score``: re-scores the grasps of a grasps.json (a path, or the parsed dict; schema
 skelgrasp.grasps/N or skelgrasp.run/N, ``object`` selecting one object of a run file) by placing
 ``hand`` at each grasp's hand_pose, closing it on ``mesh`` and judging the contacts at every
 friction in ``mu``: force closure, LP margin, epsilon and robustness r with its 95 % Wilson
-interval (0 samples skips it). Returns the skelgrasp.score/1 document (docs/evaluation.md).)doc");
+interval (0 samples skips it); ``torsional_friction`` (metres) judges soft-finger contacts (None:
+the hand's model). Returns the skelgrasp.score/1 document (docs/evaluation.md).)doc");
 }
 
 }  // namespace skelgrasp::python

@@ -241,6 +241,12 @@ def test_score_grasps_closes_again_at_each_mu(capsule, sdh, capsule_plan):
         for c in s["closure"]:
             r = c["robustness"]
             assert r["ci95"][0] <= r["r"] <= r["ci95"][1]
+    soft = skelgrasp.score_grasps(capsule, sdh, capsule_plan.to_dict(), mu=[0.35],
+                                  robustness_samples=4, seed=3, torsional_friction=0.0023)
+    assert soft["parameters"]["torsional_friction_m"] == 0.0023
+    assert doc["parameters"]["torsional_friction_m"] == 0.0  # the SDH's own: point contacts
+    for s, p in zip(soft["grasps"], doc["grasps"]):
+        assert s["closure"][0]["robustness"]["r"] >= p["closure"][0]["robustness"]["r"]
     with pytest.raises(ValueError, match="schema"):
         skelgrasp.score_grasps(capsule, sdh, {"schema": "other/1", "grasps": []})
 
