@@ -1,7 +1,8 @@
 #pragma once
 // --fc-test and --closing, shared by the commands that judge grasps (close, quality, plan, run,
-// evaluate, bench plan; --closing not on quality, which closes nothing), and --wrench-volume
-// (the commands that plan).
+// evaluate, bench plan; --closing not on quality, which closes nothing), --torsional-friction
+// (those that judge a hand's contacts: all of them but quality, which has no hand) and
+// --wrench-volume (the commands that plan).
 #include <CLI/CLI.hpp>
 
 #include <optional>
