@@ -7,7 +7,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "batch_setup.h"
+#include "skelgrasp/common/error.h"
 #include "skelgrasp/common/json.h"
+#include "skelgrasp/common/logging.h"
 #include "skelgrasp/evaluation/batch.h"
 
 namespace skelgrasp::evaluation {
@@ -99,7 +102,15 @@ void writeSummary(const std::string& dir) {
   const auto summary = internal::aggregateSummary(internal::loadBatchRecords(dir));
   const auto charts = internal::writeRobustnessCharts(dir, summary);
   writeFileAtomically(dir + "/summary.csv", internal::summaryCsv(summary));
-  writeFileAtomically(dir + "/summary.md", internal::summaryMarkdown(summary, charts));
+  // The settings line is a courtesy: a damaged batch.json (which a resume reports) leaves it out
+  // rather than the summary.
+  std::optional<nlohmann::json> options;
+  try {
+    options = internal::readBatchOptions(dir);
+  } catch (const IoError& e) {
+    log().warn("summary: settings left out: {}", e.what());
+  }
+  writeFileAtomically(dir + "/summary.md", internal::summaryMarkdown(summary, charts, options));
 }
 
 }  // namespace skelgrasp::evaluation

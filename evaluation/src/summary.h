@@ -2,10 +2,13 @@
 // Internal: the summary of a batch's records (summary.csv, summary.md and the robustness
 // histograms), in steps: aggregation into a BatchSummary, then each output from it.
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "batch_store.h"
 
@@ -72,8 +75,9 @@ struct RobustnessChart {
 std::vector<RobustnessChart> writeRobustnessCharts(const std::string& dir,
                                                    const BatchSummary& summary);
 
-// summary.md: the paper's Table I layout, time spent, throughput, failed runs and `charts`.
-std::string summaryMarkdown(const BatchSummary& summary,
-                            const std::vector<RobustnessChart>& charts);
+// summary.md: the settings the runs were judged with (from batch.json's `options`, when there is
+// one), the paper's Table I layout, time spent, throughput, failed runs and `charts`.
+std::string summaryMarkdown(const BatchSummary& summary, const std::vector<RobustnessChart>& charts,
+                            const std::optional<nlohmann::json>& options = std::nullopt);
 
 }  // namespace skelgrasp::evaluation::internal

@@ -11,6 +11,36 @@ double robustnessThroughput(std::size_t grasps, double seconds) {
   return seconds > 0 ? grasps / seconds : 0.0;
 }
 
+// What every number below depends on and a reader of two summaries must tell apart: friction,
+// contact model and how r was sampled. Read from batch.json's options (batch_setup.cpp); a key
+// it lacks (an older batch) leaves its part out.
+std::string settingsLine(const nlohmann::json& options) {
+  std::vector<std::string> parts;
+  if (options.contains("mu")) parts.push_back(fmt::format("μ = {}", options["mu"].get<double>()));
+  const double torsion_m = options.value("/quality/torsional_friction_m"_json_pointer, 0.0);
+  parts.push_back(torsion_m > 0 ? fmt::format("soft-finger contacts (torsional friction {:.1f} mm)",
+                                              1000 * torsion_m)
+                                : std::string("each hand's own contact model (point contacts for "
+                                              "ARMAR-III, the SDH and the Shadow hand)"));
+  if (options.value("reference_compat", false)) parts.push_back("reference_compat quality");
+  if (options.contains("robustness")) {
+    const auto& r = options["robustness"];
+    parts.push_back(fmt::format("robustness of sampled kept grasps: {} variant, {} samples",
+                                r.value("variant", std::string("?")), r.value("samples", 0)));
+  }
+  if (options.contains("ranking")) {
+    const auto& k = options["ranking"];
+    parts.push_back(
+        fmt::format("robust ranking: {} screened with {} samples, the best {} scored "
+                    "with {}",
+                    k.value("screen_k", 0), k.value("screen_samples", 0), k.value("top_k", 0),
+                    k.value("samples", 0)));
+  }
+  std::string line = "Settings (batch.json): ";
+  for (std::size_t i = 0; i < parts.size(); ++i) line += (i ? "; " : "") + parts[i];
+  return line + ".\n\n";
+}
+
 // Why the returned grasps' perturbed executions failed, over the ranked runs that recorded it;
 // empty when none did (batches from before the causes were recorded).
 std::string failureTable(const BatchSummary& summary) {
@@ -72,10 +102,11 @@ std::string summaryCsv(const BatchSummary& summary) {
   return csv;
 }
 
-std::string summaryMarkdown(const BatchSummary& summary,
-                            const std::vector<RobustnessChart>& charts) {
-  std::string md =
-      "# Evaluation summary\n\n"
+std::string summaryMarkdown(const BatchSummary& summary, const std::vector<RobustnessChart>& charts,
+                            const std::optional<nlohmann::json>& options) {
+  std::string md = "# Evaluation summary\n\n";
+  if (options && options->is_object()) md += settingsLine(*options);
+  md +=
       "Per hand and planner (the paper's Table I layout): average time per valid grasp and "
       "force-closure "
       "rate (mean ± std over objects), robustness r (mean ± std over the grasps evaluated), grasp "

@@ -172,6 +172,13 @@ TEST_F(BatchTest, RobustRankingRecordsTheReturnedGraspsRAndIsPartOfTheOptions) {
   const std::string summary = textOf(out + "/summary.md");
   EXPECT_NE(summary.find("## Returned grasps (robust ranking)"), std::string::npos);
   EXPECT_NE(summary.find("| start in object | too few contacts | slipped |"), std::string::npos);
+  // It names what r depends on: friction, contact model, how r was sampled and ranked.
+  EXPECT_NE(summary.find("Settings (batch.json): μ = 0.35; each hand's own contact model"),
+            std::string::npos)
+      << summary;
+  EXPECT_NE(summary.find("robust ranking: 4 screened with 4 samples, the best 2 scored with 6"),
+            std::string::npos)
+      << summary;
   EXPECT_EQ(readJsonFile(out + "/batch.json")["options"]["ranking"]["top_k"], 2);
   // The search for more robust poses moves the returned grasps: another search is another batch.
   auto other_search = p;
@@ -187,6 +194,16 @@ TEST_F(BatchTest, RobustRankingRecordsTheReturnedGraspsRAndIsPartOfTheOptions) {
   runBatch(q);
   EXPECT_FALSE(readJsonFile(plain + "/batch.json")["options"].contains("ranking"));
   EXPECT_EQ(textOf(plain + "/summary.md").find("Returned grasps"), std::string::npos);
+  EXPECT_EQ(textOf(plain + "/summary.md").find("robust ranking:"), std::string::npos);
+  // Soft-finger contacts are named with their torsion.
+  const std::string soft = test::tempDir("batch_soft");
+  auto s = params(soft);
+  s.planners = {Planner::kSkeleton};
+  s.max_objects = 1;
+  s.quality.torsional_friction_m = 0.0023;
+  runBatch(s);
+  EXPECT_NE(textOf(soft + "/summary.md").find("soft-finger contacts (torsional friction 2.3 mm)"),
+            std::string::npos);
   for (const auto& run : lines(plain + "/runs.jsonl")) EXPECT_FALSE(run["ranked"].get<bool>());
 }
 
