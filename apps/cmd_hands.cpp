@@ -34,17 +34,25 @@ nlohmann::json contactsToJson(const std::vector<grasping::Contact>& contacts) {
   return out;
 }
 
+// The contact model the hand's grasps are judged with unless --torsional-friction says otherwise.
+std::string contactModel(const grasping::HandModel& hand) {
+  const double torsion_m = hand.closingDefaults().torsional_friction_m;
+  return torsion_m > 0 ? fmt::format("soft {:.1f} mm", 1000 * torsion_m) : std::string("point");
+}
+
 int runHands() {
-  std::cout << fmt::format("{:<18} {:>7} {:>6} {:>7}  {}\n", "hand", "fingers", "DOF", "joints",
-                           "preshapes");
+  std::cout << fmt::format("{:<18} {:>7} {:>6} {:>7}  {:<13}  {}\n", "hand", "fingers", "DOF",
+                           "joints", "contacts", "preshapes");
   for (const auto& name : grasping::builtinHandNames()) {
     const auto hand = grasping::loadBuiltinHand(name);
     std::string preshapes;
     for (const auto& [p, _] : hand.preshapes()) preshapes += (preshapes.empty() ? "" : ", ") + p;
-    std::cout << fmt::format("{:<18} {:>7} {:>6} {:>7}  {}   ({})\n", name, hand.fingers().size(),
-                             hand.numDrives(), hand.numMovingJoints(), preshapes, hand.title());
+    std::cout << fmt::format("{:<18} {:>7} {:>6} {:>7}  {:<13}  {}   ({})\n", name,
+                             hand.fingers().size(), hand.numDrives(), hand.numMovingJoints(),
+                             contactModel(hand), preshapes, hand.title());
   }
-  std::cout << "DOF = actuated drives while closing; joints = joints those drives move\n";
+  std::cout << "DOF = actuated drives while closing; joints = joints those drives move; contacts = "
+               "point, or soft fingers with their torsional friction (--torsional-friction)\n";
   return kExitOk;
 }
 

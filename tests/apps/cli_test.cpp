@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <sstream>
 #include <vector>
 
 #include "cli_support.h"
@@ -76,6 +77,14 @@ TEST(Cli, HandsListsTheFourBuiltInHands) {
   EXPECT_EQ(run.exit_code, 0);
   for (const char* hand : {"armar3", "sdh", "shadow", "parallel_gripper"}) {
     EXPECT_NE(run.out.find(hand), std::string::npos) << hand;
+  }
+  // Each hand's contact model: the paper's hands judge point contacts, the gripper's pads soft.
+  std::istringstream lines(run.out);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("armar3", 0) == 0 || line.rfind("sdh", 0) == 0 || line.rfind("shadow", 0) == 0)
+      EXPECT_NE(line.find(" point "), std::string::npos) << line;
+    if (line.rfind("parallel_gripper", 0) == 0)
+      EXPECT_NE(line.find(" soft 2.5 mm "), std::string::npos) << line;
   }
 }
 
