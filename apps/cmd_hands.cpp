@@ -93,8 +93,8 @@ int runClose(const CloseArgs& args) {
   quality_params.friction = args.mu;
   quality_params.reference_compat = args.reference_compat;
   quality_params.fc_test = grasping::parseForceClosureTest(args.fc_test);
-  quality_params.torsional_friction_m =
-      args.torsional_friction_m.value_or(hand.closingDefaults().torsional_friction_m);
+  quality_params.torsional_friction_m = args.torsional_friction_m;
+  quality_params = grasping::withHandContactModel(quality_params, hand);
   quality_params.compute_volume = true;  // one grasp: the whole hull is cheap
   const auto quality = closing.status.ok()
                            ? grasping::evaluateGrasp(closing.contacts, object, quality_params)

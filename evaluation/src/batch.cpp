@@ -208,9 +208,7 @@ class ObjectEvaluator {
     std::sort(chosen.begin(), chosen.end());
     grasping::GraspSimulator simulator(hand, object);
     RobustnessParams rp = p_.robustness;
-    rp.quality = p_.quality;
-    if (!rp.quality.torsional_friction_m)
-      rp.quality.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
+    rp.quality = grasping::withHandContactModel(p_.quality, hand);
     rp.seed = seed;
     std::map<std::size_t, RobustnessResult> robustness;
     double robustness_s = 0, robustness_sum = 0;

@@ -115,10 +115,8 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
     // r is judged as the planner judged: its quality (friction unless overridden, force-closure
     // test, contact model) and its closing.
     RobustnessParams rp = params.robustness;
-    rp.quality = planner.quality;
+    rp.quality = grasping::withHandContactModel(planner.quality, hand);
     if (params.friction) rp.quality.friction = *params.friction;
-    if (!rp.quality.torsional_friction_m)
-      rp.quality.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
     rp.closing = planner.closing;
     grasping::GraspSimulator simulator(hand, object);
     const std::size_t top_k = params.top_k == 0 ? n : std::min(params.top_k, n);

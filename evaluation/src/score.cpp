@@ -31,9 +31,7 @@ grasping::QualityParams qualityAt(const ScoreParams& params, const grasping::Han
                                   double mu) {
   grasping::QualityParams quality = params.quality;
   quality.friction = mu;
-  if (!quality.torsional_friction_m)
-    quality.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
-  return quality;
+  return grasping::withHandContactModel(quality, hand);
 }
 
 GraspScore scoreOne(grasping::GraspSimulator& simulator, const grasping::GraspPlacement& placement,

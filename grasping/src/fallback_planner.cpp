@@ -216,9 +216,7 @@ PlanResult planFallbackGrasps(const HandModel& hand, const GraspObject& object,
 
   GraspSimulator simulator(hand, object);
   HypothesisParams hp = params.hypothesis;
-  // The hand's contact model unless the caller chose one (0 = point contacts).
-  if (!hp.quality.torsional_friction_m)
-    hp.quality.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
+  hp.quality = withHandContactModel(hp.quality, hand);
 
   ProgressReporter progress("fallback planner", trials.size(), 5.0);
   for (const Trial& trial : trials) {

@@ -18,6 +18,7 @@ extern "C" {
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/common/pose.h"
 #include "skelgrasp/common/resources.h"
+#include "skelgrasp/grasping/hand_model.h"
 
 namespace skelgrasp::grasping {
 
@@ -264,6 +265,12 @@ void decideByLp(const ClosureLpResult& lp, const std::vector<Wrench>& wrenches,
 }
 
 }  // namespace
+
+QualityParams withHandContactModel(QualityParams params, const HandModel& hand) {
+  if (!params.torsional_friction_m)
+    params.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
+  return params;
+}
 
 std::size_t wrenchCount(std::size_t contacts, const QualityParams& params) {
   const std::size_t per_edge = params.torsional_friction_m.value_or(0.0) > 0 ? 2 : 1;

@@ -186,9 +186,7 @@ PlanResult planSkeletonGrasps(const HandModel& hand, const GraspObject& object,
       }
       const Preshape& preshape = hand.preshape(precision ? "precision" : "power");
       HypothesisParams hp = params.hypothesis;
-      // The hand's contact model unless the caller chose one (0 = point contacts).
-      if (!hp.quality.torsional_friction_m)
-        hp.quality.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
+      hp.quality = withHandContactModel(hp.quality, hand);
       hp.extra_retreat_m =
           precision ? params.precision_retreat_m : hand.thresholds().power_retreat_m;
       const RefinementFrame local{shape.tangent, localCentroid(skel, object.mesh(), shape)};

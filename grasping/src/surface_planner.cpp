@@ -19,9 +19,7 @@ PlanResult planSurfaceGrasps(const HandModel& hand, const GraspObject& object,
   const Preshape& preshape = hand.preshape(params.preshape);
   const GraspType type = params.preshape == "precision" ? GraspType::kPrecision : GraspType::kPower;
   HypothesisParams hp = params.hypothesis;
-  // The hand's contact model unless the caller chose one (0 = point contacts).
-  if (!hp.quality.torsional_friction_m)
-    hp.quality.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
+  hp.quality = withHandContactModel(hp.quality, hand);
   hp.extra_retreat_m = 0;
 
   // Area-weighted face sampling.

@@ -41,10 +41,8 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
     throw InvalidArgument("planner: '" + planner + "' is not skeleton or surface");
   grasping::HypothesisParams hypothesis;
   hypothesis.min_epsilon = min_epsilon;
-  hypothesis.quality = qualityParams(mu, fc_test, reference_compat);
+  hypothesis.quality = qualityParams(mu, fc_test, reference_compat, torsional_friction);
   hypothesis.quality.compute_volume = wrench_volume;
-  checkTorsionalFriction(torsional_friction);
-  hypothesis.quality.torsional_friction_m = torsional_friction;
   hypothesis.closing.method = grasping::parseClosingMethod(closing);
   skeleton::SkeletonParams skeleton_params;
   skeleton_params.regularisation.method = geometry::parseRegularisationMethod(regularisation);

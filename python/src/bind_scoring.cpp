@@ -58,10 +58,8 @@ Closing closeHand(const Mesh& mesh, const HandPtr& hand, const std::string& pres
   out.preshape = preshape.name;
   grasping::ClosingParams closing_params;
   closing_params.method = grasping::parseClosingMethod(closing);
-  auto quality = qualityParams(mu, fc_test, reference_compat);
-  checkTorsionalFriction(torsional_friction);
-  quality.torsional_friction_m =
-      torsional_friction.value_or(hand->closingDefaults().torsional_friction_m);
+  auto quality = grasping::withHandContactModel(
+      qualityParams(mu, fc_test, reference_compat, torsional_friction), *hand);
   quality.compute_volume = true;  // one grasp: the whole hull is cheap
   py::gil_scoped_release release;
   const grasping::GraspObject object(mesh.mesh);
@@ -93,10 +91,8 @@ py::list score(const Mesh& mesh, const HandPtr& hand, const py::object& grasps, 
                const std::string& robustness_variant, std::uint64_t seed,
                std::optional<double> torsional_friction) {
   const std::vector<Grasp> list = graspsOf(grasps);
-  auto quality = qualityParams(mu, fc_test, reference_compat);
-  checkTorsionalFriction(torsional_friction);
-  quality.torsional_friction_m =
-      torsional_friction.value_or(hand->closingDefaults().torsional_friction_m);
+  const auto quality = grasping::withHandContactModel(
+      qualityParams(mu, fc_test, reference_compat, torsional_friction), *hand);
   if (robustness_samples < 0) throw InvalidArgument("robustness_samples: must be >= 0");
   evaluation::RobustnessParams robustness;
   robustness.samples = robustness_samples;

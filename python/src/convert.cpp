@@ -185,12 +185,14 @@ py::list contactsList(const std::vector<grasping::Contact>& contacts) {
   return out;
 }
 
-grasping::QualityParams qualityParams(double mu, const std::string& fc_test,
-                                      bool reference_compat) {
+grasping::QualityParams qualityParams(double mu, const std::string& fc_test, bool reference_compat,
+                                      std::optional<double> torsional_friction) {
+  checkTorsionalFriction(torsional_friction);
   grasping::QualityParams q;
   q.friction = mu;
   q.fc_test = grasping::parseForceClosureTest(fc_test);
   q.reference_compat = reference_compat;
+  q.torsional_friction_m = torsional_friction;
   return q;
 }
 

@@ -100,11 +100,13 @@ evaluation::RobustRankingParams robustRankingParams(bool robustness, int samples
 // Contacts as a list of {point, normal, link, palm} dicts (Grasp.contacts, CloseResult.contacts).
 py::list contactsList(const std::vector<grasping::Contact>& contacts);
 
-// The quality keywords plan(), close() and score() share (--mu, --fc-test, --reference-compat).
-grasping::QualityParams qualityParams(double mu, const std::string& fc_test, bool reference_compat);
-
 // A soft-finger torsion length from Python: None, or finite and >= 0 (else InvalidArgument).
 void checkTorsionalFriction(const std::optional<double>& torsional_friction);
+
+// The quality keywords plan(), close() and score() share (--mu, --fc-test, --reference-compat,
+// --torsional-friction; None leaves the contact model to the hand, withHandContactModel).
+grasping::QualityParams qualityParams(double mu, const std::string& fc_test, bool reference_compat,
+                                      std::optional<double> torsional_friction);
 
 // {joint name: value} for the movable joints of `hand` in configuration `q`.
 py::dict jointsDict(const grasping::HandModel& hand, const Eigen::VectorXd& q);

@@ -13,6 +13,8 @@
 
 namespace skelgrasp::grasping {
 
+class HandModel;
+
 using Wrench = Eigen::Matrix<double, 6, 1>;
 
 // How force closure is decided (docs/hands.md, "Force closure: LP or hull").
@@ -31,7 +33,7 @@ struct QualityParams {
   // (2/3 mu a for a circular patch of radius a); 0 = point contacts. Two point contacts can never
   // hold a torque about the line through them, so a parallel gripper needs this to reach closure.
   // nullopt: the hand's contact model (ClosingDefaults::torsional_friction_m) wherever a hand is
-  // known (planners, batch robustness); the hand-free functions below, which cannot know it, take
+  // known (withHandContactModel below); the hand-free functions below, which cannot know it, take
   // nullopt as point contacts.
   std::optional<double> torsional_friction_m;
   // true: also the hull volume, which needs the whole 6D hull of the wrenches. false (default):
@@ -48,6 +50,11 @@ struct QualityParams {
   // closure when every facet is within 1e-4 of containing the origin.
   bool reference_compat = false;
 };
+
+// `params` judged as `hand`'s contacts: an unset torsional_friction_m becomes the hand's contact
+// model (ClosingDefaults); a value the caller set (0 = point contacts) stays. Every planner,
+// ranker and scorer that knows the hand applies this one rule.
+QualityParams withHandContactModel(QualityParams params, const HandModel& hand);
 
 struct WrenchSpaceResult {
   bool force_closure = false;
