@@ -81,8 +81,7 @@ void timeGrasp(grasping::GraspSimulator& sim, const grasping::Preshape& preshape
                bool& force_closure, double& score) {
   grasping::ClosingParams closing;
   closing.method = old_path ? ClosingMethod::kStepwise : ClosingMethod::kFast;
-  grasping::QualityParams verdict;
-  verdict.torsional_friction_m = sim.hand().closingDefaults().torsional_friction_m;
+  grasping::QualityParams verdict = grasping::withHandContactModel({}, sim.hand());
   verdict.fc_test = old_path ? ForceClosureTest::kHull : ForceClosureTest::kLp;
   verdict.compute_volume = false;
   verdict.compute_epsilon = false;  // kHull builds the hull (and epsilon) anyway

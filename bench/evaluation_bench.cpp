@@ -39,7 +39,7 @@ struct SideGraspSetup {
     grasp = sideGrasp(sim, hand);
     params.samples = samples;
     params.variant = variant;
-    params.quality.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
+    params.quality = withHandContactModel(params.quality, hand);
   }
   HandModel hand;
   Grasp grasp;

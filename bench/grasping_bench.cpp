@@ -38,8 +38,7 @@ void BM_CloseAndQuality(benchmark::State& state, const std::string& hand_name) {
   GraspSimulator sim(hand, benchObject());
   const auto& preshape = hand.preshape("power");
   const Pose pose = sideGrasp(sim, preshape);
-  QualityParams params;
-  params.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
+  const QualityParams params = withHandContactModel({}, hand);
   std::size_t contacts = 0, closures = 0;
   for (auto _ : state) {
     const auto closing = sim.close(pose, preshape);
@@ -117,8 +116,7 @@ void BM_ForceClosureLpVsHull(benchmark::State& state, const std::string& hand_na
   setLogLevel(spdlog::level::warn);
   const HandModel hand = loadBuiltinHand(hand_name);
   const auto contacts = sideGraspContacts(hand, preshape_name);
-  QualityParams hull_params;
-  hull_params.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
+  QualityParams hull_params = withHandContactModel({}, hand);
   hull_params.compute_volume = false;
   hull_params.compute_epsilon = false;
   QualityParams lp_params = hull_params;
@@ -169,8 +167,7 @@ void BM_EpsilonByExpansion(benchmark::State& state, const std::string& hand_name
   setLogLevel(spdlog::level::warn);
   const HandModel hand = loadBuiltinHand(hand_name);
   const auto contacts = sideGraspContacts(hand, "power");
-  QualityParams expansion;
-  expansion.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
+  const QualityParams expansion = withHandContactModel({}, hand);
   QualityParams whole = expansion, with_volume = expansion;
   whole.fc_test = ForceClosureTest::kHull;
   with_volume.compute_volume = true;
