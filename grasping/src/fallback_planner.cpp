@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <random>
 
@@ -21,6 +22,9 @@ const double kGoldenAngleRad = kPi * (3.0 - std::sqrt(5.0));
 // A principal axis this close to the support normal (sine of the angle) has no horizontal
 // direction to speak of.
 constexpr double kMinHorizontalComponent = 0.1;
+// A top pose centred across its closing axis by less than this is the pose at the centre of mass
+// again: no second pose.
+constexpr double kMinCentringShiftM = 0.001;
 
 struct FallbackPose {
   Pose gcp;
@@ -130,14 +134,32 @@ void addTopPoses(const Eigen::Vector3d& centre, const PrincipalAxes& pa, const E
   }
 }
 
+// Moves a pose along its closing axis x to the middle of the object's extent along x among the
+// vertices within `band` of its centre across y and z
+// (FallbackStrategyParams::top_centring_band_m). Unchanged when no vertex lies in that slab.
+void centreAcrossClosingAxis(const TriangleMesh& mesh, double band, Pose& gcp) {
+  const Eigen::Matrix3d frame = gcp.rotation();
+  const Eigen::Vector3d centre = gcp.translation();
+  double low = std::numeric_limits<double>::infinity();
+  double high = -std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector3d& v : mesh.vertices) {
+    const Eigen::Vector3d local = frame.transpose() * (v - centre);
+    if (std::abs(local.y()) > band || std::abs(local.z()) > band) continue;
+    low = std::min(low, local.x());
+    high = std::max(high, local.x());
+  }
+  if (low <= high) gcp.translation() += 0.5 * (low + high) * frame.col(0);
+}
+
 void validate(const FallbackStrategyParams& p) {
   if (p.sphere_directions < 1 || p.sphere_rolls < 1 || p.rim_directions < 1 ||
       p.rim_across_rolls < 1 || p.top_rolls < 1 || p.top_tilted_azimuths < 0 ||
       p.top_tilted_rolls < 1 || !(p.top_tilt_rad >= 0 && p.top_tilt_rad < kPi / 2) ||
-      !(p.disc_ratio >= 0) || !(p.precision || p.power)) {
+      !(p.disc_ratio >= 0) || !(p.top_centring_band_m >= 0) || !(p.precision || p.power)) {
     throw InvalidArgument(
         "fallback strategies: direction and roll counts must be >= 1 (tilted top azimuths >= 0), "
-        "the top tilt in [0, pi/2), disc_ratio >= 0 and at least one preshape");
+        "the top tilt in [0, pi/2), disc_ratio and the top centring band >= 0 and at least one "
+        "preshape");
   }
 }
 
@@ -200,7 +222,19 @@ PlanResult planFallbackGrasps(const HandModel& hand, const GraspObject& object,
   if (sp.axes) addAxisPoses(centre, pa, poses);
   const SceneChecker* scene = params.hypothesis.scene;
   const bool top = sp.top && scene != nullptr && scene->plane().has_value();
-  if (top) addTopPoses(centre, pa, scene->plane()->coefficients.head<3>(), sp, poses);
+  if (top) {
+    const std::size_t first_top = poses.size();
+    addTopPoses(centre, pa, scene->plane()->coefficients.head<3>(), sp, poses);
+    if (sp.top_centring_band_m > 0) {
+      const std::size_t end_top = poses.size();
+      for (std::size_t i = first_top; i < end_top; ++i) {
+        FallbackPose centred = poses[i];
+        centreAcrossClosingAxis(object.mesh(), sp.top_centring_band_m, centred.gcp);
+        if ((centred.gcp.translation() - poses[i].gcp.translation()).norm() > kMinCentringShiftM)
+          poses.push_back(centred);
+      }
+    }
+  }
 
   struct Trial {
     std::size_t pose;

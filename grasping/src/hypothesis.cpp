@@ -14,8 +14,25 @@ HypothesisOutcome evaluateHypothesis(GraspSimulator& simulator, const Pose& gcp,
                          params);
 }
 
+namespace {
+// Approaches within this angle of straight down onto the support plane may be lifted
+// (HypothesisParams::scene_lift_max_m): cos 45 degrees.
+constexpr double kLiftMinDownCosine = 0.70710678118654752;
+// Lift steps add up in floating point; the last one must not be lost to rounding.
+constexpr double kLiftRoundingM = 1e-9;
+
+bool comesDownOntoPlane(const SceneChecker& scene, const Eigen::Vector3d& approach) {
+  return scene.plane() &&
+         -approach.dot(scene.plane()->coefficients.head<3>()) >= kLiftMinDownCosine;
+}
+}  // namespace
+
 HypothesisOutcome closeHypothesis(GraspSimulator& simulator, const Pose& gcp,
                                   const Preshape& preshape, const HypothesisParams& params) {
+  if (!(params.scene_lift_max_m >= 0) ||
+      (params.scene_lift_max_m > 0 && !(params.scene_lift_step_m > 0))) {
+    throw InvalidArgument("hypothesis: the scene lift must be >= 0, its step > 0");
+  }
   HypothesisOutcome out;
   const Eigen::Vector3d approach = gcp.rotation().col(2);
   auto poseAt = [&](double retreat) {
@@ -66,7 +83,21 @@ HypothesisOutcome closeHypothesis(GraspSimulator& simulator, const Pose& gcp,
   grasp.hand_pose = simulator.handPoseForGcp(grasp.gcp_pose, preshape);
   grasp.retreat_m = retreat;
   if (params.scene) {
-    const SceneCheckResult scene = params.scene->check(grasp.hand_pose, preshape.joints, approach);
+    SceneCheckResult scene = params.scene->check(grasp.hand_pose, preshape.joints, approach);
+    if (scene.collision && comesDownOntoPlane(*params.scene, approach)) {
+      for (double lift = params.scene_lift_step_m;
+           lift <= params.scene_lift_max_m + kLiftRoundingM && scene.collision;
+           lift += params.scene_lift_step_m) {
+        const Pose lifted_gcp = poseAt(retreat + lift);
+        const Pose lifted_hand = simulator.handPoseForGcp(lifted_gcp, preshape);
+        scene = params.scene->check(lifted_hand, preshape.joints, approach);
+        if (!scene.collision) {
+          grasp.gcp_pose = lifted_gcp;
+          grasp.hand_pose = lifted_hand;
+          grasp.retreat_m = retreat + lift;
+        }
+      }
+    }
     if (scene.collision) {
       out.reason = reason::kSceneCollision;
       out.scene_link = scene.link;

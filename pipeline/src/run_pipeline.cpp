@@ -1,6 +1,7 @@
 #include "skelgrasp/pipeline/run_pipeline.h"
 
 #include "object_planning.h"
+#include "scene_obstacles.h"
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/perception/cloud_ops.h"
 
@@ -50,8 +51,14 @@ RunResult runPipeline(const perception::Scan& scan, const HandModel& hand,
   watch.restart();
   std::unique_ptr<SceneChecker> checker;
   if (params.scene_check) {
-    out.obstacles = scene.other_points;  // other objects and clutter already
-    perception::append(out.obstacles, scene.plane_points);
+    // Other objects whole; the table (less its top, which the plane stands for) and the loose
+    // points, less the target's foot.
+    internal::ObstacleParts parts = internal::obstacleParts(scene, out.plane, params);
+    out.obstacles = std::move(parts.objects);
+    perception::append(out.obstacles,
+                       internal::splitByDistanceToMesh(
+                           parts.loose, out.mesh, params.table_obstacles.target_foot_distance_m)
+                           .far);
     SceneOccupancyParams occupancy = params.occupancy;
     if (occupancy.region.empty())
       occupancy.region = internal::workspaceAround(out.mesh.bounds(), params);

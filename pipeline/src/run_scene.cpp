@@ -1,6 +1,7 @@
 #include "skelgrasp/pipeline/run_scene.h"
 
 #include "object_planning.h"
+#include "scene_obstacles.h"
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/perception/cloud_ops.h"
 
@@ -15,18 +16,22 @@ std::size_t SceneRunResult::objectsWithGrasps() const {
 
 namespace {
 
-// Everything the sensor saw that a hand may hit: the support, every object, the clutter.
-PointCloud sceneObstacles(const perception::SceneResult& scene) {
-  PointCloud obstacles = scene.other_points;  // clutter and unselected clusters
-  perception::append(obstacles, scene.plane_points);
+// Everything the sensor saw that a hand may hit: every object, the support (less its top, which
+// the plane stands for), the clutter.
+PointCloud sceneObstacles(const perception::SceneResult& scene,
+                          const internal::ObstacleParts& parts) {
+  PointCloud obstacles = parts.objects;  // unselected clusters
+  perception::append(obstacles, parts.loose);
   for (std::size_t c : scene.selected) perception::append(obstacles, scene.clusters[c]);
   return obstacles;
 }
 
 // Plans one meshed object; the failure of any step is the object's status and reason.
+// `loose`: the obstacle points in no cluster (internal::ObstacleParts); those at the object's
+// foot are cleared from its map with its own points.
 void planSceneObject(SceneObjectRun& object, const HandModel& hand, const SceneOccupancy* scene_map,
-                     const PointCloud& own_points, const std::optional<SupportPlane>& plane,
-                     const RunParams& params) {
+                     const PointCloud& own_points, const PointCloud& loose,
+                     const std::optional<SupportPlane>& plane, const RunParams& params) {
   Stopwatch total;
   Stopwatch watch;
   object.skeleton = internal::runSkeleton(object.mesh, params);
@@ -42,7 +47,13 @@ void planSceneObject(SceneObjectRun& object, const HandModel& hand, const SceneO
   std::unique_ptr<SceneOccupancy> own_map;
   std::unique_ptr<SceneChecker> checker;
   if (params.scene_check) {
-    if (scene_map != nullptr) own_map = scene_map->withPointsCleared(own_points);
+    if (scene_map != nullptr) {
+      PointCloud own = own_points;
+      perception::append(own, internal::splitByDistanceToMesh(
+                                  loose, object.mesh, params.table_obstacles.target_foot_distance_m)
+                                  .near);
+      own_map = scene_map->withPointsCleared(own);
+    }
     checker = std::make_unique<SceneChecker>(hand, own_map.get(), plane, params.approach);
   }
   object.stages.push_back({"occupancy", watch.seconds()});
@@ -102,8 +113,10 @@ SceneRunResult runScene(const perception::Scan& scan, const HandModel& hand,
 
   // One map of the scene, covering every meshed object's workspace.
   Stopwatch watch;
+  internal::ObstacleParts parts;
   if (params.scene_check) {
-    const PointCloud obstacles = sceneObstacles(scene);
+    parts = internal::obstacleParts(scene, out.plane, params);
+    const PointCloud obstacles = sceneObstacles(scene, parts);
     out.obstacle_points = obstacles.size();
     SceneOccupancyParams occupancy = params.occupancy;
     AxisAlignedBox objects_box;
@@ -124,8 +137,8 @@ SceneRunResult runScene(const perception::Scan& scan, const HandModel& hand,
     if (!object.reason.empty()) continue;  // not meshed
     log().info("run: object {} of {} ({} points)", object.id + 1, out.objects.size(),
                object.info.points);
-    planSceneObject(object, hand, out.occupancy.get(), scene.clusters[object.cluster], support,
-                    params);
+    planSceneObject(object, hand, out.occupancy.get(), scene.clusters[object.cluster], parts.loose,
+                    support, params);
   }
   const std::size_t with_grasps = out.objectsWithGrasps();
   out.status =

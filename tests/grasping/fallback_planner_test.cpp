@@ -304,6 +304,38 @@ TEST(FallbackPlanner, TopStrategyComesFromAboveWhenThereIsASupportPlane) {
   }
 }
 
+// Top poses are also tried centred across their closing axis. A triangular plate's centroid lies a
+// quarter of the circumradius off the middle of the chord along an altitude (20 mm from the side,
+// 40 mm from the vertex), so the rolls that close along an altitude get a centred twin (the box
+// of the test above, symmetric about its centre, gets none).
+TEST(FallbackPlanner, TopPosesAreAlsoTriedCentredBetweenTheFacesTheFingersCloseOn) {
+  const HandModel hand = loadBuiltinHand("parallel_gripper");
+  constexpr double kCircumradiusM = 0.04, kPlateHeightM = 0.02;
+  TriangleMesh plate = primitives::makeCylinder(kCircumradiusM, kPlateHeightM, 3, 2);
+  plate.transform(Pose(Eigen::Translation3d(0, 0, kPlateHeightM / 2)));  // lying on z = 0
+  const GraspObject object(plate);
+  const SceneChecker table(hand, nullptr, SupportPlane{Eigen::Vector4d(0, 0, 1, 0)});
+  FallbackPlannerParams params;
+  params.strategies.sphere = params.strategies.rim = params.strategies.axes = false;
+  params.hypothesis.scene = &table;
+  const FallbackStrategyParams& sp = params.strategies;
+  const std::size_t top_poses = sp.top_rolls + sp.top_tilted_azimuths * sp.top_tilted_rolls;
+
+  params.strategies.top_centring_band_m = 0;
+  const PlanResult at_centroid = planFallbackGrasps(hand, object, params);
+  EXPECT_EQ(at_centroid.summary.poses, top_poses);  // the gripper: precision only
+
+  params.strategies.top_centring_band_m = FallbackStrategyParams{}.top_centring_band_m;
+  const PlanResult centred = planFallbackGrasps(hand, object, params);
+  EXPECT_GT(centred.summary.poses, top_poses);
+  EXPECT_LE(centred.summary.poses, 2 * top_poses);
+  expectSound(centred, hand, object);
+  EXPECT_GE(centred.grasps.size(), at_centroid.grasps.size());
+
+  params.strategies.top_centring_band_m = -0.01;
+  EXPECT_THROW(planFallbackGrasps(hand, object, params), InvalidArgument);
+}
+
 TEST(FallbackPlanner, RejectsEmptySampling) {
   const HandModel hand = loadBuiltinHand("sdh");
   const GraspObject object(ball());

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "skelgrasp/common/primitives.h"
+#include "skelgrasp/grasping/hypothesis.h"
 #include "skelgrasp/grasping/planners.h"
 #include "skelgrasp/skeleton/extraction.h"
 #include "test_support.h"
@@ -83,6 +84,47 @@ TEST(SceneCheck, TheSupportPlaneBlocksHandsBelowIt) {
   const auto hit = checker.check(below, q, Eigen::Vector3d(0, 0, -1));
   EXPECT_TRUE(hit.collision);
   EXPECT_EQ(hit.obstacle, "support_plane");
+}
+
+// A parallel gripper coming straight down onto a block with its grasp centre point 5 mm above the
+// table: its jaw tips (8.6 mm below that point) would reach 3.6 mm into the table, beyond the
+// plane's 2 mm tolerance. Lifted in 2 mm steps it closes on the block's sides above the table.
+TEST(SceneCheck, HandsComingDownOntoTheTableAreLiftedOffIt) {
+  const HandModel hand = loadBuiltinHand("parallel_gripper");
+  constexpr double kBlockHeightM = 0.03, kCentreHeightM = 0.005;
+  TriangleMesh block = primitives::makeBox(Eigen::Vector3d(0.06, 0.03, kBlockHeightM), 2);
+  block.transform(Pose(Eigen::Translation3d(0, 0, kBlockHeightM / 2)));  // standing on z = 0
+  const GraspObject object(block);
+  GraspSimulator simulator(hand, object);
+  const SceneChecker table(hand, nullptr, SupportPlane{Eigen::Vector4d(0, 0, 1, 0)});
+  // Approach z straight down, the jaws closing along x = the block's 30 mm side (world y).
+  Eigen::Matrix3d frame;
+  frame.col(0) = Eigen::Vector3d::UnitY();
+  frame.col(2) = -Eigen::Vector3d::UnitZ();
+  frame.col(1) = frame.col(2).cross(frame.col(0));
+  Pose gcp = Pose::Identity();
+  gcp.linear() = frame;
+  gcp.translation() = Eigen::Vector3d(0, 0, kCentreHeightM);
+  const Preshape& preshape = hand.preshape("precision");
+
+  HypothesisParams params;
+  params.quality = withHandContactModel(params.quality, hand);  // the gripper's soft pads
+  params.scene = &table;
+  params.scene_lift_max_m = 0;
+  const HypothesisOutcome rejected = evaluateHypothesis(simulator, gcp, preshape, params);
+  EXPECT_STREQ(rejected.reason, reason::kSceneCollision);
+
+  params.scene_lift_max_m = HypothesisParams{}.scene_lift_max_m;
+  const HypothesisOutcome lifted = evaluateHypothesis(simulator, gcp, preshape, params);
+  ASSERT_TRUE(lifted.grasp) << (lifted.reason ? lifted.reason : "");
+  EXPECT_GE(lifted.grasp->retreat_m, params.scene_lift_step_m - 1e-12);
+  EXPECT_LE(lifted.grasp->retreat_m, params.scene_lift_max_m + 1e-9);
+  EXPECT_EQ(lifted.grasp->contacts.size(), 2u);
+  EXPECT_FALSE(table.checkPose(lifted.grasp->hand_pose, lifted.grasp->joints).collision);
+
+  // A lift step that is not positive is the caller's mistake.
+  params.scene_lift_step_m = -1;
+  EXPECT_THROW(evaluateHypothesis(simulator, gcp, preshape, params), InvalidArgument);
 }
 
 }  // namespace

@@ -3,13 +3,20 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "skelgrasp/common/pose.h"
 #include "skelgrasp/datasets/input.h"
+#include "skelgrasp/geometry/mesh_query.h"
 #include "skelgrasp/geometry/mesh_topology.h"
+#include "skelgrasp/grasping/hand_model.h"
 #include "skelgrasp/pipeline/reconstruct_scan.h"
+#include "skelgrasp/pipeline/run_pipeline.h"
 #include "test_support.h"
 
 namespace skelgrasp::pipeline {
@@ -71,17 +78,16 @@ void expectClosedSinglePart(const reconstruction::MeshingResult& m, const std::s
   EXPECT_EQ(m.observed.size(), m.mesh.numVertices()) << what;
 }
 
-TEST(RealCaptures, EveryPrimesenseObjectBecomesAClosedMeshOfPlausibleSize) {
-  SKELGRASP_REQUIRE_SHARED_DATA();
+// The Primesense captures as (name, capture description) pairs, the descriptions written into
+// `dir` and pointing at the shared files, in name order.
+std::vector<std::pair<std::string, std::string>> writeCaptureDescriptions(const std::string& dir) {
   namespace fs = std::filesystem;
   const fs::path root = fs::path(test::sharedDataDir()) / "captures/gqcnn_primesense";
-  const std::string dir = test::tempDir("captures");
-  std::size_t count = 0;
+  std::vector<std::pair<std::string, std::string>> captures;
   for (const auto& entry : fs::directory_iterator(root)) {
     const std::string name = entry.path().filename().string();
     if (name == "calib" || !entry.is_directory()) continue;
     const std::string i = std::to_string(std::stoi(name.substr(0, 2)));
-    // The description lives in the test's temporary folder and points at the shared files.
     const std::string description = dir + "/" + name + ".json";
     std::ofstream(description) << "{\"depth\": \""
                                << (entry.path() / ("depth_" + i + ".npy")).string()
@@ -91,6 +97,16 @@ TEST(RealCaptures, EveryPrimesenseObjectBecomesAClosedMeshOfPlausibleSize) {
                                << (root / "calib/primesense.intr").string()
                                << "\", \"camera_to_world\": \""
                                << (root / "calib/primesense.tf").string() << "\"}";
+    captures.emplace_back(name, description);
+  }
+  std::sort(captures.begin(), captures.end());
+  return captures;
+}
+
+TEST(RealCaptures, EveryPrimesenseObjectBecomesAClosedMeshOfPlausibleSize) {
+  SKELGRASP_REQUIRE_SHARED_DATA();
+  std::size_t count = 0;
+  for (const auto& [name, description] : writeCaptureDescriptions(test::tempDir("captures"))) {
     const perception::Scan scan = datasets::loadInput(description);
     const ReconstructionResult r = reconstructScan(scan);
     ASSERT_TRUE(r.status.ok()) << name << ": " << r.status.message;
@@ -145,6 +161,38 @@ TEST(RealCaptures, MugSceneGivesAMugSizedClosedMesh) {
     EXPECT_GT(extent[i], 0.06) << i;
     EXPECT_LT(extent[i], 0.15) << i;
   }
+}
+
+// Flat objects lying on the board (2-6 cm tall): the hand has to come from above and close low
+// beside them. The scene check's octree holds neither the board's top (the plane stands for it)
+// nor the object's own foot, which the segmentation's 10 mm plane band gives to the board and
+// which stood as 5 mm cells exactly where the fingers reach down; top poses are also tried
+// centred between the faces the jaws close on, and lifted off the board when they touch it.
+// Before, not one of the ten objects got a grasp with any hand; measured with this build, the
+// gripper gets grasps on 5 of them (28 grasps).
+TEST(RealCaptures, FlatObjectsOnTheBoardGetGraspsFromAbove) {
+  SKELGRASP_REQUIRE_SHARED_DATA();
+  const grasping::HandModel hand = grasping::loadBuiltinHand("parallel_gripper");
+  RunParams params;
+  params.robust_ranking.enabled = false;  // only whether grasps are found
+  std::size_t with_grasps = 0;
+  for (const auto& [name, description] : writeCaptureDescriptions(test::tempDir("grasps"))) {
+    const RunResult r = runPipeline(datasets::loadInput(description), hand, params);
+    ASSERT_TRUE(r.plane.has_value()) << name;
+    const geometry::MeshQuery target(r.mesh);
+    const Eigen::Vector3d normal = r.plane->head<3>().normalized();
+    const double offset = (*r.plane)[3] / r.plane->head<3>().norm();
+    for (const Eigen::Vector3d& p : r.obstacles.points) {
+      // No other object lies on these boards: every obstacle point is loose, and none of them
+      // is the board's top or below it (the plane's half-space).
+      ASSERT_GT(normal.dot(p) + offset, params.approach.plane_tolerance_m) << name << ": board top";
+      ASSERT_GT(target.distance(p), params.table_obstacles.target_foot_distance_m)
+          << name << ": the object's foot";
+    }
+    std::cout << "[ capture  ] " << name << ": " << r.ranked.size() << " grasps" << std::endl;
+    with_grasps += !r.ranked.empty();
+  }
+  EXPECT_GE(with_grasps, 4u);  // 5 measured
 }
 
 }  // namespace

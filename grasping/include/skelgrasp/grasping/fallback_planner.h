@@ -39,12 +39,19 @@ struct FallbackStrategyParams {
   int rim_across_rolls = 4;    // rolls of each approach along the thin axis (between the axes')
   // "top" (only with a support plane): straight down with top_rolls rolls, plus approaches tilted
   // by top_tilt_rad from the plane's normal from top_tilted_azimuths sides, top_tilted_rolls each
-  // (12 + 8 x 4 = 44 poses).
+  // (12 + 8 x 4 = 44 poses, and up to as many centred ones, below).
   bool top = true;
   int top_rolls = 12;
   int top_tilted_azimuths = 8;
   int top_tilted_rolls = 4;
   double top_tilt_rad = 0.5235987755982988;  // 30 degrees
+  // Each top pose is also tried moved along its closing axis (the grasp centre point's x) to the
+  // middle of the object's extent there: the extent of the mesh vertices within this distance of
+  // the pose's centre across the other two axes (where it moves by more than a millimetre). The
+  // centre of mass of a flat, irregular object is rarely midway between the faces the fingers
+  // close on, and a parallel gripper opening 80 mm around a 66 mm flashlight head leaves 7 mm a
+  // side. 0: only the poses at the centre of mass.
+  double top_centring_band_m = 0.01;
   // The preshapes tried at every pose, where the hand does that grasp type (at least one).
   bool precision = true;
   bool power = true;

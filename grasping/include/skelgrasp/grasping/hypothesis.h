@@ -21,6 +21,13 @@ struct HypothesisParams {
   // When set, poses whose open hand or straight approach hits the scene are rejected
   // (scene_collision) before closing. Object and scene share one frame (the scan's).
   const SceneChecker* scene = nullptr;
+  // A hand coming down onto the support plane (approach within 45 degrees of straight down) whose
+  // placed open hand or approach hits the scene is lifted back along its approach in
+  // scene_lift_step_m steps, up to scene_lift_max_m, until the scene check passes: fingers that
+  // close around a flat object beside the table grasp it higher up instead of being rejected
+  // (docs/planning.md, "Top strategy"). 0: no lift, the pose is rejected (scene_collision).
+  double scene_lift_max_m = 0.02;
+  double scene_lift_step_m = 0.002;
 };
 
 struct HypothesisOutcome {

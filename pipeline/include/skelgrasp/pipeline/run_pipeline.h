@@ -40,12 +40,28 @@ inline grasping::SkeletonPlannerParams runPlannerParams() {
   return params;
 }
 
+// Which of the support plane's inliers become octree obstacles (docs/pipeline.md, "Scene check").
+struct TableObstacleParams {
+  // Points in no object cluster at most this high above the support plane (or below it) are the
+  // table top the plane's half-space stands for: it is an obstacle everywhere below the plane, to
+  // within SceneCheckParams::plane_tolerance_m. As octree cells (5 mm) they would stand up to a
+  // cell above the table. Unset: that tolerance (2 mm; the cells of points higher up still keep
+  // fingers a few millimetres off the table, where a single view's completed mesh is a guess).
+  std::optional<double> surface_height_m;
+  // Such points within this distance of the target's mesh (or inside it) are the target's foot:
+  // the segmentation gives the table every point within its plane distance (10 mm), so a flat
+  // object's lowest centimetre, and the mixed depth pixels at its outline, count as table. They
+  // are no obstacle to the target's own grasps (they still are to its neighbours'). 0: kept.
+  double target_foot_distance_m = 0.01;
+};
+
 struct RunParams {
   ReconstructionParams reconstruction;  // target: largest or nearest:x,y,z
   skeleton::SkeletonParams skeleton = runSkeletonParams();
   grasping::SkeletonPlannerParams planner = runPlannerParams();
   bool scene_check = true;  // occupancy octree and support plane
   grasping::SceneOccupancyParams occupancy;
+  TableObstacleParams table_obstacles;
   // The octree covers the target's box grown by this much (hand size plus pre-grasp distance).
   double workspace_margin_m = 0.4;
   grasping::SceneCheckParams approach;
