@@ -29,6 +29,9 @@ pipeline::RunParams RunOptions::params() const {
   p.occupancy.unknown =
       unknown == "occupied" ? grasping::UnknownSpace::kOccupied : grasping::UnknownSpace::kFree;
   p.approach.pregrasp_distance_m = pregrasp_m;
+  p.table_obstacles.target_foot_distance_m = foot_distance_m;
+  p.planner.hypothesis.scene_lift_max_m = scene_lift_m;
+  p.planner.fallback_strategies.top_centring_band_m = top_centring_m;
   p.observed_weight = observed_weight;
   p.robust_ranking = robustness.params(planner.seed);
   return p;
@@ -51,6 +54,21 @@ void RunOptions::addTo(CLI::App& cmd) {
       ->check(CLI::IsMember({"free", "occupied"}))
       ->capture_default_str();
   cmd.add_option("--pregrasp", pregrasp_m, "Approach checked from this distance (m)")
+      ->check(lengthOrZero())
+      ->capture_default_str();
+  cmd.add_option("--foot-distance", foot_distance_m,
+                 "Scan points in no object within this distance of the target's mesh are its foot, "
+                 "not obstacles of its grasps (m; 0 = obstacles; docs/pipeline.md)")
+      ->check(lengthOrZero())
+      ->capture_default_str();
+  cmd.add_option("--scene-lift", scene_lift_m,
+                 "Hands coming down onto the table that hit the scene are lifted back along their "
+                 "approach by up to this much (m; 0 = rejected; docs/planning.md)")
+      ->check(lengthOrZero())
+      ->capture_default_str();
+  cmd.add_option("--top-centring", top_centring_m,
+                 "Top poses are also tried centred between the faces the fingers close on, over "
+                 "this band about the pose (m; 0 = at the centre of mass only; docs/planning.md)")
       ->check(lengthOrZero())
       ->capture_default_str();
   cmd.add_option("--observed-weight", observed_weight,

@@ -21,6 +21,10 @@ struct RunOptions {
   double pregrasp_m = grasping::SceneCheckParams{}.pregrasp_distance_m;
   double observed_weight = pipeline::RunParams{}.observed_weight;
   bool no_scene_check = false;
+  // Flat objects on a table (docs/planning.md, "Flat objects on a table").
+  double foot_distance_m = pipeline::RunParams{}.table_obstacles.target_foot_distance_m;
+  double scene_lift_m = grasping::HypothesisParams{}.scene_lift_max_m;
+  double top_centring_m = grasping::FallbackStrategyParams{}.top_centring_band_m;
   std::size_t max_contraction_vertices =
       pipeline::RunParams{}.skeleton.regularisation.max_vertices.value_or(0);
   ExportOptions exports;

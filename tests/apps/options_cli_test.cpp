@@ -102,6 +102,8 @@ INSTANTIATE_TEST_SUITE_P(
                     "--torsional-friction: -0.002 is outside [0, 1000]"},
         BadCliInput{"octree_nan", "run {dir}/scan.pcd --octree-resolution nan --out {dir}/out",
                     "--octree-resolution: 'nan' is not a finite number"},
+        BadCliInput{"scene_lift_negative", "run {dir}/scan.pcd --scene-lift -0.01 --out {dir}/out",
+                    "--scene-lift: -0.01 is outside [0, 1000]"},
         BadCliInput{"cameras", "reconstruct {dir} --cameras 1,7 --out {dir}/out/m.ply",
                     "--cameras: 7 is outside [1, 5]"},
         BadCliInput{"screen_samples_zero",
