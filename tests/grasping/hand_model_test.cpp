@@ -23,9 +23,10 @@ TEST(HandModel, BuiltInHandsHaveTheirFingersAndDrives) {
     int drives;
   };
   // ARMAR-III: 10 actuated joints; SDH: 6 flexion joints; Shadow: J3 + coupled J2/J1 per finger
-  // and five thumb joints; gripper: one prismatic drive.
+  // and five thumb joints; gripper: two jaws closing independently (the object slides until both
+  // touch; parallel_gripper.urdf).
   for (const auto& e : {Expected{"armar3", 5, 10}, Expected{"sdh", 3, 6}, Expected{"shadow", 5, 13},
-                        Expected{"parallel_gripper", 1, 1}}) {
+                        Expected{"parallel_gripper", 2, 2}}) {
     const HandModel hand = loadBuiltinHand(e.name);
     EXPECT_EQ(hand.fingers().size(), e.fingers) << e.name;
     EXPECT_EQ(hand.numDrives(), e.drives) << e.name;

@@ -124,7 +124,9 @@ std::string writeRealHandUrdf(const std::string& hand_dir, const std::string& bu
            << axis[2].get<double>() << "\"/>\n    <limit lower=\""
            << joint.at("lo").get<double>() * scale << "\" upper=\""
            << joint.at("hi").get<double>() * scale << "\" effort=\"1\" velocity=\"1\"/>\n";
-      if (joint.contains("mimic")) {
+      // The built-in gripper's jaws close independently (parallel_gripper.urdf): its real
+      // counterpart is written the same way.
+      if (joint.contains("mimic") && builtin != "parallel_gripper") {
         urdf << "    <mimic joint=\"" << by_node[joint.at("mimic").get<std::string>()].joint
              << "\" multiplier=\"1\"/>\n";
       }
