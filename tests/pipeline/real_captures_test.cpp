@@ -169,7 +169,7 @@ TEST(RealCaptures, MugSceneGivesAMugSizedClosedMesh) {
 // which stood as 5 mm cells exactly where the fingers reach down; top poses are also tried
 // centred between the faces the jaws close on, and lifted off the board when they touch it.
 // Before, not one of the ten objects got a grasp with any hand; measured with this build, the
-// gripper gets grasps on 5 of them (28 grasps).
+// gripper (its jaws closing independently) gets grasps on 7 of them (60 grasps).
 TEST(RealCaptures, FlatObjectsOnTheBoardGetGraspsFromAbove) {
   SKELGRASP_REQUIRE_SHARED_DATA();
   const grasping::HandModel hand = grasping::loadBuiltinHand("parallel_gripper");
@@ -192,7 +192,7 @@ TEST(RealCaptures, FlatObjectsOnTheBoardGetGraspsFromAbove) {
     std::cout << "[ capture  ] " << name << ": " << r.ranked.size() << " grasps" << std::endl;
     with_grasps += !r.ranked.empty();
   }
-  EXPECT_GE(with_grasps, 4u);  // 5 measured
+  EXPECT_GE(with_grasps, 5u);  // 7 measured
 }
 
 }  // namespace
