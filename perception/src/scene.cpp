@@ -404,11 +404,19 @@ SceneResult parseScene(const PointCloud& cloud, const SceneParams& params,
     result.cluster_info[s].selected = true;
     for (int i : clusters[s]) taken[i] = 1;
   }
-  std::vector<int> other;
+  // Points of the unselected clusters are "other" but not "loose".
+  std::vector<char> in_cluster(cloud.size(), 0);
+  for (const auto& members : clusters) {
+    for (int i : members) in_cluster[i] = 1;
+  }
+  std::vector<int> other, loose;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
-    if (!taken[i] && cloud.points[i].allFinite()) other.push_back(static_cast<int>(i));
+    if (taken[i] || !cloud.points[i].allFinite()) continue;
+    other.push_back(static_cast<int>(i));
+    if (!in_cluster[i]) loose.push_back(static_cast<int>(i));
   }
   result.other_points = subset(cloud, other);
+  result.loose_points = subset(cloud, loose);
   log().info(
       "scene: {} candidate points, {} {} segments (largest {}), {} merged, {} dropped, {} "
       "selected",

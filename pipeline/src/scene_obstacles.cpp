@@ -1,8 +1,5 @@
 #include "scene_obstacles.h"
 
-#include <cstring>
-#include <unordered_set>
-
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/geometry/mesh_query.h"
 
@@ -24,20 +21,6 @@ void appendAboveTableTop(const PointCloud& points, const std::optional<Eigen::Ve
   }
 }
 
-// The exact coordinates of a point: other_points and the clusters are copies of the same scan
-// points, so a point of an unselected cluster is found in other_points bit for bit.
-struct PointBits {
-  std::size_t operator()(const Eigen::Vector3d& p) const {
-    std::size_t h = 0;
-    for (int k = 0; k < 3; ++k) {
-      std::uint64_t bits = 0;
-      std::memcpy(&bits, &p[k], sizeof bits);
-      h = h * 1000003u ^ std::hash<std::uint64_t>()(bits);
-    }
-    return h;
-  }
-};
-
 }  // namespace
 
 ObstacleParts obstacleParts(const perception::SceneResult& scene,
@@ -46,22 +29,16 @@ ObstacleParts obstacleParts(const perception::SceneResult& scene,
       params.table_obstacles.surface_height_m.value_or(params.approach.plane_tolerance_m);
   if (!(top >= 0)) throw InvalidArgument("table obstacles: the surface height must be >= 0");
   ObstacleParts parts;
-  parts.objects.sensor_origin = parts.loose.sensor_origin = scene.other_points.sensor_origin;
+  parts.objects.sensor_origin = parts.loose.sensor_origin = scene.loose_points.sensor_origin;
   std::vector<char> selected(scene.clusters.size(), 0);
   for (std::size_t c : scene.selected) selected.at(c) = 1;
-  std::unordered_set<Eigen::Vector3d, PointBits> in_objects;
   for (std::size_t c = 0; c < scene.clusters.size(); ++c) {
-    if (selected[c]) continue;
-    for (const Eigen::Vector3d& p : scene.clusters[c].points) {
-      parts.objects.points.push_back(p);
-      in_objects.insert(p);
+    if (!selected[c]) {
+      const auto& points = scene.clusters[c].points;
+      parts.objects.points.insert(parts.objects.points.end(), points.begin(), points.end());
     }
   }
-  PointCloud loose;
-  for (const Eigen::Vector3d& p : scene.other_points.points) {
-    if (!in_objects.count(p)) loose.points.push_back(p);
-  }
-  appendAboveTableTop(loose, plane, top, parts.loose);
+  appendAboveTableTop(scene.loose_points, plane, top, parts.loose);
   appendAboveTableTop(scene.plane_points, plane, top, parts.loose);
   return parts;
 }

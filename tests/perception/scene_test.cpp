@@ -58,6 +58,7 @@ TEST(Scene, FindsTheTableAndSeparatesTheObjects) {
       r.other_points.size() + r.plane_points.size() + r.clusters[0].size() + r.clusters[1].size(),
       cloud.size());
   for (const auto& info : r.cluster_info) EXPECT_TRUE(info.selected);
+  EXPECT_EQ(r.loose_points.size(), r.other_points.size());  // every cluster selected
   EXPECT_NEAR(r.cluster_info[majority(r.clusters[0]).first == 2 ? 0 : 1].height_above_plane_m, 0.10,
               0.01);  // the cylinder
 }
@@ -71,8 +72,13 @@ TEST(Scene, SelectsTheLargestOrTheNearestCluster) {
   const SceneResult nearest = parseScene(cloud, p);
   ASSERT_EQ(nearest.selected.size(), 1u);
   EXPECT_EQ(majority(nearest.clusters[nearest.selected[0]]).first, 3u);
-  // The box is not in "other"; the cylinder is.
+  // The box is not in "other"; the cylinder is, but it is no loose point.
   for (auto l : nearest.other_points.labels) EXPECT_NE(l, 3u);
+  std::size_t unselected = 0;
+  for (std::size_t c = 0; c < nearest.clusters.size(); ++c)
+    unselected += c == nearest.selected[0] ? 0 : nearest.clusters[c].size();
+  EXPECT_GT(unselected, 0u);
+  EXPECT_EQ(nearest.loose_points.size() + unselected, nearest.other_points.size());
   EXPECT_EQ(TargetSpec::parse("nearest:1,2,3").toString(), "nearest:1,2,3");
   EXPECT_THROW(TargetSpec::parse("nearest:1,2"), InvalidArgument);
   EXPECT_THROW(TargetSpec::parse("biggest"), InvalidArgument);

@@ -189,6 +189,9 @@ struct SceneResult {
   // Everything that is neither a plane inlier nor in a selected cluster: other objects, clutter,
   // points below or beside the table (what a collision model of the scene needs besides the plane).
   PointCloud other_points;
+  // The part of other_points in no cluster at all: clutter, fragments too small to be objects,
+  // points beside or below the table (the rest of other_points are the unselected clusters).
+  PointCloud loose_points;
   std::vector<DroppedFragment> dropped;  // candidate points that became no object, with reasons
   std::size_t merged_fragments = 0;      // small LCCP segments merged into a neighbour
   SegmentationMethod segmentation = SegmentationMethod::kEuclidean;  // the method that ran
