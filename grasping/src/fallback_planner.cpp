@@ -151,6 +151,19 @@ void centreAcrossClosingAxis(const TriangleMesh& mesh, double band, Pose& gcp) {
   if (low <= high) gcp.translation() += 0.5 * (low + high) * frame.col(0);
 }
 
+// Appends, for every pose from `first` on, its twin centred across the closing axis, where that
+// moves it by more than kMinCentringShiftM.
+void addCentredTwins(const TriangleMesh& mesh, double band, std::size_t first,
+                     std::vector<FallbackPose>& poses) {
+  const std::size_t end = poses.size();
+  for (std::size_t i = first; i < end; ++i) {
+    FallbackPose centred = poses[i];
+    centreAcrossClosingAxis(mesh, band, centred.gcp);
+    if ((centred.gcp.translation() - poses[i].gcp.translation()).norm() > kMinCentringShiftM)
+      poses.push_back(centred);
+  }
+}
+
 void validate(const FallbackStrategyParams& p) {
   if (p.sphere_directions < 1 || p.sphere_rolls < 1 || p.rim_directions < 1 ||
       p.rim_across_rolls < 1 || p.top_rolls < 1 || p.top_tilted_azimuths < 0 ||
@@ -225,15 +238,8 @@ PlanResult planFallbackGrasps(const HandModel& hand, const GraspObject& object,
   if (top) {
     const std::size_t first_top = poses.size();
     addTopPoses(centre, pa, scene->plane()->coefficients.head<3>(), sp, poses);
-    if (sp.top_centring_band_m > 0) {
-      const std::size_t end_top = poses.size();
-      for (std::size_t i = first_top; i < end_top; ++i) {
-        FallbackPose centred = poses[i];
-        centreAcrossClosingAxis(object.mesh(), sp.top_centring_band_m, centred.gcp);
-        if ((centred.gcp.translation() - poses[i].gcp.translation()).norm() > kMinCentringShiftM)
-          poses.push_back(centred);
-      }
-    }
+    if (sp.top_centring_band_m > 0)
+      addCentredTwins(object.mesh(), sp.top_centring_band_m, first_top, poses);
   }
 
   struct Trial {

@@ -1,6 +1,7 @@
 #include "skelgrasp/grasping/hypothesis.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace skelgrasp::grasping {
 
@@ -18,8 +19,13 @@ namespace {
 // Approaches within this angle of straight down onto the support plane may be lifted
 // (HypothesisParams::scene_lift_max_m): cos 45 degrees.
 constexpr double kLiftMinDownCosine = 0.70710678118654752;
-// Lift steps add up in floating point; the last one must not be lost to rounding.
-constexpr double kLiftRoundingM = 1e-9;
+
+// How many whole steps fit in a length (a length that is a multiple of the step in decimal, as
+// 0.150 / 0.001, must not lose its last step to rounding).
+int wholeSteps(double length_m, double step_m) {
+  constexpr double kRounding = 1e-9;
+  return static_cast<int>(std::floor(length_m / step_m + kRounding));
+}
 
 bool comesDownOntoPlane(const SceneChecker& scene, const Eigen::Vector3d& approach) {
   return scene.plane() &&
@@ -47,8 +53,7 @@ HypothesisOutcome closeHypothesis(GraspSimulator& simulator, const Pose& gcp,
     return !simulator.inCollision(
         simulator.handPoseForGcp(poseAt(step * params.retreat_step_m), preshape), preshape.joints);
   };
-  const int steps =
-      static_cast<int>(std::floor(params.max_retreat_m / params.retreat_step_m + 1e-9));
+  const int steps = wholeSteps(params.max_retreat_m, params.retreat_step_m);
   constexpr int kCoarse = 8;
   int first_free = -1;
   int last_colliding = -1;
@@ -85,16 +90,17 @@ HypothesisOutcome closeHypothesis(GraspSimulator& simulator, const Pose& gcp,
   if (params.scene) {
     SceneCheckResult scene = params.scene->check(grasp.hand_pose, preshape.joints, approach);
     if (scene.collision && comesDownOntoPlane(*params.scene, approach)) {
-      for (double lift = params.scene_lift_step_m;
-           lift <= params.scene_lift_max_m + kLiftRoundingM && scene.collision;
-           lift += params.scene_lift_step_m) {
-        const Pose lifted_gcp = poseAt(retreat + lift);
-        const Pose lifted_hand = simulator.handPoseForGcp(lifted_gcp, preshape);
+      const int lift_steps = params.scene_lift_max_m > 0
+                                 ? wholeSteps(params.scene_lift_max_m, params.scene_lift_step_m)
+                                 : 0;
+      for (int k = 1; k <= lift_steps && scene.collision; ++k) {
+        const double lifted = retreat + k * params.scene_lift_step_m;
+        const Pose lifted_hand = simulator.handPoseForGcp(poseAt(lifted), preshape);
         scene = params.scene->check(lifted_hand, preshape.joints, approach);
         if (!scene.collision) {
-          grasp.gcp_pose = lifted_gcp;
+          grasp.gcp_pose = poseAt(lifted);
           grasp.hand_pose = lifted_hand;
-          grasp.retreat_m = retreat + lift;
+          grasp.retreat_m = lifted;
         }
       }
     }
