@@ -2,6 +2,7 @@
 #include <glpk.h>
 
 #include <cmath>
+#include <map>
 #include <memory>
 
 #include "skelgrasp/grasping/quality.h"
@@ -109,6 +110,87 @@ ClosureLpResult solveClosureLp(const std::vector<Wrench>& wrenches) {
   } else if (status != GLP_NOFEAS) {
     result.error = "glp_simplex ended with status " + std::to_string(status);
   }
+  return result;
+}
+
+SqueezeLpResult solveSqueezeLp(const std::vector<Wrench>& wrenches, const std::vector<int>& group,
+                               const std::vector<double>& normal,
+                               const std::vector<Wrench>& pressing) {
+  if (wrenches.empty()) throw InvalidArgument("squeeze LP: no wrenches");
+  if (group.size() != wrenches.size() || normal.size() != wrenches.size())
+    throw InvalidArgument("squeeze LP: one group and one normal force per wrench");
+  for (std::size_t i = 0; i < wrenches.size(); ++i) {
+    if (!wrenches[i].allFinite() || !std::isfinite(normal[i]))
+      throw InvalidArgument("squeeze LP: non-finite wrench or normal force");
+  }
+  for (const auto& p : pressing) {
+    if (!p.allFinite()) throw InvalidArgument("squeeze LP: non-finite pressing wrench");
+  }
+  thread_local const GlpkEnvironmentRelease release_at_thread_exit;
+  const QuietGlpk quiet;
+  // One row per pushing group, after the 6 wrench rows, in the order the groups first appear.
+  std::map<int, int> group_row;
+  for (int g : group) {
+    if (g >= 0 && !group_row.count(g))
+      group_row.emplace(g, kWrenchRows + 1 + static_cast<int>(group_row.size()));
+  }
+  const int n = static_cast<int>(wrenches.size());
+  std::unique_ptr<glp_prob, ProblemDeleter> problem(glp_create_prob());
+  glp_prob* lp = problem.get();
+  glp_set_obj_dir(lp, GLP_MIN);
+  const int pressing_row = kWrenchRows + static_cast<int>(group_row.size()) + 1;
+  glp_add_rows(lp, pressing_row - 1 + static_cast<int>(pressing.size()));
+  for (int row = 1; row <= kWrenchRows; ++row) glp_set_row_bnds(lp, row, GLP_FX, 0.0, 0.0);
+  for (const auto& [g, row] : group_row) glp_set_row_bnds(lp, row, GLP_LO, 1.0, 0.0);
+  // residual . p_j = (plus - minus) . p_j >= 0.
+  for (std::size_t j = 0; j < pressing.size(); ++j)
+    glp_set_row_bnds(lp, pressing_row + static_cast<int>(j), GLP_LO, 0.0, 0.0);
+  // Columns: the n edge weights, then the residual's positive and negative parts (6 each).
+  glp_add_cols(lp, n + 2 * kWrenchRows);
+  std::vector<int> rows(1), cols(1);
+  std::vector<double> values(1);
+  auto add = [&](int row, int col, double value) {
+    if (value == 0) return;
+    rows.push_back(row);
+    cols.push_back(col);
+    values.push_back(value);
+  };
+  for (int i = 0; i < n; ++i) {
+    const int col = i + 1;
+    glp_set_col_bnds(lp, col, GLP_LO, 0.0, 0.0);
+    for (int k = 0; k < kWrenchRows; ++k) add(k + 1, col, wrenches[i][k]);
+    if (group[i] >= 0) add(group_row.at(group[i]), col, normal[i]);
+  }
+  for (int k = 0; k < kWrenchRows; ++k) {
+    const int plus = n + 1 + k, minus = n + 1 + kWrenchRows + k;
+    glp_set_col_bnds(lp, plus, GLP_LO, 0.0, 0.0);
+    glp_set_col_bnds(lp, minus, GLP_LO, 0.0, 0.0);
+    glp_set_obj_coef(lp, plus, 1.0);
+    glp_set_obj_coef(lp, minus, 1.0);
+    add(k + 1, plus, -1.0);
+    add(k + 1, minus, 1.0);
+    for (std::size_t j = 0; j < pressing.size(); ++j) {
+      add(pressing_row + static_cast<int>(j), plus, pressing[j][k]);
+      add(pressing_row + static_cast<int>(j), minus, -pressing[j][k]);
+    }
+  }
+  glp_load_matrix(lp, static_cast<int>(values.size()) - 1, rows.data(), cols.data(), values.data());
+  glp_smcp options;
+  glp_init_smcp(&options);
+  options.msg_lev = GLP_MSG_OFF;
+  options.presolve = GLP_OFF;
+  SqueezeLpResult result;
+  const int code = glp_simplex(lp, &options);
+  if (code != 0 || glp_get_status(lp) != GLP_OPT) {
+    result.error = "glp_simplex failed (code " + std::to_string(code) + ", status " +
+                   std::to_string(glp_get_status(lp)) + ")";
+    return result;
+  }
+  for (int k = 0; k < kWrenchRows; ++k) {
+    result.residual[k] =
+        glp_get_col_prim(lp, n + 1 + k) - glp_get_col_prim(lp, n + 1 + kWrenchRows + k);
+  }
+  result.balanced = glp_get_obj_val(lp) <= kSqueezeBalanceTolerance;
   return result;
 }
 

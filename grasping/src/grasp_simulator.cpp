@@ -32,6 +32,14 @@ const internal::AllowedPairs& GraspSimulator::allowedPairsAt(const Eigen::Vector
   return impl_->allowed_cache.back().second;
 }
 
+bool GraspSimulator::allowedPairsCached(const Eigen::VectorXd& joints, ClosingMethod method) const {
+  if (method == ClosingMethod::kStepwise) return false;
+  for (const auto& entry : impl_->allowed_cache) {
+    if (entry.first == joints) return true;
+  }
+  return false;
+}
+
 GraspSimulator::GraspSimulator(const HandModel& hand, const GraspObject& object)
     : hand_(hand), object_(object), impl_(std::make_unique<Impl>(hand)) {}
 
@@ -78,6 +86,20 @@ int GraspSimulator::firstLinkInCollision(const Pose& hand_pose, const Eigen::Vec
 
 ClosingResult GraspSimulator::close(const Pose& hand_pose, const Preshape& preshape,
                                     const ClosingParams& params) {
+  return closeImpl(hand_pose, preshape, preshape.joints, params);
+}
+
+ClosingResult GraspSimulator::closeFrom(const Pose& hand_pose, const Preshape& preshape,
+                                        const Eigen::VectorXd& joints,
+                                        const ClosingParams& params) {
+  if (joints.size() != preshape.joints.size())
+    throw InvalidArgument("closeFrom: the joints are not the hand's");
+  return closeImpl(hand_pose, preshape, joints, params);
+}
+
+ClosingResult GraspSimulator::closeImpl(const Pose& hand_pose, const Preshape& preshape,
+                                        const Eigen::VectorXd& start_joints,
+                                        const ClosingParams& params) {
   ClosingResult result;
   const auto& defaults = hand_.closingDefaults();
   internal::AdvanceSettings settings;
@@ -94,9 +116,20 @@ ClosingResult GraspSimulator::close(const Pose& hand_pose, const Preshape& presh
       params.palm_contact_distance_m.value_or(defaults.palm_contact_distance_m);
   auto& geometry = impl_->geometry;
 
-  Eigen::VectorXd q = preshape.joints;
+  Eigen::VectorXd q = start_joints;
   hand_.normalise(q);
   result.joints = q;
+  // The allowed pairs are those of the preshape (a closing continued from elsewhere allows what its
+  // preshape allowed), found with the shapes placed at the preshape; the fast closing keeps them
+  // per preshape.
+  Eigen::VectorXd preshape_q = preshape.joints;
+  hand_.normalise(preshape_q);
+  const internal::AllowedPairs* allowed = nullptr;
+  if (q != preshape_q) {
+    if (!allowedPairsCached(preshape_q, params.method))
+      placeLinks(hand_, hand_pose, preshape_q, geometry.shapes, impl_->link_poses);
+    allowed = &allowedPairsAt(preshape_q, params.method);
+  }
   const int start = firstLinkInCollision(hand_pose, q);
   if (start >= 0) {
     result.status =
@@ -106,9 +139,9 @@ ClosingResult GraspSimulator::close(const Pose& hand_pose, const Preshape& presh
     return result;
   }
 
-  const internal::AllowedPairs& allowed = allowedPairsAt(q, params.method);
-  const internal::AdvanceResult advance =
-      internal::advanceFingers(hand_, geometry, object_, hand_pose, allowed, q, settings, queries_);
+  if (!allowed) allowed = &allowedPairsAt(preshape_q, params.method);
+  const internal::AdvanceResult advance = internal::advanceFingers(
+      hand_, geometry, object_, hand_pose, *allowed, q, settings, queries_);
   result.iterations = advance.iterations;
   result.passes = advance.passes;
   result.joints = advance.joints;

@@ -83,6 +83,11 @@ class GraspSimulator {
   // collects contacts.
   ClosingResult close(const Pose& hand_pose, const Preshape& preshape,
                       const ClosingParams& params = {});
+  // Continues a closing of `preshape` from the configuration `joints` (one an earlier closing
+  // reached, at another hand pose: settling.h): as close(), with the link pairs the preshape allows
+  // to intersect, but the fingers start at `joints`. The start test is at `joints`.
+  ClosingResult closeFrom(const Pose& hand_pose, const Preshape& preshape,
+                          const Eigen::VectorXd& joints, const ClosingParams& params = {});
 
   // Hand root pose that puts the preshape's grasp centre point at `gcp_pose` (object frame).
   Pose handPoseForGcp(const Pose& gcp_pose, const Preshape& preshape) const;
@@ -93,6 +98,10 @@ class GraspSimulator {
   struct Impl;
   // The shapes must be placed at `joints` (any hand pose).
   const internal::AllowedPairs& allowedPairsAt(const Eigen::VectorXd& joints, ClosingMethod method);
+  bool allowedPairsCached(const Eigen::VectorXd& joints, ClosingMethod method) const;
+  // close() and closeFrom(): the allowed pairs of `preshape`, the fingers starting at `start`.
+  ClosingResult closeImpl(const Pose& hand_pose, const Preshape& preshape,
+                          const Eigen::VectorXd& start, const ClosingParams& params);
   const HandModel& hand_;
   const GraspObject& object_;
   std::unique_ptr<Impl> impl_;

@@ -105,6 +105,33 @@ struct ClosureLpResult {
 // for an empty or non-finite wrench set.
 ClosureLpResult solveClosureLp(const std::vector<Wrench>& wrenches);
 
+// The squeeze a closing hand applies, balanced or not (settling.h): each pushing group (a finger)
+// presses with a normal force of at least 1 in total over its contacts, passive contacts (the
+// palm) push back with any force >= 0, every force inside its friction cone. Minimises the L1 norm
+// of the unbalanced wrench
+//   residual = sum_i lambda_i w_i,  lambda_i >= 0,  sum_{i in g} normal_i lambda_i >= 1 per group
+//   g, residual . p_j >= 0 for every j
+// over the cone-edge wrenches w_i (contactWrenches), where group[i] is wrench i's pushing group
+// (-1: passive) and normal[i] its normal force per unit weight (cos of the cone's half-angle).
+// p_j is the wrench of a unit inward normal force at contact j: moving the object along the
+// residual (read as a twist in the same scaled units) then drives it into no contact, to first
+// order. Without those rows an L1-minimal residual may point into a contact (adding a normal force
+// there can leave its L1 norm unchanged); the L2-minimal residual satisfies them (its optimality
+// conditions), so the LP stays feasible.
+// residual = 0 (balanced) when the contacts can hold the squeeze still; otherwise the object is
+// pushed along it. Thread-safe like solveClosureLp.
+struct SqueezeLpResult {
+  bool balanced = false;
+  Wrench residual = Wrench::Zero();  // the unbalanced wrench, in the wrenches' scaled units
+  std::string error;                 // non-empty when GLPK failed
+};
+// Throws InvalidArgument for sizes that differ, no wrench or non-finite input.
+SqueezeLpResult solveSqueezeLp(const std::vector<Wrench>& wrenches, const std::vector<int>& group,
+                               const std::vector<double>& normal,
+                               const std::vector<Wrench>& pressing = {});
+// The residual's L1 norm at or below this (relative to a squeeze of 1 per group) is balance.
+constexpr double kSqueezeBalanceTolerance = 1e-7;
+
 // Force closure by LP needs n l* > this (n wrenches; l* relative to its largest value 1/n). The
 // band (0, tolerance] is where the origin is on the hull's boundary up to rounding (GLPK's
 // simplex, Qhull's joggle); measurements: docs/hands.md.

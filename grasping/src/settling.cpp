@@ -1,0 +1,157 @@
+#include "skelgrasp/grasping/settling.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+#include <vector>
+
+#include "skelgrasp/grasping/grasp.h"
+
+namespace skelgrasp::grasping {
+
+const char* toString(SettlingOutcome outcome) {
+  switch (outcome) {
+    case SettlingOutcome::kForceClosure:
+      return "force_closure";
+    case SettlingOutcome::kBalanced:
+      return "balanced";
+    case SettlingOutcome::kWedged:
+      return "wedged";
+    case SettlingOutcome::kPushedOut:
+      return "pushed_out";
+    case SettlingOutcome::kStepLimit:
+      return "step_limit";
+    case SettlingOutcome::kTooFewContacts:
+      return "too_few_contacts";
+    case SettlingOutcome::kStartCollision:
+      return "start_collision";
+  }
+  return "?";
+}
+
+namespace {
+
+// The object moved by the twist (v, w) about its centre of mass c: x -> c + R(w) (x - c) + v.
+Pose objectMotion(const Eigen::Vector3d& centre, const Eigen::Vector3d& v,
+                  const Eigen::Vector3d& w) {
+  Pose motion = Pose::Identity();
+  const double angle = w.norm();
+  if (angle > 0) motion.linear() = Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
+  motion.translation() = centre + v - motion.linear() * centre;
+  return motion;
+}
+
+// The squeeze of the closing's contacts: each finger's contacts push together with a normal force
+// of at least 1, palm contacts push back as needed (solveSqueezeLp). Wrenches about the centre of
+// mass with the max-radius torque scale, so a unit of torque is a unit force at the max radius.
+SqueezeLpResult squeezeOf(const HandModel& hand, const GraspObject& object,
+                          const std::vector<Contact>& contacts, const QualityParams& quality,
+                          double pushing_distance_m) {
+  const double torque_scale = 1.0 / object.maxRadius();
+  std::vector<Wrench> wrenches;
+  std::vector<int> group;
+  std::vector<double> normal;
+  std::vector<Wrench> pressing;
+  for (const auto& contact : contacts) {
+    if (contact.distance > pushing_distance_m) continue;
+    const auto own = contactWrenches({contact}, object.centerOfMass(), torque_scale, quality);
+    const int link = hand.linkIndex(contact.link);
+    const int finger = contact.palm || link < 0 ? -1 : hand.fingerOfLink(link);
+    const Eigen::Vector3d inward = -contact.normal.normalized();
+    Wrench press;
+    press << inward, torque_scale * (contact.point - object.centerOfMass()).cross(inward);
+    pressing.push_back(press);
+    for (const auto& w : own) {
+      wrenches.push_back(w);
+      group.push_back(finger);
+      normal.push_back(w.head<3>().dot(inward));
+    }
+  }
+  return solveSqueezeLp(wrenches, group, normal, pressing);
+}
+
+bool anyFingerPushes(const std::vector<Contact>& contacts, double pushing_distance_m) {
+  for (const auto& c : contacts) {
+    if (!c.palm && c.distance <= pushing_distance_m) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+SettlingResult settleGrasp(GraspSimulator& simulator, const Pose& hand_pose,
+                           const Preshape& preshape, const ClosingParams& closing,
+                           const QualityParams& quality, const SettlingParams& params) {
+  if (!(params.step_m > 0) || !(params.min_step_m > 0) || params.min_step_m > params.step_m ||
+      !(params.max_travel_m > 0) || params.max_steps < 0 || !(params.pushing_distance_m >= 0)) {
+    throw InvalidArgument(
+        "settling: steps and travel must be > 0, min_step_m <= step_m, max_steps >= 0 and the "
+        "pushing distance >= 0");
+  }
+  const HandModel& hand = simulator.hand();
+  const GraspObject& object = simulator.object();
+  SettlingResult result;
+  result.hand_pose = hand_pose;
+  result.closing = simulator.close(hand_pose, preshape, closing);
+  if (result.closing.reason == reason::kStartCollision) {
+    result.outcome = SettlingOutcome::kStartCollision;
+    return result;
+  }
+  // The first try of each step: twice the last free step (a push that keeps going speeds up), at
+  // most step_m.
+  double step = params.step_m;
+  for (;;) {
+    const auto& contacts = result.closing.contacts;
+    if (result.closing.status.ok() && evaluateGrasp(contacts, object, quality).force_closure) {
+      result.outcome = SettlingOutcome::kForceClosure;
+      return result;
+    }
+    if (!anyFingerPushes(contacts, params.pushing_distance_m)) {
+      result.outcome = SettlingOutcome::kTooFewContacts;
+      return result;
+    }
+    if (result.steps >= params.max_steps) {
+      result.outcome = SettlingOutcome::kStepLimit;
+      return result;
+    }
+    const SqueezeLpResult squeeze =
+        squeezeOf(hand, object, contacts, quality, params.pushing_distance_m);
+    // A failed LP (never seen) is read as balance: the object is not moved on a guess.
+    if (squeeze.balanced || !squeeze.error.empty() || !(squeeze.residual.norm() > 0)) {
+      result.outcome = SettlingOutcome::kBalanced;
+      return result;
+    }
+    const Wrench direction = squeeze.residual.normalized();
+    // The largest free step along the unbalanced wrench, halving; the fingers then close on from
+    // where they were (closeFrom tests the moved start first and stops there when it collides).
+    bool moved = false;
+    for (step = std::min(2 * step, params.step_m); step >= params.min_step_m * (1 - 1e-9);
+         step /= 2) {
+      const Eigen::Vector3d v = step * direction.head<3>();
+      const Eigen::Vector3d w = step * direction.tail<3>() / object.maxRadius();
+      // The hand relative to the moved object: the inverse motion applied to the hand.
+      const Pose moved_hand =
+          objectMotion(object.centerOfMass(), v, w).inverse() * result.hand_pose;
+      ClosingResult closed =
+          simulator.closeFrom(moved_hand, preshape, result.closing.joints, closing);
+      if (closed.reason == reason::kStartCollision) continue;
+      result.hand_pose = moved_hand;
+      result.closing = std::move(closed);
+      result.travel_m += v.norm();
+      result.turn_rad += w.norm();
+      moved = true;
+      break;
+    }
+    if (!moved) {
+      result.outcome = SettlingOutcome::kWedged;
+      return result;
+    }
+    ++result.steps;
+    if (result.travel_m > params.max_travel_m) {
+      result.outcome = SettlingOutcome::kPushedOut;
+      return result;
+    }
+  }
+}
+
+}  // namespace skelgrasp::grasping
