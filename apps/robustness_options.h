@@ -24,9 +24,10 @@ inline CLI::Option* addRobustnessVariantOption(CLI::App& cmd, std::string& varia
   return cmd
       .add_option("--robustness-variant", variant,
                   "paper (hand moved, 10 mm / 5 deg; a start in collision fails), guarded (the "
-                  "paper's samples, a start in collision backs off along the approach) or "
-                  "reference (object moved, 5 mm / 2.5 deg)")
-      ->check(CLI::IsMember({"paper", "guarded", "reference"}))
+                  "paper's samples, a start in collision backs off along the approach), settled "
+                  "(guarded, and the object free to settle in the closing hand) or reference "
+                  "(object moved, 5 mm / 2.5 deg)")
+      ->check(CLI::IsMember({"paper", "guarded", "settled", "reference"}))
       ->capture_default_str();
 }
 

@@ -20,8 +20,9 @@ RobustnessVariant parseRobustnessVariant(const std::string& text) {
   if (text == "paper") return RobustnessVariant::kPaper;
   if (text == "reference") return RobustnessVariant::kReference;
   if (text == "guarded") return RobustnessVariant::kGuarded;
+  if (text == "settled") return RobustnessVariant::kSettled;
   throw InvalidArgument("unknown robustness variant '" + text +
-                        "' (use paper, reference or guarded)");
+                        "' (use paper, reference, guarded or settled)");
 }
 
 const char* toString(RobustnessVariant variant) {
@@ -32,6 +33,8 @@ const char* toString(RobustnessVariant variant) {
       return "reference";
     case RobustnessVariant::kGuarded:
       return "guarded";
+    case RobustnessVariant::kSettled:
+      return "settled";
   }
   return "?";
 }
@@ -154,7 +157,8 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
   Stopwatch watch;
   // The guarded variant draws and applies the paper's samples; only their execution differs.
   const bool paper_samples = params.variant != RobustnessVariant::kReference;
-  const bool guarded = params.variant == RobustnessVariant::kGuarded;
+  const bool settled = params.variant == RobustnessVariant::kSettled;
+  const bool guarded = params.variant == RobustnessVariant::kGuarded || settled;
   if ((params.position_sigma_m && !(*params.position_sigma_m >= 0)) ||
       (params.orientation_sigma_rad && !(*params.orientation_sigma_rad >= 0))) {
     throw InvalidArgument("robustness: pose error sigmas must be >= 0");
@@ -176,7 +180,13 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
     kCollision,
     kForceClosure,
     kGuardedForceClosure,
+    kSettledForceClosure,         // held after the object moved, from a free start
+    kGuardedSettledForceClosure,  // the same after a guarded start
     kSkipped
+  };
+  const auto heldOutcome = [](char outcome) {
+    return outcome == kForceClosure || outcome == kGuardedForceClosure ||
+           outcome == kSettledForceClosure || outcome == kGuardedSettledForceClosure;
   };
   std::vector<char> outcomes(params.samples, kSkipped);
   std::atomic<int> failures{0};
@@ -185,11 +195,32 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
   tbb::enumerable_thread_specific<std::unique_ptr<grasping::GraspSimulator>> simulators([&] {
     return std::make_unique<grasping::GraspSimulator>(simulator.hand(), simulator.object());
   });
+  // One perturbed execution of the settled variant: the guarded start, then settling.
+  const auto executeSettled = [&](grasping::GraspSimulator& local, const Pose& hand_pose,
+                                  const Eigen::Vector3d& approach_in_hand) -> Outcome {
+    auto settling =
+        grasping::settleGrasp(local, hand_pose, preshape, closing, quality, params.settling);
+    const bool collides = settling.outcome == grasping::SettlingOutcome::kStartCollision;
+    if (collides) {
+      const std::optional<Pose> start =
+          guardedApproachStop(local, hand_pose, hand_pose.linear() * approach_in_hand, preshape);
+      if (!start) return kCollision;
+      settling = grasping::settleGrasp(local, *start, preshape, closing, quality, params.settling);
+    }
+    if (settling.force_closure()) {
+      if (settling.steps > 0) return collides ? kGuardedSettledForceClosure : kSettledForceClosure;
+      return collides ? kGuardedForceClosure : kForceClosure;
+    }
+    if (collides) return kCollision;
+    return settling.outcome == grasping::SettlingOutcome::kTooFewContacts ? kClosingFailed
+                                                                          : kNoForceClosure;
+  };
   // One perturbed execution.
   const auto execute = [&](int i) -> Outcome {
     const Pose hand_pose = perturbedPose(grasp.hand_pose, samplePoseError(params, grasp_index, i),
                                          centre, params.variant);
     auto& local = *simulators.local();
+    if (settled) return executeSettled(local, hand_pose, approach_in_hand);
     // close() starts with the collision test of the open hand: one test per sample, not two.
     auto closed = local.close(hand_pose, preshape, closing);
     const bool collides = closed.reason == grasping::reason::kStartCollision;
@@ -212,19 +243,22 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
       return;
     }
     outcomes[i] = execute(i);
-    if (outcomes[i] != kForceClosure && outcomes[i] != kGuardedForceClosure) ++failures;
+    if (!heldOutcome(outcomes[i])) ++failures;
   });
 
   RobustnessResult result;
   result.samples = params.samples;
   result.gave_up = missedBar();
   result.held.resize(outcomes.size());
-  for (std::size_t i = 0; i < outcomes.size(); ++i)
-    result.held[i] = outcomes[i] == kForceClosure || outcomes[i] == kGuardedForceClosure;
+  for (std::size_t i = 0; i < outcomes.size(); ++i) result.held[i] = heldOutcome(outcomes[i]);
   for (char outcome : outcomes) {
-    result.collisions += outcome == kCollision || outcome == kGuardedForceClosure;
-    result.guarded_holds += outcome == kGuardedForceClosure;
-    result.force_closure += outcome == kForceClosure || outcome == kGuardedForceClosure;
+    const bool guarded_hold =
+        outcome == kGuardedForceClosure || outcome == kGuardedSettledForceClosure;
+    result.collisions += outcome == kCollision || guarded_hold;
+    result.guarded_holds += guarded_hold;
+    result.settled_holds +=
+        outcome == kSettledForceClosure || outcome == kGuardedSettledForceClosure;
+    result.force_closure += heldOutcome(outcome);
     result.closing_failures += outcome == kClosingFailed;
     result.no_force_closure += outcome == kNoForceClosure;
   }

@@ -100,6 +100,7 @@ nlohmann::json robustnessJson(const std::optional<RobustnessResult>& r) {
           {"force_closure", r->force_closure},
           {"collisions", r->collisions},
           {"guarded_holds", r->guarded_holds},
+          {"settled_holds", r->settled_holds},
           {"closing_failures", r->closing_failures},
           {"no_force_closure", r->no_force_closure},
           {"time_s", r->time_s}};

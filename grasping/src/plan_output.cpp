@@ -53,7 +53,8 @@ nlohmann::json graspToJson(const Grasp& g, const HandModel& hand) {
                          {"failures",
                           {{"start_collision", r.start_collisions},
                            {"closing", r.closing_failures},
-                           {"no_force_closure", r.no_force_closure}}}};
+                           {"no_force_closure", r.no_force_closure}}},
+                         {"settled_holds", r.settled_holds}};
     if (r.refinement) {
       const GraspRobustRefinement& f = *r.refinement;
       out["robustness"]["refinement"] = {{"refined", f.refined},

@@ -269,7 +269,7 @@ SkeletonPlannerParams / SurfacePlannerParams (no time limit: ``timeout_s=0``; th
 sets 30 s) and RobustRankingParams. ``max_hypotheses`` is the surface planner's. Robust ranking
 (docs/planning.md): the best ``robustness_screen`` grasps by epsilon (0: all) are screened with a
 cheap r, and the best ``robustness_top_k`` of them (0: all) get a robustness r from
-``robustness_samples`` perturbed executions (``robustness_variant`` 'paper', 'guarded' or 'reference',
+``robustness_samples`` perturbed executions (``robustness_variant`` 'paper', 'guarded', 'settled' or 'reference',
 friction ``robustness_mu`` or ``mu``, samples seeded by ``seed``) and are ranked first by r;
 ``robustness=False`` keeps the epsilon order. ``robust_refine`` searches near the most robust
 scored grasps for more robust poses (docs/planning.md, "Refinement for robustness"). ``centre_candidates`` (skeleton planner) also tries

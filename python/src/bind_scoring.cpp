@@ -130,6 +130,7 @@ py::list score(const Mesh& mesh, const HandPtr& hand, const py::object& grasps, 
       d["robustness_collisions"] = robust[i]->collisions;
       d["robustness_closing_failures"] = robust[i]->closing_failures;
       d["robustness_no_force_closure"] = robust[i]->no_force_closure;
+      d["robustness_settled_holds"] = robust[i]->settled_holds;
     } else {
       d["robustness"] = py::none();
     }

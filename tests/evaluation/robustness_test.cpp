@@ -355,5 +355,47 @@ TEST(Robustness, GuardedBacksAHandStartingInsideTheObjectOffAndHolds) {
   EXPECT_THROW(parseRobustnessVariant("gaurded"), InvalidArgument);
 }
 
+// The settled variant executes the guarded variant's samples and settles the ones that do not
+// hold still: sample by sample it holds wherever the guarded variant holds, and the samples it
+// adds are the settled holds.
+TEST(Robustness, SettledHoldsWhereverTheGuardedVariantHolds) {
+  const TriangleMesh mesh = primitives::makeCapsule(0.03, 0.14);
+  const grasping::GraspObject object(mesh);
+  int settled_holds = 0, samples = 0;
+  for (const std::string hand_name : {"sdh", "shadow", "armar3"}) {
+    SCOPED_TRACE(hand_name);
+    const auto hand = grasping::loadBuiltinHand(hand_name);
+    const auto grasps = plannedGrasps(hand, object, mesh, 3);
+    ASSERT_FALSE(grasps.empty());
+    grasping::GraspSimulator sim(hand, object);
+    for (std::size_t i = 0; i < grasps.size(); ++i) {
+      RobustnessParams rp;
+      rp.samples = 30;
+      rp.seed = 9;
+      rp.variant = RobustnessVariant::kGuarded;
+      const auto guarded = evaluateRobustness(sim, grasps[i], rp, i);
+      rp.variant = RobustnessVariant::kSettled;
+      const auto settled = evaluateRobustness(sim, grasps[i], rp, i);
+      ASSERT_EQ(settled.held.size(), guarded.held.size());
+      for (std::size_t k = 0; k < settled.held.size(); ++k) {
+        if (guarded.held[k]) EXPECT_TRUE(settled.held[k]) << "grasp " << i << " sample " << k;
+      }
+      EXPECT_EQ(guarded.settled_holds, 0);
+      EXPECT_EQ(settled.force_closure, guarded.force_closure + settled.settled_holds);
+      EXPECT_EQ(settled.collisions - settled.guarded_holds + settled.closing_failures +
+                    settled.no_force_closure + settled.force_closure,
+                settled.samples);
+      settled_holds += settled.settled_holds;
+      samples += settled.samples;
+    }
+  }
+  // Settling matters on these grasps: it adds holds.
+  EXPECT_GT(settled_holds, samples / 20);
+  std::cout << "[ settled  ] " << settled_holds << " of " << samples
+            << " samples held only after the object settled" << std::endl;
+  EXPECT_EQ(parseRobustnessVariant("settled"), RobustnessVariant::kSettled);
+  EXPECT_STREQ(toString(RobustnessVariant::kSettled), "settled");
+}
+
 }  // namespace
 }  // namespace skelgrasp::evaluation

@@ -10,6 +10,7 @@
 #include "skelgrasp/grasping/grasp.h"
 #include "skelgrasp/grasping/grasp_simulator.h"
 #include "skelgrasp/grasping/quality.h"
+#include "skelgrasp/grasping/settling.h"
 
 namespace skelgrasp::evaluation {
 
@@ -23,8 +24,12 @@ enum class RobustnessVariant {
                // sample failing. The paper's Sec. V-B names this as the more detailed alternative
                // ("considering the approach movement"). Every sample that holds in kPaper holds
                // here too.
+  kSettled,    // the guarded variant's executions, with the object free to move: a closing that
+               // is not force closure settles (grasping/settling.h), the object pushed by the
+               // unbalanced squeeze until the contacts hold it, are balanced without closure, or it
+               // is pushed out of the hand. Every sample that holds in kGuarded holds here too.
 };
-// "paper" | "reference" | "guarded"
+// "paper" | "reference" | "guarded" | "settled"
 RobustnessVariant parseRobustnessVariant(const std::string& text);
 const char* toString(RobustnessVariant variant);
 
@@ -39,6 +44,7 @@ struct RobustnessParams {
   std::uint64_t seed = 1;
   grasping::QualityParams quality;
   grasping::ClosingParams closing;
+  grasping::SettlingParams settling;  // kSettled only
 };
 
 // The pose error standard deviations `params` stands for: its own, or its variant's defaults.
@@ -52,6 +58,9 @@ struct RobustnessResult {
   // backs them off and closes (guarded_holds of them then reached force closure).
   int collisions = 0;
   int guarded_holds = 0;
+  // kSettled: samples that held only after the object settled (moved at least once); they are in
+  // force_closure (and, when they started in collision, in guarded_holds too).
+  int settled_holds = 0;
   // Why the other failed samples failed, for a user asking what to change: the closing from a
   // free start ended with fewer contacts than it needs, or it closed but not in force closure
   // (contacts that slip at this friction). With the samples that started in collision and did not
