@@ -5,6 +5,10 @@
 #include <utility>
 #include <vector>
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "skelgrasp/common/logging.h"
 #include "skelgrasp/grasping/grasp.h"
 
 namespace skelgrasp::grasping {
@@ -122,30 +126,46 @@ SettlingResult settleGrasp(GraspSimulator& simulator, const Pose& hand_pose,
       return result;
     }
     const Wrench direction = squeeze.residual.normalized();
-    // The largest free step along the unbalanced wrench, halving; the fingers then close on from
-    // where they were (closeFrom tests the moved start first and stops there when it collides).
-    bool moved = false;
+    if (log().should_log(spdlog::level::trace)) {
+      log().trace("settling step {}: {} contacts, unbalanced wrench [{:.3f}]", result.steps,
+                  contacts.size(), fmt::join(squeeze.residual, " "));
+      for (const auto& c : contacts) {
+        log().trace("  {} at [{:.4f}] normal [{:.2f}] gap {:.4f}", c.link, fmt::join(c.point, " "),
+                    fmt::join(c.normal, " "), c.distance);
+      }
+    }
+    // The hand relative to the object moved by `length` along the unbalanced wrench: the inverse
+    // motion applied to the hand.
+    const auto handAfter = [&](double length) {
+      const Eigen::Vector3d v = length * direction.head<3>();
+      const Eigen::Vector3d w = length * direction.tail<3>() / object.maxRadius();
+      return Pose(objectMotion(object.centerOfMass(), v, w).inverse() * result.hand_pose);
+    };
+    // The step: the largest of twice the last one (at most step_m), halvings of it, whose double is
+    // still free, so the object goes at most half way to what it would hit. The pushing fingers
+    // follow the object as it goes and a finger on the far side closes in meanwhile (at once, when
+    // coupled to the pusher, as a gripper's jaws are); moving all the way would leave the pushers
+    // behind, and a coupled gripper would bounce the object between its jaws.
+    bool found = false;
     for (step = std::min(2 * step, params.step_m); step >= params.min_step_m * (1 - 1e-9);
          step /= 2) {
-      const Eigen::Vector3d v = step * direction.head<3>();
-      const Eigen::Vector3d w = step * direction.tail<3>() / object.maxRadius();
-      // The hand relative to the moved object: the inverse motion applied to the hand.
-      const Pose moved_hand =
-          objectMotion(object.centerOfMass(), v, w).inverse() * result.hand_pose;
-      ClosingResult closed =
-          simulator.closeFrom(moved_hand, preshape, result.closing.joints, closing);
-      if (closed.reason == reason::kStartCollision) continue;
-      result.hand_pose = moved_hand;
-      result.closing = std::move(closed);
-      result.travel_m += v.norm();
-      result.turn_rad += w.norm();
-      moved = true;
-      break;
+      if (!simulator.inCollision(handAfter(2 * step), result.closing.joints)) {
+        found = true;
+        break;
+      }
     }
-    if (!moved) {
+    // The fingers close on from where they were.
+    ClosingResult closed;
+    if (found)
+      closed = simulator.closeFrom(handAfter(step), preshape, result.closing.joints, closing);
+    if (!found || closed.reason == reason::kStartCollision) {
       result.outcome = SettlingOutcome::kWedged;
       return result;
     }
+    result.hand_pose = handAfter(step);
+    result.closing = std::move(closed);
+    result.travel_m += step * direction.head<3>().norm();
+    result.turn_rad += step * direction.tail<3>().norm() / object.maxRadius();
     ++result.steps;
     if (result.travel_m > params.max_travel_m) {
       result.outcome = SettlingOutcome::kPushedOut;

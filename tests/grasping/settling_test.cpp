@@ -9,9 +9,12 @@
 #include <random>
 
 #include "skelgrasp/common/constants.h"
+#include "skelgrasp/common/logging.h"
 #include "skelgrasp/common/pose.h"
 #include "skelgrasp/common/primitives.h"
 #include "skelgrasp/grasping/quality.h"
+
+#include <nlohmann/json.hpp>
 
 namespace skelgrasp::grasping {
 namespace {
@@ -252,6 +255,87 @@ TEST(Settling, RejectsBadParameters) {
   p.pushing_distance_m = std::nan("");
   EXPECT_THROW(settle(p), InvalidArgument);
   EXPECT_NO_THROW(settle({}));
+}
+
+// The built-in gripper with its real coupling: the right jaw mimics the left (one finger, one
+// drive), as the Franka hand's fingers do.
+HandModel coupledGripper() {
+  HandFiles files = builtinHandFiles("parallel_gripper");
+  const std::string right_axis = "<axis xyz=\"0 -1 0\"/>";
+  const auto at = files.urdf.find(right_axis);
+  EXPECT_NE(at, std::string::npos);
+  files.urdf.insert(at + right_axis.size(), "<mimic joint=\"finger_left\"/>");
+  auto description = nlohmann::json::parse(files.description);
+  auto& fingers = description["fingers"];
+  fingers[0]["links"]["right_finger"] = "all";
+  fingers.erase(1);
+  for (auto& [name, preshape] : description["preshapes"].items())
+    preshape["joints"].erase("finger_right");
+  return loadHandFromText(files.urdf, description.dump(), "", "coupled gripper");
+}
+
+TEST(Settling, ACoupledGripperSettlesToTheContactsOfIndependentJaws) {
+  // The built-in gripper's jaws close independently with the object held still, standing for a
+  // coupled gripper whose first jaw to touch pushes the object until the other touches
+  // (docs/hands.md). Settling lets the object slide in the gripper with its real coupling:
+  //  * jaws shifted off the middle of a box or a cylinder (across and along the jaws): the two
+  //    models reach the same contacts, so they agree on whether the grasp holds;
+  //  * jaws also rolled about the approach, so that they meet the box's faces at points far apart
+  //    along the jaw: held still that is no closure, but the squeeze turns the free box until the
+  //    contacts face each other. Settled, the coupled gripper holds wherever the independent jaws
+  //    hold, and more often.
+  const HandModel independent = loadBuiltinHand("parallel_gripper");
+  const HandModel coupled = coupledGripper();
+  ASSERT_EQ(coupled.fingers().size(), 1u);
+  const auto& open_jaws = independent.preshape("precision");
+  const auto& coupled_open = coupled.preshape("precision");
+  const QualityParams quality = withHandContactModel({}, independent);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> offset(-0.012, 0.012), tilt(-0.15, 0.15);
+  int shifted = 0, shifted_agree = 0, rolled = 0, rolled_lost = 0;
+  int rolled_still_holds = 0, rolled_settled_holds = 0, coupled_still = 0, independent_holds = 0;
+  for (const auto& mesh :
+       {primitives::makeBox({0.05, 0.09, 0.16}, 2), primitives::makeCylinder(0.025, 0.16, 48, 6)}) {
+    const GraspObject object(mesh);
+    GraspSimulator free_jaws(independent, object), coupled_jaws(coupled, object);
+    for (int i = 0; i < 40; ++i) {
+      // Approach along -y, jaws across x, shifted across (x) and along (z) the jaws; half the
+      // poses rolled about the approach.
+      const bool roll_it = i % 2 == 1;
+      const double dx = offset(rng), dz = offset(rng), roll = roll_it ? tilt(rng) : 0.0;
+      const Eigen::Vector3d z(0, -1, 0);
+      const Eigen::Vector3d y = Eigen::AngleAxisd(roll, z) * Eigen::Vector3d(0, 0, 1);
+      Pose start = Pose::Identity();
+      bool found = false;
+      for (double standoff = 0.0; standoff < 0.15 && !found; standoff += 0.001) {
+        start = free_jaws.handPoseForGcp(poseFromZY({dx, 0.03 + standoff, dz}, z, y), open_jaws);
+        found = !free_jaws.inCollision(start, open_jaws.joints);
+      }
+      ASSERT_TRUE(found);
+      const bool held = holdsStill(free_jaws, start, open_jaws, quality);
+      const bool settled_holds =
+          settleGrasp(coupled_jaws, start, coupled_open, {}, quality).force_closure();
+      coupled_still += holdsStill(coupled_jaws, start, coupled_open, quality);
+      independent_holds += held;
+      if (roll_it) {
+        ++rolled;
+        rolled_lost += held && !settled_holds;
+        rolled_still_holds += held;
+        rolled_settled_holds += settled_holds;
+      } else {
+        ++shifted;
+        shifted_agree += held == settled_holds;
+      }
+    }
+  }
+  std::cout << "[ coupled  ] shifted jaws: the models agree on " << shifted_agree << " of "
+            << shifted << "; rolled: independent jaws hold " << rolled_still_holds
+            << ", settled coupled jaws " << rolled_settled_holds << " of " << rolled << std::endl;
+  // Held still, the coupled gripper touches with one jaw whenever the object is off its middle.
+  EXPECT_LT(coupled_still, independent_holds / 4);
+  EXPECT_GE(shifted_agree, shifted * 19 / 20);
+  EXPECT_EQ(rolled_lost, 0);
+  EXPECT_GT(rolled_settled_holds, rolled_still_holds + rolled / 4);
 }
 
 }  // namespace

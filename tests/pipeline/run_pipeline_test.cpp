@@ -177,7 +177,7 @@ TEST_F(DemoScenePipeline, WritesTheReportWithItsPictures) {
     if (doc.at("grasps").size() <= top_k) {
       ASSERT_TRUE(g.contains("robustness"));
       EXPECT_EQ(g["robustness"]["samples"], RunParams{}.robust_ranking.robustness.samples);
-      EXPECT_EQ(g["robustness"]["variant"], "paper");
+      EXPECT_EQ(g["robustness"]["variant"], "settled");
     }
   }
 }
