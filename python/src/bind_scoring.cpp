@@ -128,6 +128,7 @@ py::list score(const Mesh& mesh, const HandPtr& hand, const py::object& grasps, 
       d["robustness_interval"] = py::make_tuple(robust[i]->wilson_low, robust[i]->wilson_high);
       d["robustness_samples"] = robust[i]->samples;
       d["robustness_collisions"] = robust[i]->collisions;
+      d["robustness_guarded_holds"] = robust[i]->guarded_holds;
       d["robustness_closing_failures"] = robust[i]->closing_failures;
       d["robustness_no_force_closure"] = robust[i]->no_force_closure;
       d["robustness_settled_holds"] = robust[i]->settled_holds;

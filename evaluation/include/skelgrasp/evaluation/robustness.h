@@ -35,7 +35,7 @@ const char* toString(RobustnessVariant variant);
 
 struct RobustnessParams {
   int samples = 100;
-  RobustnessVariant variant = RobustnessVariant::kPaper;
+  RobustnessVariant variant = RobustnessVariant::kSettled;
   // Standard deviations of the pose error (>= 0); unset: the variant's defaults (paper and
   // guarded: 10 mm and 5 degrees, reference: 5 mm and 2.5 degrees), resolved in
   // evaluateRobustness.
