@@ -98,6 +98,8 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
   if (params.friction && !(std::isfinite(*params.friction) && *params.friction >= 0))
     throw InvalidArgument("robust ranking: friction must be finite and >= 0");
   Stopwatch watch;
+  // Where the ranking's time goes, for the debug log: screening, scoring, refinement.
+  double screen_s = 0, score_s = 0, refine_s = 0;
   RobustRankingResult out;
   const std::size_t n = grasps.size();
   auto trustOf = [&](std::size_t i) { return trust.empty() ? 1.0 : trust[i]; };
@@ -128,6 +130,7 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
       if (!grasps[i].contacts.empty()) candidates.push_back(i);
     if (screen_k > top_k) {
       if (candidates.size() > screen_k) candidates.resize(screen_k);
+      const Stopwatch screen_watch;
       RobustnessParams screen = rp;
       screen.samples = params.screen_samples;
       for (std::size_t i : candidates) {
@@ -138,8 +141,10 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
       }
       std::stable_sort(candidates.begin(), candidates.end(),
                        [&](std::size_t a, std::size_t b) { return rank_score[a] > rank_score[b]; });
+      screen_s = screen_watch.seconds();
     }
     if (candidates.size() > top_k) candidates.resize(top_k);
+    const Stopwatch score_watch;
     for (std::size_t i : candidates) {
       const RobustnessResult r = evaluateRobustness(simulator, grasps[i], rp, kScoreStream);
       grasps[i].robustness = graspRobustness(r, rp);
@@ -147,6 +152,8 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
       level[i] = 2;
       ++out.scored;
     }
+    score_s = score_watch.seconds();
+    const Stopwatch refine_watch;
     if (params.refinement.enabled) {
       // The most robust scored grasps are searched for still more robust poses: the grasps a user
       // executes first are the ones worth the closings.
@@ -161,6 +168,7 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
         rank_score[i] = grasps[i].robustness->r * trustOf(i);
       }
     }
+    refine_s = refine_watch.seconds();
   }
   out.order = by_pre;
   std::stable_sort(out.order.begin(), out.order.end(), [&](std::size_t a, std::size_t b) {
@@ -174,8 +182,10 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
     out.grasps.back().id = static_cast<int>(out.grasps.size() - 1);
   }
   out.time_s = watch.seconds();
-  log().debug("robust ranking: {} of {} grasps screened, {} scored in {:.2f} s", out.screened, n,
-              out.scored, out.time_s);
+  log().debug(
+      "robust ranking: {} of {} grasps screened, {} scored, {} refined in {:.2f} s (screening "
+      "{:.2f} s, scoring {:.2f} s, refinement {:.2f} s)",
+      out.screened, n, out.scored, out.refined, out.time_s, screen_s, score_s, refine_s);
   return out;
 }
 

@@ -101,9 +101,9 @@ SettlingResult settleGrasp(GraspSimulator& simulator, const Pose& hand_pose,
     result.outcome = SettlingOutcome::kStartCollision;
     return result;
   }
-  // The first try of each step: twice the last free step (a push that keeps going speeds up), at
-  // most step_m.
+  // A push that keeps its direction speeds up (twice the last step), one that reverses slows down.
   double step = params.step_m;
+  Wrench last_direction = Wrench::Zero();
   for (;;) {
     const auto& contacts = result.closing.contacts;
     if (result.closing.status.ok() && evaluateGrasp(contacts, object, quality).force_closure) {
@@ -141,27 +141,25 @@ SettlingResult settleGrasp(GraspSimulator& simulator, const Pose& hand_pose,
       const Eigen::Vector3d w = length * direction.tail<3>() / object.maxRadius();
       return Pose(objectMotion(object.centerOfMass(), v, w).inverse() * result.hand_pose);
     };
-    // The step: the largest of twice the last one (at most step_m), halvings of it, whose double is
-    // still free, so the object goes at most half way to what it would hit. The pushing fingers
-    // follow the object as it goes and a finger on the far side closes in meanwhile (at once, when
-    // coupled to the pusher, as a gripper's jaws are); moving all the way would leave the pushers
-    // behind, and a coupled gripper would bounce the object between its jaws.
-    bool found = false;
-    for (step = std::min(2 * step, params.step_m); step >= params.min_step_m * (1 - 1e-9);
-         step /= 2) {
-      if (!simulator.inCollision(handAfter(2 * step), result.closing.joints)) {
-        found = true;
+    // The step: twice the last one (at most step_m), or half of it when the push reverses (the
+    // object overshot: a coupled gripper's jaws would otherwise bounce it between them, the
+    // pushing jaw left behind), then halved until the moved start is free of the hand. The
+    // fingers close on from where they were (closeFrom tests the moved start first).
+    step = last_direction.dot(direction) < 0 ? step / 2 : std::min(2 * step, params.step_m);
+    ClosingResult closed;
+    bool moved = false;
+    for (; step >= params.min_step_m * (1 - 1e-9); step /= 2) {
+      closed = simulator.closeFrom(handAfter(step), preshape, result.closing.joints, closing);
+      if (closed.reason != reason::kStartCollision) {
+        moved = true;
         break;
       }
     }
-    // The fingers close on from where they were.
-    ClosingResult closed;
-    if (found)
-      closed = simulator.closeFrom(handAfter(step), preshape, result.closing.joints, closing);
-    if (!found || closed.reason == reason::kStartCollision) {
+    if (!moved) {
       result.outcome = SettlingOutcome::kWedged;
       return result;
     }
+    last_direction = direction;
     result.hand_pose = handAfter(step);
     result.closing = std::move(closed);
     result.travel_m += step * direction.head<3>().norm();
