@@ -1,9 +1,10 @@
-// The force-closure linear program; GLPK is used only in this file.
+// The force-closure linear program and the squeeze LP of settling; GLPK is used only in this file.
 #include <glpk.h>
 
 #include <cmath>
 #include <map>
 #include <memory>
+#include <vector>
 
 #include "skelgrasp/grasping/quality.h"
 
@@ -39,6 +40,30 @@ struct GlpkEnvironmentRelease {
   ~GlpkEnvironmentRelease() { glp_free_env(); }
 };
 
+// A constraint matrix as GLPK loads it: 1-based triplet arrays (index 0 unused), zeros left out.
+class Triplets {
+ public:
+  void reserve(std::size_t nonzeros) {
+    rows_.reserve(nonzeros + 1);
+    cols_.reserve(nonzeros + 1);
+    values_.reserve(nonzeros + 1);
+  }
+  void add(int row, int col, double value) {
+    if (value == 0) return;
+    rows_.push_back(row);
+    cols_.push_back(col);
+    values_.push_back(value);
+  }
+  void loadInto(glp_prob* lp) const {
+    glp_load_matrix(lp, static_cast<int>(values_.size()) - 1, rows_.data(), cols_.data(),
+                    values_.data());
+  }
+
+ private:
+  std::vector<int> rows_{0}, cols_{0};
+  std::vector<double> values_{0.0};
+};
+
 }  // namespace
 
 ClosureLpResult solveClosureLp(const std::vector<Wrench>& wrenches) {
@@ -62,31 +87,20 @@ ClosureLpResult solveClosureLp(const std::vector<Wrench>& wrenches) {
   glp_add_cols(lp, n + 1);
   const int margin_col = n + 1;
   Wrench sum = Wrench::Zero();
-  // GLPK arrays are 1-based; index 0 is unused.
-  std::vector<int> rows(1), cols(1);
-  std::vector<double> values(1);
-  const std::size_t nonzeros = static_cast<std::size_t>(n + 1) * (kWrenchRows + 1);
-  rows.reserve(nonzeros + 1);
-  cols.reserve(nonzeros + 1);
-  values.reserve(nonzeros + 1);
-  auto add = [&](int row, int col, double value) {
-    if (value == 0) return;
-    rows.push_back(row);
-    cols.push_back(col);
-    values.push_back(value);
-  };
+  Triplets matrix;
+  matrix.reserve(static_cast<std::size_t>(n + 1) * (kWrenchRows + 1));
   for (int i = 0; i < n; ++i) {
     const int col = i + 1;
     glp_set_col_bnds(lp, col, GLP_LO, 0.0, 0.0);
-    for (int k = 0; k < kWrenchRows; ++k) add(k + 1, col, wrenches[i][k]);
-    add(kWrenchRows + 1, col, 1.0);
+    for (int k = 0; k < kWrenchRows; ++k) matrix.add(k + 1, col, wrenches[i][k]);
+    matrix.add(kWrenchRows + 1, col, 1.0);
     sum += wrenches[i];
   }
   glp_set_col_bnds(lp, margin_col, GLP_FR, 0.0, 0.0);
   glp_set_obj_coef(lp, margin_col, 1.0);
-  for (int k = 0; k < kWrenchRows; ++k) add(k + 1, margin_col, sum[k]);
-  add(kWrenchRows + 1, margin_col, static_cast<double>(n));
-  glp_load_matrix(lp, static_cast<int>(values.size()) - 1, rows.data(), cols.data(), values.data());
+  for (int k = 0; k < kWrenchRows; ++k) matrix.add(k + 1, margin_col, sum[k]);
+  matrix.add(kWrenchRows + 1, margin_col, static_cast<double>(n));
+  matrix.loadInto(lp);
 
   glp_smcp options;
   glp_init_smcp(&options);
@@ -147,19 +161,12 @@ SqueezeLpResult solveSqueezeLp(const std::vector<Wrench>& wrenches, const std::v
     glp_set_row_bnds(lp, pressing_row + static_cast<int>(j), GLP_LO, 0.0, 0.0);
   // Columns: the n edge weights, then the residual's positive and negative parts (6 each).
   glp_add_cols(lp, n + 2 * kWrenchRows);
-  std::vector<int> rows(1), cols(1);
-  std::vector<double> values(1);
-  auto add = [&](int row, int col, double value) {
-    if (value == 0) return;
-    rows.push_back(row);
-    cols.push_back(col);
-    values.push_back(value);
-  };
+  Triplets matrix;
   for (int i = 0; i < n; ++i) {
     const int col = i + 1;
     glp_set_col_bnds(lp, col, GLP_LO, 0.0, 0.0);
-    for (int k = 0; k < kWrenchRows; ++k) add(k + 1, col, wrenches[i][k]);
-    if (group[i] >= 0) add(group_row.at(group[i]), col, normal[i]);
+    for (int k = 0; k < kWrenchRows; ++k) matrix.add(k + 1, col, wrenches[i][k]);
+    if (group[i] >= 0) matrix.add(group_row.at(group[i]), col, normal[i]);
   }
   for (int k = 0; k < kWrenchRows; ++k) {
     const int plus = n + 1 + k, minus = n + 1 + kWrenchRows + k;
@@ -167,14 +174,14 @@ SqueezeLpResult solveSqueezeLp(const std::vector<Wrench>& wrenches, const std::v
     glp_set_col_bnds(lp, minus, GLP_LO, 0.0, 0.0);
     glp_set_obj_coef(lp, plus, 1.0);
     glp_set_obj_coef(lp, minus, 1.0);
-    add(k + 1, plus, -1.0);
-    add(k + 1, minus, 1.0);
+    matrix.add(k + 1, plus, -1.0);
+    matrix.add(k + 1, minus, 1.0);
     for (std::size_t j = 0; j < pressing.size(); ++j) {
-      add(pressing_row + static_cast<int>(j), plus, pressing[j][k]);
-      add(pressing_row + static_cast<int>(j), minus, -pressing[j][k]);
+      matrix.add(pressing_row + static_cast<int>(j), plus, pressing[j][k]);
+      matrix.add(pressing_row + static_cast<int>(j), minus, -pressing[j][k]);
     }
   }
-  glp_load_matrix(lp, static_cast<int>(values.size()) - 1, rows.data(), cols.data(), values.data());
+  matrix.loadInto(lp);
   glp_smcp options;
   glp_init_smcp(&options);
   options.msg_lev = GLP_MSG_OFF;

@@ -35,6 +35,9 @@ const char* toString(SettlingOutcome outcome) {
 
 namespace {
 
+// A step halved down to exactly min_step_m is still tried, whatever the rounding of the halvings.
+constexpr double kHalvingSlack = 1e-9;
+
 // The object moved by the twist (v, w) about its centre of mass c: x -> c + R(w) (x - c) + v.
 Pose objectMotion(const Eigen::Vector3d& centre, const Eigen::Vector3d& v,
                   const Eigen::Vector3d& w) {
@@ -148,7 +151,7 @@ SettlingResult settleGrasp(GraspSimulator& simulator, const Pose& hand_pose,
     step = last_direction.dot(direction) < 0 ? step / 2 : std::min(2 * step, params.step_m);
     ClosingResult closed;
     bool moved = false;
-    for (; step >= params.min_step_m * (1 - 1e-9); step /= 2) {
+    for (; step >= params.min_step_m * (1 - kHalvingSlack); step /= 2) {
       closed = simulator.closeFrom(handAfter(step), preshape, result.closing.joints, closing);
       if (closed.reason != reason::kStartCollision) {
         moved = true;

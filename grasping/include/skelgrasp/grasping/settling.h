@@ -16,9 +16,10 @@ namespace skelgrasp::grasping {
 
 struct SettlingParams {
   // Largest displacement of one settling step (m): of the centre of mass, and of a point at the
-  // object's max radius by the rotation. Each step first tries twice the last free one, at most
-  // step_m; a step that would move the object into the hand is halved down to min_step_m, below
-  // which the object is wedged. Hand links are over 1 cm thick, so no step passes through one.
+  // object's max radius by the rotation. Each step first tries twice the last one (at most step_m),
+  // or half of it when the unbalanced wrench reversed; a step that would move the object into the
+  // hand is halved down to min_step_m, below which the object is wedged. Hand links are over 1 cm
+  // thick, so no step passes through one.
   double step_m = 0.004;
   double min_step_m = 0.00025;
   // Farthest the object may be pushed in total (m, summed steps) before the execution counts as the
