@@ -11,6 +11,17 @@ namespace {
 constexpr std::size_t kHistogramBins = 10;  // bins of 0.1 in r
 // Chart geometry in pixels.
 constexpr int kChartWidthPx = 420, kChartHeightPx = 180, kMarginPx = 30;
+
+// What the robustness variant of the scored grasps means, for a reader of the report who does not
+// know the option (docs/evaluation.md, "Robustness score").
+std::string variantPhrase(const std::string& variant) {
+  if (variant == "settled") return "settled variant: the object free to move in the closing hand";
+  if (variant == "paper") return "paper variant: the object held still";
+  if (variant == "guarded") return "guarded variant: the object held still, guarded approach";
+  if (variant == "reference") return "reference variant: the object moved";
+  return variant + " variant";
+}
+
 }  // namespace
 
 void addGraspTable(HtmlReport& report, const std::vector<RankedGrasp>& ranked) {
@@ -95,11 +106,11 @@ void addRobustnessHistogram(HtmlReport& report, const std::vector<RankedGrasp>& 
                                                  1000 * any->torsional_friction_m)
                                    : std::string();
   report.paragraph(fmt::format(
-      "Robustness r of the {} scored grasps: the share of {} perturbed executions ({} variant, "
+      "Robustness r of the {} scored grasps: the share of {} perturbed executions ({}, "
       "position sigma {:.0f} mm, orientation sigma {:.1f} deg, mu {:.2f}{}) that still reach "
       "force closure.",
-      scored, any->samples, any->variant, 1000 * any->sigma_m, any->sigma_rad * 180 / M_PI, any->mu,
-      contacts));
+      scored, any->samples, variantPhrase(any->variant), 1000 * any->sigma_m,
+      any->sigma_rad * 180 / M_PI, any->mu, contacts));
   report.rawHtml(robustnessHistogramSvg(counts));
 }
 
