@@ -22,6 +22,9 @@ struct ShapeInstance {
   std::vector<std::pair<Eigen::Vector3d, double>> sphere_cover;
   // Half extents of a box shape (the fast closing's exact gaps from the object's distance field).
   std::optional<Eigen::Vector3d> box_half;
+  // Half extents of the box (shape frame) that holds a cylinder or a sphere: its exact gap bounds
+  // the shape's from below, tighter than the covering spheres (the SDH's 6 cm palm disc).
+  std::optional<Eigen::Vector3d> enclosing_half;
 };
 
 // Pose of a placed shape (object frame).

@@ -385,7 +385,9 @@ TEST(Robustness, SettledHoldsWhereverTheGuardedVariantHolds) {
       const auto settled = evaluateRobustness(sim, grasps[i], rp, i);
       ASSERT_EQ(settled.held.size(), guarded.held.size());
       for (std::size_t k = 0; k < settled.held.size(); ++k) {
-        if (guarded.held[k]) EXPECT_TRUE(settled.held[k]) << "grasp " << i << " sample " << k;
+        if (guarded.held[k]) {
+          EXPECT_TRUE(settled.held[k]) << "grasp " << i << " sample " << k;
+        }
       }
       EXPECT_EQ(guarded.settled_holds, 0);
       EXPECT_EQ(settled.force_closure, guarded.force_closure + settled.settled_holds);
