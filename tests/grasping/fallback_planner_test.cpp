@@ -105,6 +105,7 @@ TEST(FallbackPlanner, CapsuleServedByTheSkeletonIsLeftAlone) {
   const TriangleMesh capsule = primitives::makeCapsule(0.03, 0.14, 48);
   SkeletonPlannerParams no_centre;
   no_centre.centre_candidates = false;
+  no_centre.surface_candidates = 0;
   SkeletonPlannerParams off = no_centre;
   off.fallback = false;
   const auto with = planOn(capsule, hand, no_centre), without = planOn(capsule, hand, off);
@@ -142,9 +143,11 @@ std::vector<std::string> skeletonGraspKeys(const PlanResult& r) {
 TEST(FallbackPlanner, CentreCandidatesAddPowerGraspsAboutTheCentre) {
   const HandModel hand = loadBuiltinHand("armar3");
   const TriangleMesh capsule = primitives::makeCapsule(0.03, 0.14, 48);
-  SkeletonPlannerParams no_centre;
+  SkeletonPlannerParams with_centre;  // the centre candidates alone join the pool here
+  with_centre.surface_candidates = 0;
+  SkeletonPlannerParams no_centre = with_centre;
   no_centre.centre_candidates = false;
-  const auto with = planOn(capsule, hand), without = planOn(capsule, hand, no_centre);
+  const auto with = planOn(capsule, hand, with_centre), without = planOn(capsule, hand, no_centre);
   ASSERT_TRUE(SkeletonPlannerParams{}.centre_candidates);
   expectSound(with.result, hand, *with.object);
   EXPECT_EQ(fallbackReasons(with.result.summary), 0u);
@@ -202,11 +205,13 @@ TEST(FallbackPlanner, CentreCandidatesOfAGripperArePrecisionGrasps) {
 TEST(FallbackPlanner, SurfaceCandidatesJoinThePool) {
   const HandModel hand = loadBuiltinHand("armar3");
   const TriangleMesh capsule = primitives::makeCapsule(0.03, 0.14, 48);
-  ASSERT_EQ(SkeletonPlannerParams{}.surface_candidates, 0u);
-  SkeletonPlannerParams with_surface;
+  ASSERT_EQ(SkeletonPlannerParams{}.surface_candidates, 50u);
+  SkeletonPlannerParams with_surface, without_surface;
   constexpr std::size_t kSurfaceHypotheses = 30;
   with_surface.surface_candidates = kSurfaceHypotheses;
-  const auto with = planOn(capsule, hand, with_surface), without = planOn(capsule, hand);
+  without_surface.surface_candidates = 0;
+  const auto with = planOn(capsule, hand, with_surface),
+             without = planOn(capsule, hand, without_surface);
   expectSound(with.result, hand, *with.object);
   EXPECT_EQ(with.result.summary.hypotheses, without.result.summary.hypotheses + kSurfaceHypotheses);
   std::map<std::string, std::size_t> others_with, others_without;

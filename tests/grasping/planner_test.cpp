@@ -57,6 +57,7 @@ TEST(SkeletonPlanner, CylinderGetsPowerGraspsApproachingAcrossTheAxis) {
   // The skeleton strategies alone (not the centre candidates, fallback_planner_test.cpp).
   SkeletonPlannerParams skeleton_only;
   skeleton_only.centre_candidates = false;
+  skeleton_only.surface_candidates = 0;
   const auto p = planOn(primitives::makeCylinder(0.035, 0.2, 48, 10), hand, skeleton_only);
   ASSERT_FALSE(p.result.grasps.empty());
   expectConsistent(p.result, hand, *p.object);
@@ -81,6 +82,7 @@ TEST(SkeletonPlanner, ThinRodGetsOnlyPrecisionGrasps) {
   const HandModel hand = loadBuiltinHand("armar3");
   SkeletonPlannerParams skeleton_only;  // not the centre candidates
   skeleton_only.centre_candidates = false;
+  skeleton_only.surface_candidates = 0;
   const auto p = planOn(primitives::makeCylinder(0.005, 0.16, 16, 20), hand, skeleton_only);
   ASSERT_FALSE(p.result.grasps.empty());
   expectConsistent(p.result, hand, *p.object);
@@ -174,6 +176,7 @@ TEST(SkeletonPlanner, PointContactsCanBeAskedForOnASoftFingeredHand) {
   const TriangleMesh rod = primitives::makeCylinder(0.012, 0.12, 32, 12);
   SkeletonPlannerParams skeleton_only;  // the same poses as the point-contact plan below
   skeleton_only.centre_candidates = false;
+  skeleton_only.surface_candidates = 0;
   const auto soft = planOn(rod, hand, skeleton_only);  // nullopt: the hand's soft fingers
   ASSERT_FALSE(soft.result.grasps.empty());
   expectConsistent(soft.result, hand, *soft.object);
@@ -181,6 +184,7 @@ TEST(SkeletonPlanner, PointContactsCanBeAskedForOnASoftFingeredHand) {
   SkeletonPlannerParams point;
   point.hypothesis.quality.torsional_friction_m = 0.0;
   point.fallback = false;  // the skeleton's two-finger pinches only (the fallback adds palm grasps)
+  point.surface_candidates = 0;
   const auto rigid = planOn(rod, hand, point);
   EXPECT_EQ(rigid.result.summary.hypotheses, soft.result.summary.hypotheses);
   EXPECT_GT(rigid.result.summary.generated, 0u);

@@ -195,6 +195,7 @@ std::vector<Grasp> planCapsule(const RefinementParams& refinement) {
   params.vertex_distance_m = 0.02;
   params.refinement = refinement;
   params.centre_candidates = false;  // refinement works on the skeleton strategies' hypotheses
+  params.surface_candidates = 0;
   return planSkeletonGrasps(hand, object, skel.skeleton, params).grasps;
 }
 

@@ -121,13 +121,14 @@ def test_surface_planner(capsule, sdh):
 
 
 def test_surface_candidates_join_the_skeleton_planners_pool(capsule):
-    assert "surface_candidates: int = 0" in skelgrasp.plan.__doc__
+    assert "surface_candidates: int = 50" in skelgrasp.plan.__doc__
     # ARMAR-III's power grasp closes on the capsule from most surface normals (the SDH's seldom).
     armar3 = skelgrasp.hand("armar3")
     hypotheses = 30
     result = skelgrasp.plan(capsule, armar3, seed=1, max_grasps=0, surface_candidates=hypotheses,
                             robustness=False)
-    without = skelgrasp.plan(capsule, armar3, seed=1, max_grasps=0, robustness=False)
+    without = skelgrasp.plan(capsule, armar3, seed=1, max_grasps=0, surface_candidates=0,
+                             robustness=False)
     assert result.summary["hypotheses"] == without.summary["hypotheses"] + hypotheses
     surface = [g for g in result.grasps if g.strategy == "surface"]
     assert surface and len(result.grasps) == len(without.grasps) + len(surface)
