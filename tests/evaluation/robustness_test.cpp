@@ -279,26 +279,43 @@ TEST(Robustness, HeldNamesTheSamplesThatHeldUnderTheirPoseErrors) {
                 0.1 * positionSigmaM(paper));
 }
 
+// The robustness of the capsule's first planned grasps (up to 3 per hand) under two variants,
+// with the same samples (seed 9, 30 per grasp): the pairs the variant comparisons below examine.
+struct VariantPair {
+  RobustnessResult weaker, stronger;
+};
+std::vector<VariantPair> scoredTwice(const std::string& hand_name, RobustnessVariant weaker,
+                                     RobustnessVariant stronger) {
+  const TriangleMesh mesh = primitives::makeCapsule(0.03, 0.14);
+  const grasping::GraspObject object(mesh);
+  const auto hand = grasping::loadBuiltinHand(hand_name);
+  const auto grasps = plannedGrasps(hand, object, mesh, 3);
+  grasping::GraspSimulator sim(hand, object);
+  std::vector<VariantPair> pairs;
+  for (std::size_t i = 0; i < grasps.size(); ++i) {
+    RobustnessParams rp;
+    rp.samples = 30;
+    rp.seed = 9;
+    rp.variant = weaker;
+    VariantPair pair;
+    pair.weaker = evaluateRobustness(sim, grasps[i], rp, i);
+    rp.variant = stronger;
+    pair.stronger = evaluateRobustness(sim, grasps[i], rp, i);
+    pairs.push_back(std::move(pair));
+  }
+  return pairs;
+}
+
 // The guarded variant executes the paper's samples; the ones whose open hand starts clear are
 // closed exactly as in the paper variant, so it can only add holding samples, never lose one.
 TEST(Robustness, GuardedHoldsWhereverThePaperVariantHolds) {
-  const TriangleMesh mesh = primitives::makeCapsule(0.03, 0.14);
-  const grasping::GraspObject object(mesh);
   int collisions = 0, guarded_holds = 0, slipped = 0;
   for (const std::string hand_name : {"shadow", "sdh"}) {
     SCOPED_TRACE(hand_name);
-    const auto hand = grasping::loadBuiltinHand(hand_name);
-    const auto grasps = plannedGrasps(hand, object, mesh, 3);
-    ASSERT_FALSE(grasps.empty());
-    grasping::GraspSimulator sim(hand, object);
-    for (std::size_t i = 0; i < grasps.size(); ++i) {
-      RobustnessParams rp;
-      rp.samples = 30;
-      rp.seed = 9;
-      rp.variant = RobustnessVariant::kPaper;
-      const auto paper = evaluateRobustness(sim, grasps[i], rp, i);
-      rp.variant = RobustnessVariant::kGuarded;
-      const auto guarded = evaluateRobustness(sim, grasps[i], rp, i);
+    const auto pairs =
+        scoredTwice(hand_name, RobustnessVariant::kPaper, RobustnessVariant::kGuarded);
+    ASSERT_FALSE(pairs.empty());
+    for (const auto& [paper, guarded] : pairs) {
       EXPECT_EQ(guarded.collisions, paper.collisions);  // the same samples
       EXPECT_EQ(paper.guarded_holds, 0);
       EXPECT_EQ(guarded.force_closure, paper.force_closure + guarded.guarded_holds);
@@ -366,23 +383,14 @@ TEST(Robustness, GuardedBacksAHandStartingInsideTheObjectOffAndHolds) {
 // hold still: sample by sample it holds wherever the guarded variant holds, and the samples it
 // adds are the settled holds.
 TEST(Robustness, SettledHoldsWhereverTheGuardedVariantHolds) {
-  const TriangleMesh mesh = primitives::makeCapsule(0.03, 0.14);
-  const grasping::GraspObject object(mesh);
   int settled_holds = 0, samples = 0;
   for (const std::string hand_name : {"sdh", "shadow", "armar3"}) {
     SCOPED_TRACE(hand_name);
-    const auto hand = grasping::loadBuiltinHand(hand_name);
-    const auto grasps = plannedGrasps(hand, object, mesh, 3);
-    ASSERT_FALSE(grasps.empty());
-    grasping::GraspSimulator sim(hand, object);
-    for (std::size_t i = 0; i < grasps.size(); ++i) {
-      RobustnessParams rp;
-      rp.samples = 30;
-      rp.seed = 9;
-      rp.variant = RobustnessVariant::kGuarded;
-      const auto guarded = evaluateRobustness(sim, grasps[i], rp, i);
-      rp.variant = RobustnessVariant::kSettled;
-      const auto settled = evaluateRobustness(sim, grasps[i], rp, i);
+    const auto pairs =
+        scoredTwice(hand_name, RobustnessVariant::kGuarded, RobustnessVariant::kSettled);
+    ASSERT_FALSE(pairs.empty());
+    for (std::size_t i = 0; i < pairs.size(); ++i) {
+      const auto& [guarded, settled] = pairs[i];
       ASSERT_EQ(settled.held.size(), guarded.held.size());
       for (std::size_t k = 0; k < settled.held.size(); ++k) {
         if (guarded.held[k]) {
