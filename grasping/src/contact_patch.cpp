@@ -209,31 +209,29 @@ std::optional<Contact> fastContactPatch(const HandModel& hand,
   if (bounded && linkObjectGap(shapes, field, max_distance) > max_distance) return std::nullopt;
   // Gaps at or beyond `upper` come back as `upper`.
   const double upper = bounded ? max_distance + kPatchBandM : kTouchedGapReachM;
-  bool all_boxes = true;
+  // One box per shape: a box shape itself (its exact gap), or the box that holds a cylinder or a
+  // sphere (a lower bound of its gap). Gaps at or beyond `best` come back as `best`.
+  bool all_boxes = true, all_held = true;
   double best = upper;
-  const ShapeInstance* closest_box = nullptr;
+  const ShapeInstance* closest_box = nullptr;  // used only when every shape is a box
   for (const auto& s : shapes) {
     all_boxes = all_boxes && s.box_half.has_value();
-    if (!all_boxes) break;
-    const double gap = field.boxDistance(shapePose(s), *s.box_half, best);
+    const auto& half = s.box_half ? s.box_half : s.enclosing_half;
+    if (!half) {
+      all_held = false;
+      continue;
+    }
+    const double gap = field.boxDistance(shapePose(s), *half, best);
     if (gap < best) {
       best = gap;
       closest_box = &s;
     }
   }
-  if (!all_boxes && bounded) {
-    // The boxes holding the other shapes bound their gaps from below: a link provably beyond
-    // max_distance needs no FCL query (a third of a settled score on the SDH went to those).
-    bool beyond = true;
-    for (const auto& s : shapes) {
-      const auto& half = s.box_half ? s.box_half : s.enclosing_half;
-      beyond = beyond && half && field.boxDistance(shapePose(s), *half, upper) >= upper;
-    }
-    if (beyond) return std::nullopt;
-  }
+  // Every shape provably farther than max_distance: no contact and no FCL query (the SDH's palm
+  // and knuckle cylinders had taken a third of a settled score in those).
+  if (bounded && all_held && best >= upper) return std::nullopt;
   std::optional<FclGap> exact;
   if (!all_boxes || best >= upper) {
-    if (all_boxes && bounded) return std::nullopt;  // farther than max_distance
     exact = fclGap(shapes, object, queries);
     best = exact->distance;
   }
