@@ -49,6 +49,8 @@ void registerBenchRunCommand(CLI::App& app, Action& action);
 void registerBenchJudgeCommand(CLI::App& app, Action& action);
 // Adds `bench segment`; call after registerBenchCommand.
 void registerBenchSegmentCommand(CLI::App& app, Action& action);
+// Adds `bench ranking`; call after registerBenchCommand.
+void registerBenchRankingCommand(CLI::App& app, Action& action);
 
 // Prints "skelgrasp: error: <message>" to stderr and returns kExitBadInput.
 int fail(const std::string& message);

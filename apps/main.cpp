@@ -86,6 +86,7 @@ int main(int argc, char** argv) {
   cli::registerBenchRunCommand(app, action);
   cli::registerBenchJudgeCommand(app, action);
   cli::registerBenchSegmentCommand(app, action);
+  cli::registerBenchRankingCommand(app, action);
 #endif
 
   try {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <optional>
+#include <queue>
 
 #include "skelgrasp/common/logging.h"
 
@@ -60,6 +62,16 @@ bool refineScoredGrasp(grasping::GraspSimulator& simulator, grasping::Grasp& gra
   }
   grasp.robustness->refinement = record;
   return record.refined;
+}
+
+// The fewest holds out of `samples` whose screening score (holds / samples x trust) beats `bar`
+// strictly, computed as the screening computes its scores; none when not even all samples do.
+// Strictly: a later candidate that only ties the top_k's lowest ranks below it (stable sort).
+std::optional<int> holdsToBeat(double bar, double trust, int samples) {
+  for (int holds = 0; holds <= samples; ++holds) {
+    if (static_cast<double>(holds) / samples * trust > bar) return holds;
+  }
+  return std::nullopt;
 }
 
 }  // namespace
@@ -133,12 +145,35 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
       const Stopwatch screen_watch;
       RobustnessParams screen = rp;
       screen.samples = params.screen_samples;
+      // The top_k screening scores so far, lowest first: the bar a later candidate must beat.
+      std::priority_queue<double, std::vector<double>, std::greater<>> best_scores;
+      std::vector<std::size_t> contenders;
       for (std::size_t i : candidates) {
-        const RobustnessResult r = evaluateRobustness(simulator, grasps[i], screen, kScreenStream);
+        std::optional<int> max_failures;
+        if (params.prune_screening && best_scores.size() == top_k) {
+          const std::optional<int> needed =
+              holdsToBeat(best_scores.top(), trustOf(i), params.screen_samples);
+          if (!needed) {
+            ++out.screen_pruned;
+            continue;
+          }
+          max_failures = params.screen_samples - *needed;
+        }
+        const RobustnessResult r =
+            evaluateRobustness(simulator, grasps[i], screen, kScreenStream, max_failures);
+        if (r.gave_up) {
+          ++out.screen_pruned;
+          continue;
+        }
         rank_score[i] = r.score * trustOf(i);
         level[i] = 1;
         ++out.screened;
+        contenders.push_back(i);
+        best_scores.push(rank_score[i]);
+        if (best_scores.size() > top_k) best_scores.pop();
       }
+      // Candidates in pre-score order, so a stable sort breaks ties of screening score by it.
+      candidates = std::move(contenders);
       std::stable_sort(candidates.begin(), candidates.end(),
                        [&](std::size_t a, std::size_t b) { return rank_score[a] > rank_score[b]; });
       screen_s = screen_watch.seconds();
@@ -183,9 +218,10 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
   }
   out.time_s = watch.seconds();
   log().debug(
-      "robust ranking: {} of {} grasps screened, {} scored, {} refined in {:.2f} s (screening "
-      "{:.2f} s, scoring {:.2f} s, refinement {:.2f} s)",
-      out.screened, n, out.scored, out.refined, out.time_s, screen_s, score_s, refine_s);
+      "robust ranking: {} of {} grasps screened ({} pruned), {} scored, {} refined in {:.2f} s "
+      "(screening {:.2f} s, scoring {:.2f} s, refinement {:.2f} s)",
+      out.screened, n, out.screen_pruned, out.scored, out.refined, out.time_s, screen_s, score_s,
+      refine_s);
   return out;
 }
 

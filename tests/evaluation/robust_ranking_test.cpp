@@ -6,6 +6,8 @@
 #include <cmath>
 #include <filesystem>
 #include <numeric>
+#include <random>
+#include <utility>
 
 #include "planned_object.h"
 #include "skelgrasp/common/mesh_io.h"
@@ -95,8 +97,10 @@ TEST(RobustRanking, ScreeningChoosesTheScoredGraspsByAScreeningROnItsOwnSamples)
   params.screen_k = 6;
   params.screen_samples = 8;
   params.robustness.seed = 3;
-  // The screening r below is of the chosen grasps as planned: no search may move them.
+  // The screening r below is of the chosen grasps as planned: no search may move them. Every
+  // candidate gets its full screening r (pruning is checked below).
   params.refinement.enabled = false;
+  params.prune_screening = false;
   const auto result =
       rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params);
   EXPECT_EQ(result.screened, 6u);
@@ -138,6 +142,66 @@ TEST(RobustRanking, ScreeningChoosesTheScoredGraspsByAScreeningROnItsOwnSamples)
   params.screen_samples = 0;
   EXPECT_THROW(rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params),
                InvalidArgument);
+}
+
+// Pruned screening chooses the grasps full screening chooses: the same scored grasps in the same
+// order with the same r, with and without trust factors; only screening samples are saved.
+void expectPruningChoosesAsFullScreening(const Planned& p, const std::vector<double>& trust,
+                                         const std::string& what) {
+  auto params = fewSamples(12, 3);
+  params.screen_k = 0;  // every grasp is a candidate
+  params.screen_samples = 10;
+  params.refinement.enabled = false;
+  params.prune_screening = false;
+  const auto full =
+      rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params, trust);
+  params.prune_screening = true;
+  const auto pruned =
+      rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params, trust);
+  ASSERT_EQ(full.scored, 3u) << what;
+  ASSERT_EQ(pruned.scored, 3u) << what;
+  EXPECT_EQ(full.screen_pruned, 0u) << what;
+  EXPECT_EQ(pruned.screened + pruned.screen_pruned, full.screened) << what;
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(pruned.order[i], full.order[i]) << what << " rank " << i;
+    EXPECT_EQ(pruned.grasps[i].robustness->r, full.grasps[i].robustness->r) << what;
+    EXPECT_EQ(pruned.scores[i], full.scores[i]) << what;
+  }
+  // Every grasp is still returned.
+  EXPECT_EQ(pruned.grasps.size(), full.grasps.size()) << what;
+}
+
+TEST(RobustRanking, PrunedScreeningChoosesTheGraspsFullScreeningChooses) {
+  std::vector<std::pair<std::string, TriangleMesh>> meshes;
+  meshes.emplace_back("cylinder", primitives::makeCylinder(0.035, 0.2, 48, 10));
+  for (const char* name : {"011_banana.ply", "025_mug.ply"}) {
+    const std::string path = test::sharedDataDir() + "/objects/ycb/" + name;
+    if (!test::sharedDataDir().empty() && std::filesystem::exists(path))
+      meshes.emplace_back(name, loadMesh(path));
+  }
+  if (meshes.size() == 1) GTEST_SKIP() << "no YCB meshes in ../shared/data: cylinder only";
+  std::size_t pruned_any = 0;
+  for (const auto& [name, mesh] : meshes) {
+    for (const char* hand : {"armar3", "sdh"}) {
+      const Planned p = planOn(hand, mesh, 16);
+      if (p.plan.grasps.size() < 4) continue;
+      const std::string what = name + " " + hand;
+      expectPruningChoosesAsFullScreening(p, {}, what);
+      // Trust factors between 0.5 and 1 (seeded): the bar is on r x trust.
+      std::mt19937 rng(11);
+      std::uniform_real_distribution<double> factor(0.5, 1.0);
+      std::vector<double> trust(p.plan.grasps.size());
+      for (double& t : trust) t = factor(rng);
+      expectPruningChoosesAsFullScreening(p, trust, what + " with trust");
+      auto params = fewSamples(4, 3);
+      params.screen_k = 0;
+      params.refinement.enabled = false;
+      pruned_any += rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params)
+                        .screen_pruned;
+    }
+  }
+  // Pruning happens at all on these objects (else the comparison above says nothing).
+  EXPECT_GT(pruned_any, 0u);
 }
 
 TEST(RobustRanking, DisabledKeepsTheEpsilonOrderWithoutRobustness) {

@@ -37,6 +37,13 @@ struct RobustRankingParams {
   // the returned grasps. No screening when screen_k (0 read as all) is at most top_k.
   std::size_t screen_k = kDefaultScreenK;
   int screen_samples = kDefaultScreenSamples;
+  // Stop screening a candidate once it cannot enter the top_k any more: once top_k candidates
+  // are screened, a later one must hold in more samples than the lowest of the best top_k so far
+  // (ties go to the earlier candidate), and its samples stop when too many have failed for that.
+  // The top_k chosen are the same as without pruning (tested); only the order of the pruned
+  // candidates changes (they rank by pre-score, as unscreened grasps do). False: every
+  // candidate gets its full screening r (for comparing, `skelgrasp bench ranking`).
+  bool prune_screening = true;
   // Samples, variant, pose error sigmas and seed of r. Its `quality` and `closing` are NOT used:
   // r is judged as the planner judged the grasp (rankByRobustness's `planner` argument), with the
   // friction replaced by `friction` when that is set.
@@ -53,6 +60,7 @@ struct RobustRankingResult {
   std::vector<double> scores;           // each grasp's rank score (see rankByRobustness)
   std::vector<std::size_t> order;       // grasps[i] was input grasp order[i]
   std::size_t screened = 0;             // grasps given a screening r (0 without screening)
+  std::size_t screen_pruned = 0;        // candidates whose screening stopped (prune_screening)
   std::size_t scored = 0;               // grasps that got a robustness
   std::size_t refined = 0;              // scored grasps replaced by a more robust pose
   double time_s = 0;
@@ -63,7 +71,7 @@ struct RobustRankingResult {
 //  * pre-score = epsilon x trust[i] (trust empty: 1; scans: 1 - w + w x observed contact ratio);
 //  * screening score = screening r x trust[i]; the top_k by it (ties: pre-score) are scored;
 //  * rank score of a scored grasp = r x trust[i]; of a screened one = its screening score; of
-//    the others (beyond screen_k, or ranking disabled) = its pre-score;
+//    the others (beyond screen_k, screening pruned, or ranking disabled) = its pre-score;
 //  * refinement (params.refinement.enabled): the best params.refinement.max_grasps scored grasps
 //    by rank score are searched for more robust poses (robust_refinement.h, own stream
 //    grasp_index = 2); a pose found replaces its grasp when its r on the scoring samples is at
