@@ -444,5 +444,28 @@ TEST(Cli, BenchJudgeWritesOldAndNewMediansPerHand) {
       << missing.err;
 }
 
+TEST(Cli, BenchRankingComparesFullAndPrunedScreeningOnTheSameGrasps) {
+  const std::string dir = test::tempDir("bench_ranking");
+  // The SDH on the generated box: over 60 kept grasps, so the ranking screens and cuts short.
+  saveMesh(dir + "/box.ply", primitives::makeNamedShape("box"));
+  const auto run =
+      test::runCli("bench ranking " + dir + "/box.ply --hands sdh --json " + dir + "/r.json", dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto j = readJsonFile(dir + "/r.json");
+  ASSERT_EQ(j["rows"].size(), 1u);
+  const auto& row = j["rows"][0];
+  EXPECT_EQ(row["hand"], "sdh");
+  // The two paths return the same scored grasps, and the pruned path did cut candidates short.
+  EXPECT_TRUE(row["same_scored_grasps"].get<bool>());
+  EXPECT_GT(row["full_s"].get<double>(), 0.0);
+  EXPECT_GT(row["pruned_s"].get<double>(), 0.0);
+  EXPECT_GT(row["candidates"].get<std::size_t>(), 10u);
+  EXPECT_GT(row["pruned"].get<std::size_t>(), 0u);
+  EXPECT_LE(row["pruned"].get<std::size_t>(), row["candidates"].get<std::size_t>());
+  EXPECT_NE(run.out.find("the same scored grasps"), std::string::npos) << run.out;
+  const auto empty = test::runCli("bench ranking " + dir + "/nothing_here", dir);
+  EXPECT_EQ(empty.exit_code, 2);
+}
+
 }  // namespace
 }  // namespace skelgrasp
