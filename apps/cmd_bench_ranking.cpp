@@ -145,7 +145,7 @@ void registerBenchRankingCommand(CLI::App& app, Action& action) {
   auto args = std::make_shared<BenchRankingArgs>();
   cmd->add_option("inputs", args->inputs, "Mesh files or directories")->required();
   cmd->add_option("--hands", args->hands, "Comma-separated built-in hands")->capture_default_str();
-  cmd->add_option("--limit", args->limit, "At most this many meshes (0: all)")
+  cmd->add_option("--limit", args->limit, "Only the first N meshes (0 = all)")
       ->capture_default_str();
   cmd->add_option("--repeat", args->repeat, "Runs of each path per object and hand (mean)")
       ->transform(countIn(1, kMaxRepeat))

@@ -215,13 +215,12 @@ std::optional<Contact> fastContactPatch(const HandModel& hand,
   double best = upper;
   const ShapeInstance* closest_box = nullptr;  // used only when every shape is a box
   for (const auto& s : shapes) {
-    all_boxes = all_boxes && s.box_half.has_value();
-    const auto& half = s.box_half ? s.box_half : s.enclosing_half;
-    if (!half) {
+    all_boxes = all_boxes && s.is_box;
+    if (!s.enclosing_half) {
       all_held = false;
       continue;
     }
-    const double gap = field.boxDistance(shapePose(s), *half, best);
+    const double gap = field.boxDistance(shapePose(s), *s.enclosing_half, best);
     if (gap < best) {
       best = gap;
       closest_box = &s;
@@ -257,7 +256,7 @@ std::optional<Contact> fastContactPatch(const HandModel& hand,
     // box and its nearest triangle, which FCL would find by GJK over the whole mesh.
     std::optional<DistanceField::BoxClosestPoints> pair;
     if (!exact && closest_box)
-      pair = field.boxClosestPoints(shapePose(*closest_box), *closest_box->box_half, upper);
+      pair = field.boxClosestPoints(shapePose(*closest_box), *closest_box->enclosing_half, upper);
     if (pair) {
       patch_sum = pair->on_surface.point;
       link_sum = pair->on_box;

@@ -60,7 +60,8 @@ HandGeometry::HandGeometry(const HandModel& hand) : motion(hand) {
       instance.bounding_radius = boundingRadius(shape);
       instance.surface_samples = surfaceSamples(shape);
       instance.sphere_cover = sphereCover(shape);
-      if (shape.type == ShapeType::kBox) instance.box_half = 0.5 * shape.box_size;
+      instance.is_box = shape.type == ShapeType::kBox;
+      if (instance.is_box) instance.enclosing_half = 0.5 * shape.box_size;
       if (shape.type == ShapeType::kCylinder)
         instance.enclosing_half = Eigen::Vector3d(shape.radius, shape.radius, 0.5 * shape.length);
       if (shape.type == ShapeType::kSphere)
@@ -163,9 +164,8 @@ double linkObjectGap(const std::vector<ShapeInstance>& link, const DistanceField
       shape_gap = std::min(shape_gap, field.lowerBound(pose * centre) - radius);
     // The exact gap is asked only up to kExactGapReachM: beyond it, it cannot raise the bound.
     const double exact_upper = std::min(needed, kExactGapReachM);
-    const auto& half = s.box_half ? s.box_half : s.enclosing_half;
-    if (shape_gap < exact_upper && half)
-      shape_gap = std::max(shape_gap, field.boxDistance(pose, *half, exact_upper));
+    if (shape_gap < exact_upper && s.enclosing_half)
+      shape_gap = std::max(shape_gap, field.boxDistance(pose, *s.enclosing_half, exact_upper));
     gap = std::min(gap, shape_gap);
   }
   return gap;

@@ -20,11 +20,12 @@ struct ShapeInstance {
   // Spheres (centre in the shape's frame, radius) covering the shape: a cheap lower bound of its
   // distance to the object's surface (fast closing).
   std::vector<std::pair<Eigen::Vector3d, double>> sphere_cover;
-  // Half extents of a box shape (the fast closing's exact gaps from the object's distance field).
-  std::optional<Eigen::Vector3d> box_half;
-  // Half extents of the box (shape frame) that holds a cylinder or a sphere: its exact gap bounds
-  // the shape's from below, tighter than the covering spheres (the SDH's 6 cm palm disc).
+  // Half extents of the box (shape frame) that holds the shape, for exact gaps from the object's
+  // distance field: a box shape itself (is_box: the gap is the shape's), or the box about a
+  // cylinder or a sphere (the gap bounds the shape's from below, tighter than the covering
+  // spheres: the SDH's 6 cm palm disc). None for meshes.
   std::optional<Eigen::Vector3d> enclosing_half;
+  bool is_box = false;
 };
 
 // Pose of a placed shape (object frame).
