@@ -52,12 +52,18 @@ void expectConsistent(const PlanResult& r, const HandModel& hand, const GraspObj
   EXPECT_EQ(s.power + s.precision, r.grasps.size());
 }
 
+// The skeleton strategies alone: neither the centre nor the surface candidates join the pool
+// (fallback_planner_test.cpp examines those).
+SkeletonPlannerParams skeletonStrategiesOnly() {
+  SkeletonPlannerParams params;
+  params.centre_candidates = false;
+  params.surface_candidates = 0;
+  return params;
+}
+
 TEST(SkeletonPlanner, CylinderGetsPowerGraspsApproachingAcrossTheAxis) {
   const HandModel hand = loadBuiltinHand("armar3");
-  // The skeleton strategies alone (not the centre candidates, fallback_planner_test.cpp).
-  SkeletonPlannerParams skeleton_only;
-  skeleton_only.centre_candidates = false;
-  skeleton_only.surface_candidates = 0;
+  const SkeletonPlannerParams skeleton_only = skeletonStrategiesOnly();
   const auto p = planOn(primitives::makeCylinder(0.035, 0.2, 48, 10), hand, skeleton_only);
   ASSERT_FALSE(p.result.grasps.empty());
   expectConsistent(p.result, hand, *p.object);
@@ -80,9 +86,7 @@ TEST(SkeletonPlanner, CylinderGetsPowerGraspsApproachingAcrossTheAxis) {
 
 TEST(SkeletonPlanner, ThinRodGetsOnlyPrecisionGrasps) {
   const HandModel hand = loadBuiltinHand("armar3");
-  SkeletonPlannerParams skeleton_only;  // not the centre candidates
-  skeleton_only.centre_candidates = false;
-  skeleton_only.surface_candidates = 0;
+  const SkeletonPlannerParams skeleton_only = skeletonStrategiesOnly();
   const auto p = planOn(primitives::makeCylinder(0.005, 0.16, 16, 20), hand, skeleton_only);
   ASSERT_FALSE(p.result.grasps.empty());
   expectConsistent(p.result, hand, *p.object);
@@ -174,9 +178,8 @@ TEST(SkeletonPlanner, PointContactsCanBeAskedForOnASoftFingeredHand) {
   const HandModel hand = loadBuiltinHand("parallel_gripper");
   ASSERT_GT(hand.closingDefaults().torsional_friction_m, 0);
   const TriangleMesh rod = primitives::makeCylinder(0.012, 0.12, 32, 12);
-  SkeletonPlannerParams skeleton_only;  // the same poses as the point-contact plan below
-  skeleton_only.centre_candidates = false;
-  skeleton_only.surface_candidates = 0;
+  // The same poses as the point-contact plan below.
+  const SkeletonPlannerParams skeleton_only = skeletonStrategiesOnly();
   const auto soft = planOn(rod, hand, skeleton_only);  // nullopt: the hand's soft fingers
   ASSERT_FALSE(soft.result.grasps.empty());
   expectConsistent(soft.result, hand, *soft.object);
