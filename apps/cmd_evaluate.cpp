@@ -57,6 +57,7 @@ struct EvaluateArgs {
   bool wrench_volume = grasping::QualityParams{}.compute_volume;
   std::optional<double> torsional_friction_m;  // unset: each hand's contact model
   std::string closing = defaultClosingMethod();
+  std::string contact_patch = defaultContactPatch();
   bool restart = false;
   bool retry_failed = false;
   bool robust_ranking = evaluation::BatchParams{}.ranking.enabled;
@@ -123,6 +124,7 @@ int runEvaluate(const EvaluateArgs& a) {
   p.quality.torsional_friction_m = a.torsional_friction_m;
   p.quality.compute_volume = a.wrench_volume;
   p.robustness.closing.method = grasping::parseClosingMethod(a.closing);
+  p.robustness.closing.contact_patch = contactPatchOf(a.contact_patch, a.reference_compat);
   p.ranking.enabled = a.robust_ranking;
   p.ranking.robustness.variant = p.robustness.variant;
   p.ranking.screen_k = a.screen_k;
@@ -192,6 +194,7 @@ void registerEvaluateCommands(CLI::App& app, Action& action) {
   addTorsionalFrictionOption(*cmd, a->torsional_friction_m);
   addWrenchVolumeFlag(*cmd, a->wrench_volume);
   addClosingMethodOption(*cmd, a->closing);
+  addContactPatchOption(*cmd, a->contact_patch);
   cmd->add_option("--vertex-distance", a->vertex_distance_m,
                   "Skeleton planner vertex distance d (m, 0 = every vertex)")
       ->check(lengthOrZero())

@@ -67,6 +67,7 @@ struct CloseArgs {
   bool reference_compat = false;
   std::string fc_test = defaultForceClosureTest();
   std::string closing = defaultClosingMethod();
+  std::string contact_patch = defaultContactPatch();
   std::optional<double> torsional_friction_m;  // unset: the hand's contact model
   HandOptions hand;
 };
@@ -88,6 +89,7 @@ int runClose(const CloseArgs& args) {
   const Pose hand_pose = simulator.handPoseForGcp(gcp, preshape);
   grasping::ClosingParams closing_params;
   closing_params.method = grasping::parseClosingMethod(args.closing);
+  closing_params.contact_patch = contactPatchOf(args.contact_patch, args.reference_compat);
   const auto closing = simulator.close(hand_pose, preshape, closing_params);
   grasping::QualityParams quality_params;
   quality_params.friction = args.mu;
@@ -221,6 +223,7 @@ void registerHandCommands(CLI::App& app, Action& action) {
   addForceClosureTestOption(*close, c->fc_test);
   addTorsionalFrictionOption(*close, c->torsional_friction_m);
   addClosingMethodOption(*close, c->closing);
+  addContactPatchOption(*close, c->contact_patch);
   close->add_flag("--json", c->json, "Print JSON");
   close->add_option("--render", c->render, "Render object and hand (preshape, closed) to this PNG");
   close->callback([c, &action] { action = [c] { return runClose(*c); }; });

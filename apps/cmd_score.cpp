@@ -36,6 +36,7 @@ struct ScoreArgs {
   std::optional<std::uint64_t> object;
   std::string out = "scores.json";
   std::string closing = defaultClosingMethod();
+  std::string contact_patch = defaultContactPatch();
   std::string fc_test = defaultForceClosureTest();
   bool reference_compat = false;
   std::optional<double> torsional_friction_m;  // unset: the hand's contact model
@@ -49,6 +50,7 @@ evaluation::ScoreParams scoreParams(const ScoreArgs& a) {
   p.quality.reference_compat = a.reference_compat;
   p.quality.torsional_friction_m = a.torsional_friction_m;
   p.closing.method = grasping::parseClosingMethod(a.closing);
+  p.closing.contact_patch = contactPatchOf(a.contact_patch, a.reference_compat);
   p.compute_robustness = !a.no_robustness;
   p.robustness.samples = a.samples;
   p.robustness.variant = evaluation::parseRobustnessVariant(a.variant);
@@ -135,6 +137,7 @@ void registerScoreCommand(CLI::App& app, Action& action) {
   cmd->add_option("--out", a->out, "Output scores JSON (schema skelgrasp.score/1)")
       ->capture_default_str();
   addClosingMethodOption(*cmd, a->closing);
+  addContactPatchOption(*cmd, a->contact_patch);
   addForceClosureTestOption(*cmd, a->fc_test);
   addTorsionalFrictionOption(*cmd, a->torsional_friction_m);
   cmd->add_flag("--reference-compat", a->reference_compat,

@@ -56,6 +56,7 @@ struct PlannerOptions {
   std::string fc_test = defaultForceClosureTest();
   bool wrench_volume = grasping::QualityParams{}.compute_volume;
   std::string closing = defaultClosingMethod();
+  std::string contact_patch = defaultContactPatch();
   int refine_evaluations = grasping::RefinementParams{}.max_evaluations;
   std::optional<double> torsional_friction_m;  // unset: the hand's contact model
   bool refine = grasping::RefinementParams{}.enabled;
@@ -116,6 +117,7 @@ struct PlannerOptions {
     addTorsionalFrictionOption(cmd, torsional_friction_m);
     addWrenchVolumeFlag(cmd, wrench_volume);
     addClosingMethodOption(cmd, closing);
+    addContactPatchOption(cmd, contact_patch);
     cmd.add_option("--refine-evaluations", refine_evaluations,
                    "Skeleton planner: poses tried around each closed hypothesis by local "
                    "refinement (0 = none, but each grasp records its closure margin)")
@@ -135,6 +137,7 @@ struct PlannerOptions {
     h.quality.torsional_friction_m = torsional_friction_m;
     h.quality.compute_volume = wrench_volume;
     h.closing.method = grasping::parseClosingMethod(closing);
+    h.closing.contact_patch = contactPatchOf(contact_patch, reference_compat);
     return h;
   }
 

@@ -1,7 +1,8 @@
 #pragma once
-// --fc-test and --closing, shared by the commands that judge grasps (close, quality, plan, run,
-// evaluate, bench plan; --closing not on quality, which closes nothing), --torsional-friction
-// (those that judge a hand's contacts: all of them but quality, which has no hand) and
+// --fc-test, --closing and --contact-patch, shared by the commands that judge grasps (close,
+// quality, plan, run, evaluate, bench plan; --closing and --contact-patch not on quality, which
+// closes nothing), --torsional-friction (those that judge a hand's contacts: all of them but
+// quality, which has no hand) and
 // --wrench-volume (the commands that plan).
 #include <CLI/CLI.hpp>
 
@@ -40,6 +41,26 @@ inline CLI::Option* addClosingMethodOption(CLI::App& cmd, std::string& value) {
                   "steps, the old path)")
       ->check(CLI::IsMember({"stepwise", "fast"}))
       ->capture_default_str();
+}
+
+inline std::string defaultContactPatch() {
+  return grasping::toString(grasping::ClosingParams{}.contact_patch);
+}
+
+// `value` keeps "corners" or "centre" (contactPatchOf turns it into the enum).
+inline CLI::Option* addContactPatchOption(CLI::App& cmd, std::string& value) {
+  return cmd
+      .add_option("--contact-patch", value,
+                  "Where a link touching the object over an area pushes: corners (the patch's "
+                  "corners, up to four contacts per link) or centre (one contact at its centre, "
+                  "the reference's model; implied by --reference-compat)")
+      ->check(CLI::IsMember({"centre", "corners"}))
+      ->capture_default_str();
+}
+
+// --reference-compat judges as the reference code, whose links touch at one point each.
+inline grasping::ContactPatch contactPatchOf(const std::string& value, bool reference_compat) {
+  return reference_compat ? grasping::ContactPatch::kCentre : grasping::parseContactPatch(value);
 }
 
 // The grasp wrench space volume needs the whole 6D hull; epsilon alone does not (docs/hands.md).

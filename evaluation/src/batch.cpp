@@ -140,6 +140,7 @@ class ObjectEvaluator {
     grasping::HypothesisParams hypothesis;
     hypothesis.quality = p_.quality;
     hypothesis.closing.method = p_.robustness.closing.method;  // --closing judges both
+    hypothesis.closing.contact_patch = p_.robustness.closing.contact_patch;  // and --contact-patch
     if (planner == Planner::kSkeleton) {
       grasping::SkeletonPlannerParams sp;
       sp.timeout_s = p_.timeout_s;

@@ -140,6 +140,10 @@ nlohmann::json resultOptions(const BatchParams& p) {
         {"auto_millimetre_diagonal", p.load.auto_millimetre_diagonal}}},
   };
   if (p.ranking.enabled) options["ranking"] = rankingOptions(p.ranking);
+  // Batches from before the option judged by patch centres and recorded nothing: only corners are
+  // recorded, so those resume with --contact-patch centre and not with the default.
+  if (c.contact_patch != grasping::ContactPatch::kCentre)
+    options["contact_patch"] = grasping::toString(c.contact_patch);
   // Only when on, so batches from before the option resume.
   if (p.surface_candidates > 0) options["surface_candidates"] = p.surface_candidates;
   return options;

@@ -85,6 +85,7 @@ grasping::GraspRobustness graspRobustness(const RobustnessResult& result,
   r.samples = result.samples;
   r.mu = params.quality.friction;
   r.torsional_friction_m = params.quality.torsional_friction_m.value_or(0.0);
+  r.contact_patch = grasping::toString(params.closing.contact_patch);
   r.sigma_m = positionSigmaM(params);
   r.sigma_rad = orientationSigmaRad(params);
   r.variant = toString(params.variant);

@@ -22,6 +22,10 @@ std::string settingsLine(const nlohmann::json& options) {
                                               1000 * torsion_m)
                                 : std::string("each hand's own contact model (point contacts for "
                                               "ARMAR-III, the SDH and the Shadow hand)"));
+  parts.push_back(options.contains("contact_patch")
+                      ? fmt::format("links touching over an area push through the patch's {}",
+                                    options["contact_patch"].get<std::string>())
+                      : std::string("one contact per link (the touching patch's centre)"));
   if (options.value("reference_compat", false)) parts.push_back("reference_compat quality");
   if (options.contains("robustness")) {
     const auto& r = options["robustness"];

@@ -1,5 +1,5 @@
 // The contact of one link with the object: the exact gap from FCL, the point at the centre of the
-// touching patch.
+// touching patch, or the patch's corners (ContactPatch::kCorners).
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -146,10 +146,92 @@ Contact makeContact(const HandModel& hand, int link, const GraspObject& object,
   return contact;
 }
 
-std::optional<Contact> stepwiseContactPatch(const HandModel& hand,
-                                            const std::vector<ShapeInstance>& shapes, int link,
-                                            const Pose& link_pose, const GraspObject& object,
-                                            bool palm, double max_distance, std::size_t& queries) {
+// A patch point: the object's closest point to a link surface sample, the sample, and the centre
+// of the sample's shape (inside the link: it tells the outward normal where the sample touches).
+struct PatchPoint {
+  SurfacePoint on_surface;
+  Eigen::Vector3d on_link;
+  Eigen::Vector3d shape_centre;
+};
+
+// A patch narrower than this (m) is one contact at its centre: a fingertip's rounded pad.
+constexpr double kMinPatchSpanM = 0.004;
+// A link sample this close to the surface (m) is on it.
+constexpr double kOnSurfaceM = 1e-9;
+
+// The corners of an extended patch (a phalanx lying on a face or along an edge) as contacts: the
+// two points farthest apart, and on either side of the line through them the point farthest from
+// it when that is kMinPatchSpanM away. Rigid bodies touching over an area push through the
+// area's corners (the polyhedral model of a face contact); the patch's centre alone holds no
+// moment about itself. Empty when the patch spans less than kMinPatchSpanM (one contact then).
+std::vector<Contact> patchCornerContacts(const HandModel& hand, int link, const GraspObject& object,
+                                         const std::vector<PatchPoint>& patch, bool palm,
+                                         double gap) {
+  if (patch.size() < 2) return {};
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (const auto& p : patch) centre += p.on_surface.point;
+  centre /= static_cast<double>(patch.size());
+  const auto farthestFrom = [&](const Eigen::Vector3d& from) {
+    std::size_t best = 0;
+    for (std::size_t i = 1; i < patch.size(); ++i) {
+      if ((patch[i].on_surface.point - from).squaredNorm() >
+          (patch[best].on_surface.point - from).squaredNorm())
+        best = i;
+    }
+    return best;
+  };
+  const std::size_t a = farthestFrom(centre);
+  const std::size_t b = farthestFrom(patch[a].on_surface.point);
+  const Eigen::Vector3d pa = patch[a].on_surface.point, pb = patch[b].on_surface.point;
+  if ((pb - pa).norm() < kMinPatchSpanM) return {};
+  std::vector<std::size_t> corners = {a, b};
+  const Eigen::Vector3d axis = (pb - pa).normalized();
+  // Offsets from the line ab; the two sides are told apart by the offset's direction.
+  std::size_t side = patch.size();
+  double side_distance = kMinPatchSpanM;
+  Eigen::Vector3d side_direction = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < patch.size(); ++i) {
+    Eigen::Vector3d off = patch[i].on_surface.point - pa;
+    off -= off.dot(axis) * axis;
+    if (off.norm() >= side_distance) {
+      side_distance = off.norm();
+      side = i;
+      side_direction = off.normalized();
+    }
+  }
+  if (side < patch.size()) {
+    corners.push_back(side);
+    std::size_t other = patch.size();
+    double other_distance = kMinPatchSpanM;
+    for (std::size_t i = 0; i < patch.size(); ++i) {
+      Eigen::Vector3d off = patch[i].on_surface.point - pa;
+      off -= off.dot(axis) * axis;
+      const double across = -off.dot(side_direction);
+      if (across >= other_distance) {
+        other_distance = across;
+        other = i;
+      }
+    }
+    if (other < patch.size()) corners.push_back(other);
+  }
+  std::vector<Contact> contacts;
+  for (std::size_t i : corners) {
+    const auto& p = patch[i];
+    const double distance = (p.on_link - p.on_surface.point).norm();
+    // The sample's side of the surface says the normal, as the centre's does; a sample on the
+    // surface says nothing, its shape's centre does.
+    const Eigen::Vector3d& outside = distance > kOnSurfaceM ? p.on_link : p.shape_centre;
+    contacts.push_back(makeContact(hand, link, object, p.on_surface.point, p.on_surface.face,
+                                   outside, palm, std::max(gap, distance)));
+  }
+  return contacts;
+}
+
+std::vector<Contact> stepwiseContactPatch(const HandModel& hand,
+                                          const std::vector<ShapeInstance>& shapes, int link,
+                                          const Pose& link_pose, const GraspObject& object,
+                                          bool palm, double max_distance, bool corner_contacts,
+                                          std::size_t& queries) {
   const auto& surface = object.surfaceQuery();
   if (std::isfinite(max_distance)) {
     // A link whose bounding spheres all stay farther than max_distance from the surface cannot
@@ -160,17 +242,18 @@ std::optional<Contact> stepwiseContactPatch(const HandModel& hand,
       const Eigen::Vector3d centre = link_pose * s.origin.translation();
       near = near || surface.distance(centre) <= s.bounding_radius + max_distance;
     }
-    if (!near) return std::nullopt;
+    if (!near) return {};
   }
   // FCL gives the exact gap but an arbitrary point of a flat contact patch (a pad on a face), so
   // the point is the centre of the patch: the object points closest to the link's surface samples
   // that lie within kPatchBandM of the gap.
   const FclGap exact = fclGap(shapes, object, queries);
-  if (exact.distance > max_distance) return std::nullopt;
+  if (exact.distance > max_distance) return {};
   const double gap = std::max(0.0, exact.distance);
   // FCL's point is only a fallback: on a flat patch it is any point, and it would bias the mean.
   Eigen::Vector3d patch_sum = Eigen::Vector3d::Zero(), link_sum = Eigen::Vector3d::Zero();
   int patch_count = 0;
+  std::vector<PatchPoint> patch;
   for (const auto& s : shapes) {
     const Pose shape_pose = link_pose * s.origin;
     for (const auto& sample : s.surface_samples) {
@@ -180,8 +263,17 @@ std::optional<Contact> stepwiseContactPatch(const HandModel& hand,
         patch_sum += closest;
         link_sum += p;
         ++patch_count;
+        if (corner_contacts) {
+          const auto [point, face] = surface.closestPointAndFace(p);
+          patch.push_back(
+              {SurfacePoint{point, face, (p - point).norm()}, p, shape_pose.translation()});
+        }
       }
     }
+  }
+  if (corner_contacts) {
+    std::vector<Contact> corners = patchCornerContacts(hand, link, object, patch, palm, gap);
+    if (!corners.empty()) return corners;
   }
   if (patch_count == 0) {
     patch_sum = exact.object_point;
@@ -189,7 +281,7 @@ std::optional<Contact> stepwiseContactPatch(const HandModel& hand,
     patch_count = 1;
   }
   const auto [point, face] = surface.closestPointAndFace(patch_sum / patch_count);
-  return makeContact(hand, link, object, point, face, link_sum / patch_count, palm, gap);
+  return {makeContact(hand, link, object, point, face, link_sum / patch_count, palm, gap)};
 }
 
 // A touched link is within a closing step of the object; farther gaps are found by FCL.
@@ -200,13 +292,14 @@ constexpr double kExactClosestReachM = 0.008;
 // The same gap, patch and contact as stepwiseContactPatch, from the object's distance field:
 // field bounds skip what is far, the triangle grid gives exact box gaps and closest points near
 // the surface, and FCL only runs for links that are not boxes.
-std::optional<Contact> fastContactPatch(const HandModel& hand,
-                                        const std::vector<ShapeInstance>& shapes, int link,
-                                        const Pose& link_pose, const GraspObject& object, bool palm,
-                                        double max_distance, std::size_t& queries) {
+std::vector<Contact> fastContactPatch(const HandModel& hand,
+                                      const std::vector<ShapeInstance>& shapes, int link,
+                                      const Pose& link_pose, const GraspObject& object, bool palm,
+                                      double max_distance, bool corner_contacts,
+                                      std::size_t& queries) {
   const DistanceField& field = object.distanceField();
   const bool bounded = std::isfinite(max_distance);
-  if (bounded && linkObjectGap(shapes, field, max_distance) > max_distance) return std::nullopt;
+  if (bounded && linkObjectGap(shapes, field, max_distance) > max_distance) return {};
   // Gaps at or beyond `upper` come back as `upper`.
   const double upper = bounded ? max_distance + kPatchBandM : kTouchedGapReachM;
   // One box per shape: a box shape itself (its exact gap), or the box that holds a cylinder or a
@@ -228,17 +321,18 @@ std::optional<Contact> fastContactPatch(const HandModel& hand,
   }
   // Every shape provably farther than max_distance: no contact and no FCL query (the SDH's palm
   // and knuckle cylinders had taken a third of a settled score in those).
-  if (bounded && all_held && best >= upper) return std::nullopt;
+  if (bounded && all_held && best >= upper) return {};
   std::optional<FclGap> exact;
   if (!all_boxes || best >= upper) {
     exact = fclGap(shapes, object, queries);
     best = exact->distance;
   }
-  if (best > max_distance) return std::nullopt;
+  if (best > max_distance) return {};
   const double gap = std::max(0.0, best);
   const double band = gap + kPatchBandM;
   Eigen::Vector3d patch_sum = Eigen::Vector3d::Zero(), link_sum = Eigen::Vector3d::Zero();
   std::vector<Eigen::Vector3d> patch;
+  std::vector<PatchPoint> patch_points;
   for (const auto& s : shapes) {
     const Pose shape_pose = link_pose * s.origin;
     for (const auto& sample : s.surface_samples) {
@@ -249,7 +343,12 @@ std::optional<Contact> fastContactPatch(const HandModel& hand,
       patch_sum += closest->point;
       link_sum += p;
       patch.push_back(closest->point);
+      patch_points.push_back({*closest, p, shape_pose.translation()});
     }
+  }
+  if (corner_contacts) {
+    std::vector<Contact> corners = patchCornerContacts(hand, link, object, patch_points, palm, gap);
+    if (!corners.empty()) return corners;
   }
   if (patch.empty()) {
     // No surface sample near the gap (a box edge or corner touches): the closest points of the
@@ -278,20 +377,22 @@ std::optional<Contact> fastContactPatch(const HandModel& hand,
     const auto [point, face] = object.surfaceQuery().closestPointAndFace(centre);
     nearest = SurfacePoint{point, face, 0};
   }
-  return makeContact(hand, link, object, nearest->point, nearest->face,
-                     link_sum / static_cast<double>(patch.size()), palm, gap);
+  return {makeContact(hand, link, object, nearest->point, nearest->face,
+                      link_sum / static_cast<double>(patch.size()), palm, gap)};
 }
 
 }  // namespace
 
-std::optional<Contact> contactPatch(const HandModel& hand, const std::vector<ShapeInstance>& shapes,
-                                    int link, const Pose& link_pose, const GraspObject& object,
-                                    bool palm, double max_distance, ClosingMethod method,
-                                    std::size_t& queries) {
-  return method == ClosingMethod::kFast
-             ? fastContactPatch(hand, shapes, link, link_pose, object, palm, max_distance, queries)
-             : stepwiseContactPatch(hand, shapes, link, link_pose, object, palm, max_distance,
-                                    queries);
+std::vector<Contact> contactPatch(const HandModel& hand, const std::vector<ShapeInstance>& shapes,
+                                  int link, const Pose& link_pose, const GraspObject& object,
+                                  bool palm, double max_distance, ClosingMethod method,
+                                  bool corner_contacts, std::size_t& queries) {
+  if (method == ClosingMethod::kFast) {
+    return fastContactPatch(hand, shapes, link, link_pose, object, palm, max_distance,
+                            corner_contacts, queries);
+  }
+  return stepwiseContactPatch(hand, shapes, link, link_pose, object, palm, max_distance,
+                              corner_contacts, queries);
 }
 
 }  // namespace skelgrasp::grasping::internal

@@ -18,6 +18,16 @@ ClosingMethod parseClosingMethod(const std::string& text) {
   throw InvalidArgument("unknown closing method '" + text + "' (use stepwise or fast)");
 }
 
+const char* toString(ContactPatch patch) {
+  return patch == ContactPatch::kCentre ? "centre" : "corners";
+}
+
+ContactPatch parseContactPatch(const std::string& text) {
+  if (text == "centre") return ContactPatch::kCentre;
+  if (text == "corners") return ContactPatch::kCorners;
+  throw InvalidArgument("unknown contact patch model '" + text + "' (use centre or corners)");
+}
+
 }  // namespace skelgrasp::grasping
 
 namespace skelgrasp::grasping::internal {

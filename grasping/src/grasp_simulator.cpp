@@ -149,11 +149,15 @@ ClosingResult GraspSimulator::closeImpl(const Pose& hand_pose, const Preshape& p
 
   // Contacts: one per finger link that was blocked by or lies on the object, plus palm links
   // within the palm contact distance.
+  const bool corner_contacts = params.contact_patch == ContactPatch::kCorners;
+  int links_in_contact = 0;
   auto addContact = [&](int link, bool palm, double max_distance) {
-    auto contact =
+    auto contacts =
         internal::contactPatch(hand_, geometry.shapes[link], link, impl_->link_poses[link], object_,
-                               palm, max_distance, params.method, queries_);
-    if (contact) result.contacts.push_back(std::move(*contact));
+                               palm, max_distance, params.method, corner_contacts, queries_);
+    if (contacts.empty()) return;
+    ++links_in_contact;
+    for (auto& contact : contacts) result.contacts.push_back(std::move(contact));
   };
   for (int l : geometry.finger_links) {
     addContact(
@@ -165,9 +169,9 @@ ClosingResult GraspSimulator::closeImpl(const Pose& hand_pose, const Preshape& p
       if (!geometry.shapes[l].empty()) addContact(l, true, palm_distance);
     }
   }
-  if (static_cast<int>(result.contacts.size()) < params.min_contacts) {
-    result.status = Status::Make(StatusCode::kNoResult, std::to_string(result.contacts.size()) +
-                                                            " contact(s), fewer than " +
+  if (links_in_contact < params.min_contacts) {
+    result.status = Status::Make(StatusCode::kNoResult, std::to_string(links_in_contact) +
+                                                            " link(s) in contact, fewer than " +
                                                             std::to_string(params.min_contacts));
     result.reason = "too_few_contacts";
   }

@@ -47,6 +47,7 @@ nlohmann::json graspToJson(const Grasp& g, const HandModel& hand) {
                          {"samples", r.samples},
                          {"mu", r.mu},
                          {"torsional_friction_m", r.torsional_friction_m},
+                         {"contact_patch", r.contact_patch},
                          {"sigma_m", r.sigma_m},
                          {"sigma_rad", r.sigma_rad},
                          {"variant", r.variant},

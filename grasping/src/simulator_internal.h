@@ -140,13 +140,15 @@ AdvanceResult advanceFingers(const HandModel& hand, HandGeometry& geometry,
                              const AllowedPairs& allowed, const Eigen::VectorXd& start,
                              const AdvanceSettings& settings, std::size_t& queries);
 
-// The contact of one link (placed at `link_pose`) with the object, or nullopt when the link is
-// farther than `max_distance` (infinity: always a contact). kFast finds the same gap and patch
-// from the object's distance field and exact queries near the surface instead of FCL and CGAL.
-std::optional<Contact> contactPatch(const HandModel& hand, const std::vector<ShapeInstance>& shapes,
-                                    int link, const Pose& link_pose, const GraspObject& object,
-                                    bool palm, double max_distance, ClosingMethod method,
-                                    std::size_t& queries);
+// The contacts of one link (placed at `link_pose`) with the object: one at the centre of its
+// touching patch, or with `corner_contacts` the corners of a wide patch
+// (4 mm or more; up to four); none when the link is farther than `max_distance` (infinity: always
+// in contact). kFast finds the same gap and patch from the object's distance field and exact
+// queries near the surface instead of FCL and CGAL.
+std::vector<Contact> contactPatch(const HandModel& hand, const std::vector<ShapeInstance>& shapes,
+                                  int link, const Pose& link_pose, const GraspObject& object,
+                                  bool palm, double max_distance, ClosingMethod method,
+                                  bool corner_contacts, std::size_t& queries);
 
 std::vector<Eigen::Vector3d> surfaceSamples(const CollisionShape& shape);
 std::vector<std::pair<Eigen::Vector3d, double>> sphereCover(const CollisionShape& shape);

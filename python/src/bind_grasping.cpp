@@ -36,7 +36,7 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
           const std::string& robustness_variant, std::size_t robustness_top_k,
           std::size_t robustness_screen, std::optional<double> robustness_mu, bool robust_refine,
           bool centre_candidates, std::size_t surface_candidates, bool wrench_volume,
-          std::optional<double> torsional_friction) {
+          std::optional<double> torsional_friction, const std::string& contact_patch) {
   if (planner != "skeleton" && planner != "surface")
     throw InvalidArgument("planner: '" + planner + "' is not skeleton or surface");
   grasping::HypothesisParams hypothesis;
@@ -44,6 +44,9 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
   hypothesis.quality = qualityParams(mu, fc_test, reference_compat, torsional_friction);
   hypothesis.quality.compute_volume = wrench_volume;
   hypothesis.closing.method = grasping::parseClosingMethod(closing);
+  // The reference's links touch at one point each (as --reference-compat on the command line).
+  hypothesis.closing.contact_patch = reference_compat ? grasping::ContactPatch::kCentre
+                                                      : grasping::parseContactPatch(contact_patch);
   skeleton::SkeletonParams skeleton_params;
   skeleton_params.regularisation.method = geometry::parseRegularisationMethod(regularisation);
   skeleton_params.regularisation.alpha_divisor = alpha_divisor;
@@ -262,6 +265,7 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
       py::arg("surface_candidates") = planner.surface_candidates,
       py::arg("wrench_volume") = planner.hypothesis.quality.compute_volume,
       py::arg("torsional_friction") = planner.hypothesis.quality.torsional_friction_m,
+      py::arg("contact_patch") = std::string(toString(planner.hypothesis.closing.contact_patch)),
       R"doc(
 Plans grasps for ``mesh`` with ``hand`` (``skelgrasp plan``): planner 'skeleton' (paper Alg. 1)
 or 'surface' (surface-normal baseline). Deterministic for a seed. The defaults are the library's
@@ -278,7 +282,9 @@ from; ``surface_candidates`` (skeleton planner) adds that many surface-normal hy
 same pool (0: none; docs/planning.md, "Surface candidates"). ``wrench_volume`` also computes each
 grasp's wrench space volume (the whole 6D hull, slower; else ``Grasp.volume`` is None).
 ``torsional_friction`` (metres) judges contacts as soft fingers (docs/hands.md; None: the hand's
-own model, point contacts for the built-in hands), in planning and in r. A mesh the skeleton stage
+own model, point contacts for the built-in hands), in planning and in r. ``contact_patch``
+'corners' lets a link touching over an area push through its patch's corners, 'centre' through its
+centre only (the reference's model; implied by ``reference_compat``). A mesh the skeleton stage
 cannot process raises ValueError.)doc");
 
   m.def(

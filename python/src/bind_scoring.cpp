@@ -47,10 +47,15 @@ struct Closing {
   }
 };
 
+// The reference's links touch at one point each (as --reference-compat on the command line).
+grasping::ContactPatch contactPatchOf(const std::string& value, bool reference_compat) {
+  return reference_compat ? grasping::ContactPatch::kCentre : grasping::parseContactPatch(value);
+}
+
 Closing closeHand(const Mesh& mesh, const HandPtr& hand, const std::string& preshape_name,
                   const py::object& gcp_pose, double mu, const std::string& fc_test,
                   const std::string& closing, bool reference_compat,
-                  std::optional<double> torsional_friction) {
+                  std::optional<double> torsional_friction, const std::string& contact_patch) {
   Closing out;
   out.hand = hand;
   out.gcp_pose = toPose(gcp_pose, "gcp_pose");
@@ -58,6 +63,7 @@ Closing closeHand(const Mesh& mesh, const HandPtr& hand, const std::string& pres
   out.preshape = preshape.name;
   grasping::ClosingParams closing_params;
   closing_params.method = grasping::parseClosingMethod(closing);
+  closing_params.contact_patch = contactPatchOf(contact_patch, reference_compat);
   auto quality = grasping::withHandContactModel(
       qualityParams(mu, fc_test, reference_compat, torsional_friction), *hand);
   quality.compute_volume = true;  // one grasp: the whole hull is cheap
@@ -89,7 +95,7 @@ std::vector<Grasp> graspsOf(const py::object& grasps) {
 py::list score(const Mesh& mesh, const HandPtr& hand, const py::object& grasps, double mu,
                const std::string& fc_test, bool reference_compat, int robustness_samples,
                const std::string& robustness_variant, std::uint64_t seed,
-               std::optional<double> torsional_friction) {
+               std::optional<double> torsional_friction, const std::string& contact_patch) {
   const std::vector<Grasp> list = graspsOf(grasps);
   const auto quality = grasping::withHandContactModel(
       qualityParams(mu, fc_test, reference_compat, torsional_friction), *hand);
@@ -99,6 +105,7 @@ py::list score(const Mesh& mesh, const HandPtr& hand, const py::object& grasps, 
   robustness.variant = evaluation::parseRobustnessVariant(robustness_variant);
   robustness.seed = seed;
   robustness.quality = quality;
+  robustness.closing.contact_patch = contactPatchOf(contact_patch, reference_compat);
   std::vector<grasping::WrenchSpaceResult> judged(list.size());
   std::vector<std::optional<evaluation::RobustnessResult>> robust(list.size());
   {
@@ -145,7 +152,8 @@ py::object scoreGraspsFile(const Mesh& mesh, const HandPtr& hand, const py::obje
                            const std::vector<double>& mu, int robustness_samples,
                            const std::string& robustness_variant, std::uint64_t seed,
                            const std::string& closing, const std::optional<long long>& object,
-                           std::optional<double> torsional_friction) {
+                           std::optional<double> torsional_friction,
+                           const std::string& contact_patch) {
   nlohmann::json file;
   std::string source = "grasps";
   if (py::isinstance<py::str>(grasps)) {
@@ -163,6 +171,7 @@ py::object scoreGraspsFile(const Mesh& mesh, const HandPtr& hand, const py::obje
   params.robustness.variant = evaluation::parseRobustnessVariant(robustness_variant);
   params.robustness.seed = seed;
   params.closing.method = grasping::parseClosingMethod(closing);
+  params.closing.contact_patch = grasping::parseContactPatch(contact_patch);
   checkTorsionalFriction(torsional_friction);
   params.quality.torsional_friction_m = torsional_friction;
   const auto placements = grasping::readGraspPlacements(file, *hand, object);
@@ -213,10 +222,14 @@ void bindScoring(py::module_& m) {
         py::arg("fc_test") = std::string(toString(quality.fc_test)),
         py::arg("closing") = std::string(toString(grasping::ClosingParams{}.method)),
         py::arg("reference_compat") = quality.reference_compat,
-        py::arg("torsional_friction") = quality.torsional_friction_m, R"doc(
+        py::arg("torsional_friction") = quality.torsional_friction_m,
+        py::arg("contact_patch") = std::string(toString(grasping::ClosingParams{}.contact_patch)),
+        R"doc(
 Closes ``hand`` in ``preshape`` with its grasp centre point at ``gcp_pose`` (4 x 4, or x y z qw qx
 qy qz; object frame) and judges the contacts (``skelgrasp close``); ``torsional_friction``
-(metres) judges them as soft fingers (None: the hand's model). Raises ValueError for an unknown
+(metres) judges them as soft fingers (None: the hand's model); ``contact_patch`` 'corners' or
+'centre' says where a link touching over an area pushes (docs/hands.md, "Contacts"; 'centre' with
+``reference_compat``). Raises ValueError for an unknown
 preshape or a pose that is not a rigid transform.)doc");
 
   const evaluation::RobustnessParams robustness;
@@ -227,14 +240,16 @@ preshape or a pose that is not a rigid transform.)doc");
         py::arg("robustness_samples") = robustness.samples,
         py::arg("robustness_variant") = std::string(evaluation::toString(robustness.variant)),
         py::arg("seed") = robustness.seed,
-        py::arg("torsional_friction") = quality.torsional_friction_m, R"doc(
+        py::arg("torsional_friction") = quality.torsional_friction_m,
+        py::arg("contact_patch") = std::string(toString(grasping::ClosingParams{}.contact_patch)),
+        R"doc(
 Re-scores grasps (a Grasp, a list of them or a PlanResult) planned with ``hand`` on ``mesh``:
 force closure, epsilon, closure margin and volume of their contacts with these quality
 parameters, and the robustness r (paper Sec. V-B: the share of ``robustness_samples`` perturbed
 hand poses that still close to force closure, with its 95 % Wilson interval; 0 samples skips
 it). Every grasp faces the same perturbations (as in :func:`plan`'s ranking), so a planned grasp's
 r is reproduced with plan's seed and sample count (and its ``torsional_friction``: soft-finger
-contacts, None for the hand's model). Returns one dict per grasp.)doc");
+contacts, None for the hand's model; and its ``contact_patch``). Returns one dict per grasp.)doc");
 
   const evaluation::ScoreParams score_params;
   m.def("score_grasps", &scoreGraspsFile, py::arg("mesh"), py::arg("hand"), py::arg("grasps"),
@@ -244,13 +259,16 @@ contacts, None for the hand's model). Returns one dict per grasp.)doc");
         py::arg("seed") = robustness.seed,
         py::arg("closing") = std::string(toString(score_params.closing.method)),
         py::arg("object") = py::none(),
-        py::arg("torsional_friction") = score_params.quality.torsional_friction_m, R"doc(
+        py::arg("torsional_friction") = score_params.quality.torsional_friction_m,
+        py::arg("contact_patch") = std::string(toString(score_params.closing.contact_patch)),
+        R"doc(
 ``skelgrasp score``: re-scores the grasps of a grasps.json (a path, or the parsed dict; schema
 skelgrasp.grasps/N or skelgrasp.run/N, ``object`` selecting one object of a run file) by placing
 ``hand`` at each grasp's hand_pose, closing it on ``mesh`` and judging the contacts at every
 friction in ``mu``: force closure, LP margin, epsilon and robustness r with its 95 % Wilson
 interval (0 samples skips it); ``torsional_friction`` (metres) judges soft-finger contacts (None:
-the hand's model). Returns the skelgrasp.score/1 document (docs/evaluation.md).)doc");
+the hand's model); ``contact_patch`` says where a link touching over an area pushes. Returns the
+skelgrasp.score/1 document (docs/evaluation.md).)doc");
 }
 
 }  // namespace skelgrasp::python

@@ -123,7 +123,10 @@ TEST(Cli, CloseReportsJointsContactsAndQuality) {
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const auto j = nlohmann::json::parse(run.out);
   EXPECT_EQ(j["status"], "closed");
-  EXPECT_EQ(j["contacts"].size(), 2u);
+  std::set<std::string> jaws;  // each jaw pushes through its patch's corners (the default)
+  for (const auto& c : j["contacts"]) jaws.insert(c["link"].get<std::string>());
+  EXPECT_EQ(jaws.size(), 2u);
+  EXPECT_GT(j["contacts"].size(), 2u);
   EXPECT_NEAR(j["joints"]["finger_left"].get<double>(), 0.025, 0.0006);
   EXPECT_TRUE(j["force_closure"].get<bool>());  // soft pads
   EXPECT_GT(std::filesystem::file_size(dir + "/grasp.png"), 1000u);

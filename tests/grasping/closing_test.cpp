@@ -16,7 +16,9 @@ TEST(Closing, ParallelGripperStopsAtTheBoxWidthWithOpposedContacts) {
   const auto& preshape = gripper.preshape("precision");
   // Approach along -y onto the 9 cm face, jaws closing along x across the 5 cm width.
   const Pose hand = sim.handPoseForGcp(poseFromZY({0, 0.035, 0}, {0, -1, 0}, {0, 0, 1}), preshape);
-  const auto r = sim.close(hand, preshape);
+  ClosingParams centre;  // one contact per jaw, at the centre of its patch
+  centre.contact_patch = ContactPatch::kCentre;
+  const auto r = sim.close(hand, preshape, centre);
   ASSERT_TRUE(r.status.ok()) << r.status.message;
   const double opening = 2 * r.joints[gripper.jointIndex("finger_left")];
   EXPECT_NEAR(opening, 0.05, 2 * 0.0005 + 1e-9);  // within one step per jaw
@@ -32,6 +34,50 @@ TEST(Closing, ParallelGripperStopsAtTheBoxWidthWithOpposedContacts) {
   QualityParams soft;
   soft.torsional_friction_m = gripper.closingDefaults().torsional_friction_m;
   EXPECT_TRUE(evaluateGrasp(r.contacts, box, soft).force_closure);
+}
+
+TEST(Closing, ParallelGripperJawsPushThroughTheCornersOfTheirPatches) {
+  const HandModel gripper = loadBuiltinHand("parallel_gripper");
+  const GraspObject box(primitives::makeBox({0.05, 0.09, 0.16}, 2));
+  GraspSimulator sim(gripper, box);
+  const auto& preshape = gripper.preshape("precision");
+  const Pose hand = sim.handPoseForGcp(poseFromZY({0, 0.035, 0}, {0, -1, 0}, {0, 0, 1}), preshape);
+  ClosingParams centre;
+  centre.contact_patch = ContactPatch::kCentre;
+  const auto one = sim.close(hand, preshape, centre);
+  const auto r = sim.close(hand, preshape);  // the default: corners
+  ASSERT_TRUE(r.status.ok()) << r.status.message;
+  // The same closing; only where the jaws push differs.
+  EXPECT_TRUE(r.joints.isApprox(one.joints));
+  ASSERT_EQ(one.contacts.size(), 2u);
+  ASSERT_GT(r.contacts.size(), 2u);
+  ASSERT_LE(r.contacts.size(), 8u);  // at most four corners per jaw
+  for (const auto& jaw : one.contacts) {
+    std::vector<Eigen::Vector3d> corners;
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const auto& c : r.contacts) {
+      if (c.link != jaw.link) continue;
+      // On the jaw's side of the box, pushing along the same normal as its single contact.
+      EXPECT_NEAR(c.point.x(), jaw.point.x(), 1e-6);
+      EXPECT_NEAR(c.normal.dot(jaw.normal), 1.0, 1e-9);
+      EXPECT_LE(c.distance, 0.0005 + 0.001 + 1e-9);  // within a step, plus the patch band
+      corners.push_back(c.point);
+      mean += c.point;
+    }
+    ASSERT_GE(corners.size(), 2u) << jaw.link;
+    double span = 0;
+    for (const auto& a : corners) {
+      for (const auto& b : corners) span = std::max(span, (a - b).norm());
+    }
+    EXPECT_GE(span, 0.004) << jaw.link;
+    // The corners surround the patch centre.
+    mean /= static_cast<double>(corners.size());
+    EXPECT_LT((mean - jaw.point).norm(), 0.5 * span) << jaw.link;
+  }
+  // Two jaws pressing along segments hold the torque about the jaw axis that two points cannot:
+  // force closure with point contacts, no soft pads needed.
+  EXPECT_FALSE(evaluateGrasp(one.contacts, box).force_closure);
+  EXPECT_TRUE(evaluateGrasp(r.contacts, box).force_closure);
 }
 
 TEST(Closing, RejectsAHandThatStartsInCollision) {

@@ -2,6 +2,7 @@
 #include "skelgrasp/grasping/scene.h"
 
 #include <gtest/gtest.h>
+#include <set>
 
 #include "skelgrasp/common/primitives.h"
 #include "skelgrasp/grasping/hypothesis.h"
@@ -119,7 +120,9 @@ TEST(SceneCheck, HandsComingDownOntoTheTableAreLiftedOffIt) {
   ASSERT_TRUE(lifted.grasp) << (lifted.reason ? lifted.reason : "");
   EXPECT_GE(lifted.grasp->retreat_m, params.scene_lift_step_m - 1e-12);
   EXPECT_LE(lifted.grasp->retreat_m, params.scene_lift_max_m + 1e-9);
-  EXPECT_EQ(lifted.grasp->contacts.size(), 2u);
+  std::set<std::string> touching;  // a jaw pushing through its patch's corners is one link
+  for (const auto& c : lifted.grasp->contacts) touching.insert(c.link);
+  EXPECT_EQ(touching.size(), 2u);
   EXPECT_FALSE(table.checkPose(lifted.grasp->hand_pose, lifted.grasp->joints).collision);
 
   // A lift step that is not positive is the caller's mistake.

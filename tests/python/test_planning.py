@@ -172,6 +172,37 @@ def test_soft_finger_contacts_are_a_keyword_of_plan_close_and_score(capsule, sdh
         skelgrasp.plan(capsule, sdh, torsional_friction=-0.001)
 
 
+def test_contact_patch_is_a_keyword_of_plan_close_and_score(capsule, sdh):
+    assert "contact_patch: str = 'corners'" in skelgrasp.plan.__doc__
+    centre = skelgrasp.plan(capsule, sdh, seed=5, max_grasps=3, robustness_samples=6,
+                            contact_patch="centre")
+    scored = [g for g in centre.grasps if g.robustness is not None]
+    assert scored and all(g.robustness["contact_patch"] == "centre" for g in scored)
+    for g in centre.grasps:  # one contact per link
+        links = [c["link"] for c in g.contacts]
+        assert len(links) == len(set(links))
+    # score with the same contact model gives plan's r back.
+    again = skelgrasp.score(capsule, sdh, centre, robustness_samples=6, seed=5,
+                            contact_patch="centre")
+    for g, s in zip(centre.grasps, again):
+        if g.robustness is not None:
+            assert s["robustness"] == g.robustness["r"]
+    corners = skelgrasp.plan(capsule, sdh, seed=5, max_grasps=3, robustness_samples=6)
+    assert all(g.robustness["contact_patch"] == "corners"
+               for g in corners.grasps if g.robustness is not None)
+    best = centre.grasps[0]
+    closed = skelgrasp.close(capsule, sdh, best.to_dict()["preshape"], best.gcp_pose,
+                             contact_patch="centre")
+    assert closed.epsilon == pytest.approx(best.epsilon, rel=1e-6)
+    # reference_compat judges as the reference code: one contact per link, whatever is asked.
+    compat = skelgrasp.close(capsule, sdh, best.to_dict()["preshape"], best.gcp_pose,
+                             reference_compat=True, contact_patch="corners")
+    links = [c["link"] for c in compat.contacts]
+    assert len(links) == len(set(links))
+    with pytest.raises(ValueError, match="contact patch"):
+        skelgrasp.plan(capsule, sdh, contact_patch="edges")
+
+
 def test_close_at_a_planned_grasp_reproduces_its_contacts(capsule, sdh, capsule_plan):
     best = capsule_plan.grasps[0]
     closed = skelgrasp.close(capsule, sdh, best.to_dict()["preshape"], best.gcp_pose)

@@ -41,6 +41,7 @@ struct GraspRobustness {
   int samples = 0;
   double mu = 0;                    // friction coefficient of the force-closure test
   double torsional_friction_m = 0;  // its soft-finger torsion length (0: point contacts)
+  std::string contact_patch;        // "corners" or "centre" (ContactPatch); empty: not recorded
   double sigma_m = 0;               // position error, standard deviation (m)
   double sigma_rad = 0;             // orientation error, standard deviation (rad)
   // "paper", "guarded" or "settled" (the hand moves), "reference" (the object moves)

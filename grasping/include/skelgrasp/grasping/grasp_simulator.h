@@ -26,6 +26,17 @@ const char* toString(ClosingMethod method);
 // "stepwise" or "fast"; throws InvalidArgument otherwise.
 ClosingMethod parseClosingMethod(const std::string& text);
 
+// Where a link that touches the object over an area pushes (docs/hands.md, "Contacts"). The
+// touching patch is the object's points nearest the link's surface samples within 1 mm of the gap.
+enum class ContactPatch {
+  kCentre,   // one contact per link, at the patch's centre: the reference's model (fact sheet §8)
+  kCorners,  // a patch spanning at least 4 mm pushes through its corners, up to four contacts per
+             // link (the polyhedral model of a face contact); a narrower one is one contact
+};
+const char* toString(ContactPatch patch);
+// "centre" or "corners"; throws InvalidArgument otherwise.
+ContactPatch parseContactPatch(const std::string& text);
+
 struct ClosingParams {
   // Unset: the hand's closing defaults (its grasp description; 0.02 rad, 0.5 mm, 3 mm when it
   // gives none), resolved in GraspSimulator::close. A set value must be > 0 (distance >= 0).
@@ -36,7 +47,10 @@ struct ClosingParams {
   bool palm_contacts = true;
   // Finger links this close to the object count as touching even if they were never blocked.
   double contact_distance_m = 0.001;
+  // Fewest links (fingers or palm) in contact for a closing to count; a link pushing through the
+  // corners of its patch is one.
   int min_contacts = 2;
+  ContactPatch contact_patch = ContactPatch::kCorners;
   // Re-runs from the reached configuration let fingers blocked by other fingers continue.
   int max_passes = 10;
   int max_iterations_per_pass = 5000;
@@ -47,8 +61,8 @@ struct ClosingParams {
 };
 
 struct ClosingResult {
-  // kOk: closed with >= min_contacts contacts. kNoResult with reason "start_collision" (the hand
-  // intersects the object in its preshape; `colliding_link` says where) or "too_few_contacts".
+  // kOk: closed with >= min_contacts links in contact. kNoResult with reason "start_collision" (the
+  // hand intersects the object in its preshape; `colliding_link` says where) or "too_few_contacts".
   Status status;
   std::string reason;
   std::string colliding_link;
