@@ -9,16 +9,27 @@
 namespace skelgrasp::grasping {
 namespace {
 
-TEST(Closing, ParallelGripperStopsAtTheBoxWidthWithOpposedContacts) {
+// The parallel gripper over a 5 x 9 x 16 cm box: approach along -y onto the 9 cm face, the jaws
+// closing along x across the 5 cm width.
+struct GripperOnBox {
   const HandModel gripper = loadBuiltinHand("parallel_gripper");
-  const GraspObject box(primitives::makeBox({0.05, 0.09, 0.16}, 2));
-  GraspSimulator sim(gripper, box);
-  const auto& preshape = gripper.preshape("precision");
-  // Approach along -y onto the 9 cm face, jaws closing along x across the 5 cm width.
+  const GraspObject box{primitives::makeBox({0.05, 0.09, 0.16}, 2)};
+  GraspSimulator sim{gripper, box};
+  const Preshape& preshape = gripper.preshape("precision");
   const Pose hand = sim.handPoseForGcp(poseFromZY({0, 0.035, 0}, {0, -1, 0}, {0, 0, 1}), preshape);
-  ClosingParams centre;  // one contact per jaw, at the centre of its patch
-  centre.contact_patch = ContactPatch::kCentre;
-  const auto r = sim.close(hand, preshape, centre);
+  ClosingResult close(ContactPatch patch) {
+    ClosingParams params;
+    params.contact_patch = patch;
+    return sim.close(hand, preshape, params);
+  }
+};
+
+TEST(Closing, ParallelGripperStopsAtTheBoxWidthWithOpposedContacts) {
+  GripperOnBox setup;
+  const HandModel& gripper = setup.gripper;
+  const GraspObject& box = setup.box;
+  // One contact per jaw, at the centre of its patch.
+  const auto r = setup.close(ContactPatch::kCentre);
   ASSERT_TRUE(r.status.ok()) << r.status.message;
   const double opening = 2 * r.joints[gripper.jointIndex("finger_left")];
   EXPECT_NEAR(opening, 0.05, 2 * 0.0005 + 1e-9);  // within one step per jaw
@@ -37,15 +48,11 @@ TEST(Closing, ParallelGripperStopsAtTheBoxWidthWithOpposedContacts) {
 }
 
 TEST(Closing, ParallelGripperJawsPushThroughTheCornersOfTheirPatches) {
-  const HandModel gripper = loadBuiltinHand("parallel_gripper");
-  const GraspObject box(primitives::makeBox({0.05, 0.09, 0.16}, 2));
-  GraspSimulator sim(gripper, box);
-  const auto& preshape = gripper.preshape("precision");
-  const Pose hand = sim.handPoseForGcp(poseFromZY({0, 0.035, 0}, {0, -1, 0}, {0, 0, 1}), preshape);
-  ClosingParams centre;
-  centre.contact_patch = ContactPatch::kCentre;
-  const auto one = sim.close(hand, preshape, centre);
-  const auto r = sim.close(hand, preshape);  // the default: corners
+  GripperOnBox setup;
+  const GraspObject& box = setup.box;
+  ASSERT_EQ(ClosingParams{}.contact_patch, ContactPatch::kCorners);  // the default
+  const auto one = setup.close(ContactPatch::kCentre);
+  const auto r = setup.close(ContactPatch::kCorners);
   ASSERT_TRUE(r.status.ok()) << r.status.message;
   // The same closing; only where the jaws push differs.
   EXPECT_TRUE(r.joints.isApprox(one.joints));
