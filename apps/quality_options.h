@@ -2,8 +2,7 @@
 // --fc-test, --closing and --contact-patch, shared by the commands that judge grasps (close,
 // quality, plan, run, evaluate, bench plan; --closing and --contact-patch not on quality, which
 // closes nothing), --torsional-friction (those that judge a hand's contacts: all of them but
-// quality, which has no hand) and
-// --wrench-volume (the commands that plan).
+// quality, which has no hand) and --wrench-volume (the commands that plan).
 #include <CLI/CLI.hpp>
 
 #include <optional>

@@ -147,8 +147,8 @@ ClosingResult GraspSimulator::closeImpl(const Pose& hand_pose, const Preshape& p
   result.joints = advance.joints;
   placeLinks(hand_, hand_pose, advance.joints, geometry.shapes, impl_->link_poses);
 
-  // Contacts: one per finger link that was blocked by or lies on the object, plus palm links
-  // within the palm contact distance.
+  // Contacts: from every finger link that was blocked by or lies on the object, and every palm
+  // link within the palm contact distance; one per link, or its patch's corners.
   const bool corner_contacts = params.contact_patch == ContactPatch::kCorners;
   int links_in_contact = 0;
   auto addContact = [&](int link, bool palm, double max_distance) {
