@@ -101,10 +101,14 @@ void addRobustnessHistogram(HtmlReport& report, const std::vector<RankedGrasp>& 
     report.paragraph("No grasp was scored for robustness.");
     return;
   }
-  const std::string contacts = any->torsional_friction_m > 0
-                                   ? fmt::format(", soft-finger contacts with {:.1f} mm torsion",
-                                                 1000 * any->torsional_friction_m)
-                                   : std::string();
+  std::string contacts = any->torsional_friction_m > 0
+                             ? fmt::format(", soft-finger contacts with {:.1f} mm torsion",
+                                           1000 * any->torsional_friction_m)
+                             : std::string();
+  // The contact model r was judged with (docs/hands.md, "Closing"): where a link touching over an
+  // area pushes.
+  if (any->contact_patch == "corners") contacts += ", links on a face pushing through its corners";
+  if (any->contact_patch == "centre") contacts += ", one contact per link";
   report.paragraph(fmt::format(
       "Robustness r of the {} scored grasps: the share of {} perturbed executions ({}, "
       "position sigma {:.0f} mm, orientation sigma {:.1f} deg, mu {:.2f}{}) that still reach "
