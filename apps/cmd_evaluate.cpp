@@ -124,7 +124,8 @@ int runEvaluate(const EvaluateArgs& a) {
   p.quality.torsional_friction_m = a.torsional_friction_m;
   p.quality.compute_volume = a.wrench_volume;
   p.robustness.closing.method = grasping::parseClosingMethod(a.closing);
-  p.robustness.closing.contact_patch = contactPatchOf(a.contact_patch, a.reference_compat);
+  p.robustness.closing.contact_patch =
+      grasping::contactPatchFor(a.contact_patch, a.reference_compat);
   p.ranking.enabled = a.robust_ranking;
   p.ranking.robustness.variant = p.robustness.variant;
   p.ranking.screen_k = a.screen_k;

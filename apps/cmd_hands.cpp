@@ -89,7 +89,8 @@ int runClose(const CloseArgs& args) {
   const Pose hand_pose = simulator.handPoseForGcp(gcp, preshape);
   grasping::ClosingParams closing_params;
   closing_params.method = grasping::parseClosingMethod(args.closing);
-  closing_params.contact_patch = contactPatchOf(args.contact_patch, args.reference_compat);
+  closing_params.contact_patch =
+      grasping::contactPatchFor(args.contact_patch, args.reference_compat);
   const auto closing = simulator.close(hand_pose, preshape, closing_params);
   grasping::QualityParams quality_params;
   quality_params.friction = args.mu;

@@ -50,7 +50,7 @@ evaluation::ScoreParams scoreParams(const ScoreArgs& a) {
   p.quality.reference_compat = a.reference_compat;
   p.quality.torsional_friction_m = a.torsional_friction_m;
   p.closing.method = grasping::parseClosingMethod(a.closing);
-  p.closing.contact_patch = contactPatchOf(a.contact_patch, a.reference_compat);
+  p.closing.contact_patch = grasping::contactPatchFor(a.contact_patch, a.reference_compat);
   p.compute_robustness = !a.no_robustness;
   p.robustness.samples = a.samples;
   p.robustness.variant = evaluation::parseRobustnessVariant(a.variant);

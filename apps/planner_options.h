@@ -137,7 +137,7 @@ struct PlannerOptions {
     h.quality.torsional_friction_m = torsional_friction_m;
     h.quality.compute_volume = wrench_volume;
     h.closing.method = grasping::parseClosingMethod(closing);
-    h.closing.contact_patch = contactPatchOf(contact_patch, reference_compat);
+    h.closing.contact_patch = grasping::contactPatchFor(contact_patch, reference_compat);
     return h;
   }
 

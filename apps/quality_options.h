@@ -46,7 +46,7 @@ inline std::string defaultContactPatch() {
   return grasping::toString(grasping::ClosingParams{}.contact_patch);
 }
 
-// `value` keeps "corners" or "centre" (contactPatchOf turns it into the enum).
+// `value` keeps "corners" or "centre" (grasping::contactPatchFor turns it into the enum).
 inline CLI::Option* addContactPatchOption(CLI::App& cmd, std::string& value) {
   return cmd
       .add_option("--contact-patch", value,
@@ -55,11 +55,6 @@ inline CLI::Option* addContactPatchOption(CLI::App& cmd, std::string& value) {
                   "the reference's model; implied by --reference-compat)")
       ->check(CLI::IsMember({"centre", "corners"}))
       ->capture_default_str();
-}
-
-// --reference-compat judges as the reference code, whose links touch at one point each.
-inline grasping::ContactPatch contactPatchOf(const std::string& value, bool reference_compat) {
-  return reference_compat ? grasping::ContactPatch::kCentre : grasping::parseContactPatch(value);
 }
 
 // The grasp wrench space volume needs the whole 6D hull; epsilon alone does not (docs/hands.md).

@@ -103,9 +103,6 @@ std::vector<std::pair<Eigen::Vector3d, double>> sphereCover(const CollisionShape
   return {};
 }
 
-// Object points within this distance beyond the gap belong to the touching patch.
-constexpr double kPatchBandM = 0.001;
-
 namespace {
 
 // The exact distance between a link and the object with the nearest points, from FCL.
@@ -154,23 +151,36 @@ struct PatchPoint {
   Eigen::Vector3d shape_centre;
 };
 
-// A patch narrower than this (m) is one contact at its centre: a fingertip's rounded pad.
-constexpr double kMinPatchSpanM = 0.004;
 // A link sample this close to the surface (m) is on it.
 constexpr double kOnSurfaceM = 1e-9;
 
+// Where one contact at the patch's centre sits: the mean of the patch's object points, and the
+// mean of the link samples that found them (the side the link is on). `patch` is not empty.
+struct PatchCentre {
+  Eigen::Vector3d on_surface = Eigen::Vector3d::Zero();
+  Eigen::Vector3d on_link = Eigen::Vector3d::Zero();
+};
+PatchCentre patchCentre(const std::vector<PatchPoint>& patch) {
+  PatchCentre centre;
+  for (const auto& p : patch) {
+    centre.on_surface += p.on_surface.point;
+    centre.on_link += p.on_link;
+  }
+  centre.on_surface /= static_cast<double>(patch.size());
+  centre.on_link /= static_cast<double>(patch.size());
+  return centre;
+}
+
 // The corners of an extended patch (a phalanx lying on a face or along an edge) as contacts: the
 // two points farthest apart, and on either side of the line through them the point farthest from
-// it when that is kMinPatchSpanM away. Rigid bodies touching over an area push through the
+// it when that is kMinCornerPatchSpanM away. Rigid bodies touching over an area push through the
 // area's corners (the polyhedral model of a face contact); the patch's centre alone holds no
-// moment about itself. Empty when the patch spans less than kMinPatchSpanM (one contact then).
+// moment about itself. Empty when the patch spans less than kMinCornerPatchSpanM (one contact
+// then).
 std::vector<Contact> patchCornerContacts(const HandModel& hand, int link, const GraspObject& object,
-                                         const std::vector<PatchPoint>& patch, bool palm,
-                                         double gap) {
+                                         const std::vector<PatchPoint>& patch,
+                                         const Eigen::Vector3d& centre, bool palm, double gap) {
   if (patch.size() < 2) return {};
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-  for (const auto& p : patch) centre += p.on_surface.point;
-  centre /= static_cast<double>(patch.size());
   const auto farthestFrom = [&](const Eigen::Vector3d& from) {
     std::size_t best = 0;
     for (std::size_t i = 1; i < patch.size(); ++i) {
@@ -183,36 +193,31 @@ std::vector<Contact> patchCornerContacts(const HandModel& hand, int link, const 
   const std::size_t a = farthestFrom(centre);
   const std::size_t b = farthestFrom(patch[a].on_surface.point);
   const Eigen::Vector3d pa = patch[a].on_surface.point, pb = patch[b].on_surface.point;
-  if ((pb - pa).norm() < kMinPatchSpanM) return {};
+  if ((pb - pa).norm() < kMinCornerPatchSpanM) return {};
   std::vector<std::size_t> corners = {a, b};
+  // Offsets from the line ab: the point farthest from it, then the farthest on the other side.
   const Eigen::Vector3d axis = (pb - pa).normalized();
-  // Offsets from the line ab; the two sides are told apart by the offset's direction.
-  std::size_t side = patch.size();
-  double side_distance = kMinPatchSpanM;
-  Eigen::Vector3d side_direction = Eigen::Vector3d::Zero();
-  for (std::size_t i = 0; i < patch.size(); ++i) {
-    Eigen::Vector3d off = patch[i].on_surface.point - pa;
-    off -= off.dot(axis) * axis;
-    if (off.norm() >= side_distance) {
-      side_distance = off.norm();
-      side = i;
-      side_direction = off.normalized();
-    }
+  std::vector<Eigen::Vector3d> offsets;
+  for (const auto& p : patch) {
+    const Eigen::Vector3d off = p.on_surface.point - pa;
+    offsets.push_back(off - off.dot(axis) * axis);
   }
-  if (side < patch.size()) {
-    corners.push_back(side);
-    std::size_t other = patch.size();
-    double other_distance = kMinPatchSpanM;
+  const auto farthestAlong = [&](const auto& reach) -> std::optional<std::size_t> {
+    std::optional<std::size_t> best;
+    double best_reach = kMinCornerPatchSpanM;
     for (std::size_t i = 0; i < patch.size(); ++i) {
-      Eigen::Vector3d off = patch[i].on_surface.point - pa;
-      off -= off.dot(axis) * axis;
-      const double across = -off.dot(side_direction);
-      if (across >= other_distance) {
-        other_distance = across;
-        other = i;
+      if (reach(offsets[i]) >= best_reach) {
+        best_reach = reach(offsets[i]);
+        best = i;
       }
     }
-    if (other < patch.size()) corners.push_back(other);
+    return best;
+  };
+  if (const auto side = farthestAlong([](const Eigen::Vector3d& off) { return off.norm(); })) {
+    corners.push_back(*side);
+    const Eigen::Vector3d away = -offsets[*side].normalized();
+    if (const auto other = farthestAlong([&](const Eigen::Vector3d& off) { return off.dot(away); }))
+      corners.push_back(*other);
   }
   std::vector<Contact> contacts;
   for (std::size_t i : corners) {
@@ -246,42 +251,31 @@ std::vector<Contact> stepwiseContactPatch(const HandModel& hand,
   }
   // FCL gives the exact gap but an arbitrary point of a flat contact patch (a pad on a face), so
   // the point is the centre of the patch: the object points closest to the link's surface samples
-  // that lie within kPatchBandM of the gap.
+  // that lie within kContactPatchBandM of the gap.
   const FclGap exact = fclGap(shapes, object, queries);
   if (exact.distance > max_distance) return {};
   const double gap = std::max(0.0, exact.distance);
   // FCL's point is only a fallback: on a flat patch it is any point, and it would bias the mean.
-  Eigen::Vector3d patch_sum = Eigen::Vector3d::Zero(), link_sum = Eigen::Vector3d::Zero();
-  int patch_count = 0;
   std::vector<PatchPoint> patch;
   for (const auto& s : shapes) {
     const Pose shape_pose = link_pose * s.origin;
     for (const auto& sample : s.surface_samples) {
       const Eigen::Vector3d p = shape_pose * sample;
-      const Eigen::Vector3d closest = surface.closestPoint(p);
-      if ((p - closest).norm() <= gap + kPatchBandM) {
-        patch_sum += closest;
-        link_sum += p;
-        ++patch_count;
-        if (corner_contacts) {
-          const auto [point, face] = surface.closestPointAndFace(p);
-          patch.push_back(
-              {SurfacePoint{point, face, (p - point).norm()}, p, shape_pose.translation()});
-        }
-      }
+      const auto [closest, face] = surface.closestPointAndFace(p);
+      const double distance = (p - closest).norm();
+      if (distance <= gap + kContactPatchBandM)
+        patch.push_back({SurfacePoint{closest, face, distance}, p, shape_pose.translation()});
     }
   }
+  const PatchCentre centre =
+      patch.empty() ? PatchCentre{exact.object_point, exact.link_point} : patchCentre(patch);
   if (corner_contacts) {
-    std::vector<Contact> corners = patchCornerContacts(hand, link, object, patch, palm, gap);
+    std::vector<Contact> corners =
+        patchCornerContacts(hand, link, object, patch, centre.on_surface, palm, gap);
     if (!corners.empty()) return corners;
   }
-  if (patch_count == 0) {
-    patch_sum = exact.object_point;
-    link_sum = exact.link_point;
-    patch_count = 1;
-  }
-  const auto [point, face] = surface.closestPointAndFace(patch_sum / patch_count);
-  return {makeContact(hand, link, object, point, face, link_sum / patch_count, palm, gap)};
+  const auto [point, face] = surface.closestPointAndFace(centre.on_surface);
+  return {makeContact(hand, link, object, point, face, centre.on_link, palm, gap)};
 }
 
 // A touched link is within a closing step of the object; farther gaps are found by FCL.
@@ -301,7 +295,7 @@ std::vector<Contact> fastContactPatch(const HandModel& hand,
   const bool bounded = std::isfinite(max_distance);
   if (bounded && linkObjectGap(shapes, field, max_distance) > max_distance) return {};
   // Gaps at or beyond `upper` come back as `upper`.
-  const double upper = bounded ? max_distance + kPatchBandM : kTouchedGapReachM;
+  const double upper = bounded ? max_distance + kContactPatchBandM : kTouchedGapReachM;
   // One box per shape: a box shape itself (its exact gap), or the box that holds a cylinder or a
   // sphere (a lower bound of its gap). Gaps at or beyond `best` come back as `best`.
   bool all_boxes = true, all_held = true;
@@ -329,27 +323,20 @@ std::vector<Contact> fastContactPatch(const HandModel& hand,
   }
   if (best > max_distance) return {};
   const double gap = std::max(0.0, best);
-  const double band = gap + kPatchBandM;
-  Eigen::Vector3d patch_sum = Eigen::Vector3d::Zero(), link_sum = Eigen::Vector3d::Zero();
-  std::vector<Eigen::Vector3d> patch;
-  std::vector<PatchPoint> patch_points;
+  const double band = gap + kContactPatchBandM;
+  std::vector<PatchPoint> patch;
   for (const auto& s : shapes) {
     const Pose shape_pose = link_pose * s.origin;
     for (const auto& sample : s.surface_samples) {
       const Eigen::Vector3d p = shape_pose * sample;
       if (field.lowerBound(p) > band) continue;
       const auto closest = field.closestPointWithin(p, band);
-      if (!closest) continue;
-      patch_sum += closest->point;
-      link_sum += p;
-      patch.push_back(closest->point);
-      patch_points.push_back({*closest, p, shape_pose.translation()});
+      if (closest) patch.push_back({*closest, p, shape_pose.translation()});
     }
   }
-  if (corner_contacts) {
-    std::vector<Contact> corners = patchCornerContacts(hand, link, object, patch_points, palm, gap);
-    if (!corners.empty()) return corners;
-  }
+  PatchCentre centre;
+  // A patch point bounds the distance of the patch centre from the surface.
+  double reach = std::numeric_limits<double>::infinity();
   if (patch.empty()) {
     // No surface sample near the gap (a box edge or corner touches): the closest points of the
     // box and its nearest triangle, which FCL would find by GJK over the whole mesh.
@@ -357,28 +344,32 @@ std::vector<Contact> fastContactPatch(const HandModel& hand,
     if (!exact && closest_box)
       pair = field.boxClosestPoints(shapePose(*closest_box), *closest_box->enclosing_half, upper);
     if (pair) {
-      patch_sum = pair->on_surface.point;
-      link_sum = pair->on_box;
+      centre = {pair->on_surface.point, pair->on_box};
     } else {
       if (!exact) exact = fclGap(shapes, object, queries);
-      patch_sum = exact->object_point;
-      link_sum = exact->link_point;
+      centre = {exact->object_point, exact->link_point};
     }
-    patch.push_back(patch_sum);
+    reach = 0;
+  } else {
+    centre = patchCentre(patch);
+    if (corner_contacts) {
+      std::vector<Contact> corners =
+          patchCornerContacts(hand, link, object, patch, centre.on_surface, palm, gap);
+      if (!corners.empty()) return corners;
+    }
+    for (const auto& q : patch)
+      reach = std::min(reach, (centre.on_surface - q.on_surface.point).norm());
   }
-  const Eigen::Vector3d centre = patch_sum / static_cast<double>(patch.size());
-  // A patch point bounds the distance of the patch centre from the surface.
-  double reach = std::numeric_limits<double>::infinity();
-  for (const auto& q : patch) reach = std::min(reach, (centre - q).norm());
-  reach = std::min(reach, field.unsignedUpperBound(centre));
+  reach = std::min(reach, field.unsignedUpperBound(centre.on_surface));
   std::optional<SurfacePoint> nearest;
-  if (reach <= kExactClosestReachM) nearest = field.closestPointWithin(centre, reach + 1e-12);
+  if (reach <= kExactClosestReachM)
+    nearest = field.closestPointWithin(centre.on_surface, reach + 1e-12);
   if (!nearest) {
-    const auto [point, face] = object.surfaceQuery().closestPointAndFace(centre);
+    const auto [point, face] = object.surfaceQuery().closestPointAndFace(centre.on_surface);
     nearest = SurfacePoint{point, face, 0};
   }
-  return {makeContact(hand, link, object, nearest->point, nearest->face,
-                      link_sum / static_cast<double>(patch.size()), palm, gap)};
+  return {
+      makeContact(hand, link, object, nearest->point, nearest->face, centre.on_link, palm, gap)};
 }
 
 }  // namespace

@@ -28,6 +28,11 @@ ContactPatch parseContactPatch(const std::string& text) {
   throw InvalidArgument("unknown contact patch model '" + text + "' (use centre or corners)");
 }
 
+ContactPatch contactPatchFor(const std::string& text, bool reference_compat) {
+  const ContactPatch asked = parseContactPatch(text);  // a typing mistake is one either way
+  return reference_compat ? ContactPatch::kCentre : asked;
+}
+
 }  // namespace skelgrasp::grasping
 
 namespace skelgrasp::grasping::internal {

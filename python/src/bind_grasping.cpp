@@ -44,9 +44,7 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
   hypothesis.quality = qualityParams(mu, fc_test, reference_compat, torsional_friction);
   hypothesis.quality.compute_volume = wrench_volume;
   hypothesis.closing.method = grasping::parseClosingMethod(closing);
-  // The reference's links touch at one point each (as --reference-compat on the command line).
-  hypothesis.closing.contact_patch = reference_compat ? grasping::ContactPatch::kCentre
-                                                      : grasping::parseContactPatch(contact_patch);
+  hypothesis.closing.contact_patch = grasping::contactPatchFor(contact_patch, reference_compat);
   skeleton::SkeletonParams skeleton_params;
   skeleton_params.regularisation.method = geometry::parseRegularisationMethod(regularisation);
   skeleton_params.regularisation.alpha_divisor = alpha_divisor;

@@ -47,11 +47,6 @@ struct Closing {
   }
 };
 
-// The reference's links touch at one point each (as --reference-compat on the command line).
-grasping::ContactPatch contactPatchOf(const std::string& value, bool reference_compat) {
-  return reference_compat ? grasping::ContactPatch::kCentre : grasping::parseContactPatch(value);
-}
-
 Closing closeHand(const Mesh& mesh, const HandPtr& hand, const std::string& preshape_name,
                   const py::object& gcp_pose, double mu, const std::string& fc_test,
                   const std::string& closing, bool reference_compat,
@@ -63,7 +58,7 @@ Closing closeHand(const Mesh& mesh, const HandPtr& hand, const std::string& pres
   out.preshape = preshape.name;
   grasping::ClosingParams closing_params;
   closing_params.method = grasping::parseClosingMethod(closing);
-  closing_params.contact_patch = contactPatchOf(contact_patch, reference_compat);
+  closing_params.contact_patch = grasping::contactPatchFor(contact_patch, reference_compat);
   auto quality = grasping::withHandContactModel(
       qualityParams(mu, fc_test, reference_compat, torsional_friction), *hand);
   quality.compute_volume = true;  // one grasp: the whole hull is cheap
@@ -105,7 +100,7 @@ py::list score(const Mesh& mesh, const HandPtr& hand, const py::object& grasps, 
   robustness.variant = evaluation::parseRobustnessVariant(robustness_variant);
   robustness.seed = seed;
   robustness.quality = quality;
-  robustness.closing.contact_patch = contactPatchOf(contact_patch, reference_compat);
+  robustness.closing.contact_patch = grasping::contactPatchFor(contact_patch, reference_compat);
   std::vector<grasping::WrenchSpaceResult> judged(list.size());
   std::vector<std::optional<evaluation::RobustnessResult>> robust(list.size());
   {

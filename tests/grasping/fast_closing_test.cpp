@@ -15,6 +15,7 @@
 #include "skelgrasp/common/primitives.h"
 #include "skelgrasp/grasping/grasp_simulator.h"
 #include "skelgrasp/grasping/quality.h"
+#include "surface_poses.h"
 #include "test_support.h"
 
 namespace skelgrasp::grasping {
@@ -59,10 +60,7 @@ double differenceInSteps(const HandModel& hand, const Eigen::VectorXd& a,
 void comparePoses(const HandModel& hand, const GraspObject& object, const std::string& object_name,
                   std::uint64_t seed, int poses_per_preshape, Tally& tally) {
   GraspSimulator stepwise_sim(hand, object), fast_sim(hand, object);
-  const auto& mesh = object.mesh();
   std::mt19937_64 rng(seed);
-  std::uniform_int_distribution<std::size_t> pick_face(0, mesh.numFaces() - 1);
-  std::uniform_real_distribution<double> unit(0, 1);
   QualityParams quality;
   quality.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
   quality.compute_epsilon = false;
@@ -74,24 +72,9 @@ void comparePoses(const HandModel& hand, const GraspObject& object, const std::s
     int found = 0;
     for (int attempt = 0; attempt < 4 * poses_per_preshape && found < poses_per_preshape;
          ++attempt) {
-      const std::size_t face = pick_face(rng);
-      const Eigen::Vector3d normal = object.faceNormal(face);
-      const double roll = 2 * kPi * unit(rng);
-      if (normal.isZero()) continue;
-      const auto& t = mesh.faces[face];
-      const Eigen::Vector3d point =
-          (mesh.vertices[t[0]] + mesh.vertices[t[1]] + mesh.vertices[t[2]]) / 3;
-      const Eigen::Vector3d u = anyPerpendicular(normal), w = normal.cross(u);
-      Pose gcp = Pose::Identity();
-      gcp.linear() = frameFromZY(-normal, std::cos(roll) * u + std::sin(roll) * w);
-      Pose hand_pose = Pose::Identity();
-      bool free = false;
-      for (double retreat = 0; retreat < 0.15 && !free; retreat += 0.004) {
-        gcp.translation() = point + retreat * normal;
-        hand_pose = stepwise_sim.handPoseForGcp(gcp, preshape);
-        free = !stepwise_sim.inCollision(hand_pose, preshape.joints);
-      }
-      if (!free) continue;
+      const auto placed = test::freeSurfaceHandPose(stepwise_sim, object, preshape, rng);
+      if (!placed) continue;
+      const Pose& hand_pose = *placed;
       ++found;
       const std::size_t q0 = stepwise_sim.collisionQueries(), f0 = fast_sim.collisionQueries();
       const auto a = stepwise_sim.close(hand_pose, preshape, stepwise);

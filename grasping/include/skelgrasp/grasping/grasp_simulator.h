@@ -26,16 +26,26 @@ const char* toString(ClosingMethod method);
 // "stepwise" or "fast"; throws InvalidArgument otherwise.
 ClosingMethod parseClosingMethod(const std::string& text);
 
-// Where a link that touches the object over an area pushes (docs/hands.md, "Contacts"). The
-// touching patch is the object's points nearest the link's surface samples within 1 mm of the gap.
+// A link's touching patch: the object's points nearest the link's surface samples within this
+// distance (m) beyond the link's gap.
+inline constexpr double kContactPatchBandM = 0.001;
+// A patch narrower than this (m) is one contact at its centre (a fingertip's rounded pad), also
+// under ContactPatch::kCorners.
+inline constexpr double kMinCornerPatchSpanM = 0.004;
+
+// Where a link that touches the object over an area pushes (docs/hands.md, "Contacts").
 enum class ContactPatch {
   kCentre,   // one contact per link, at the patch's centre: the reference's model (fact sheet §8)
-  kCorners,  // a patch spanning at least 4 mm pushes through its corners, up to four contacts per
-             // link (the polyhedral model of a face contact); a narrower one is one contact
+  kCorners,  // a patch spanning at least kMinCornerPatchSpanM pushes through its corners, up to
+             // four contacts per link (the polyhedral model of a face contact)
 };
 const char* toString(ContactPatch patch);
 // "centre" or "corners"; throws InvalidArgument otherwise.
 ContactPatch parseContactPatch(const std::string& text);
+// The model a command's or binding's options ask for: with reference_compat (which judges as the
+// reference code) kCentre, the reference's one contact per link, whatever `text` says; else
+// parseContactPatch(text).
+ContactPatch contactPatchFor(const std::string& text, bool reference_compat);
 
 struct ClosingParams {
   // Unset: the hand's closing defaults (its grasp description; 0.02 rad, 0.5 mm, 3 mm when it
