@@ -292,26 +292,48 @@ std::vector<Contact> fastContactPatch(const HandModel& hand,
                                       double max_distance, bool corner_contacts,
                                       std::size_t& queries) {
   const DistanceField& field = object.distanceField();
+  if (shapes.empty()) return {};  // nothing of the link can touch
   const bool bounded = std::isfinite(max_distance);
-  if (bounded && linkObjectGap(shapes, field, max_distance) > max_distance) return {};
+  // The shapes' sphere bounds (a field lookup per sphere) reject a far link before any exact gap.
+  std::vector<double> sphere_bounds;
+  sphere_bounds.reserve(shapes.size());
+  for (const auto& s : shapes) sphere_bounds.push_back(sphereCoverLowerBound(s, field));
+  if (bounded && *std::min_element(sphere_bounds.begin(), sphere_bounds.end()) > max_distance)
+    return {};
   // Gaps at or beyond `upper` come back as `upper`.
   const double upper = bounded ? max_distance + kContactPatchBandM : kTouchedGapReachM;
   // One box per shape: a box shape itself (its exact gap), or the box that holds a cylinder or a
-  // sphere (a lower bound of its gap). Gaps at or beyond `best` come back as `best`.
+  // sphere (a lower bound of its gap). Gaps at or beyond `best` come back as `best`. Each box is
+  // searched once, and the face its gap was found at gives the closest points if the patch needs
+  // them (a box edge touching).
   bool all_boxes = true, all_held = true;
   double best = upper;
   const ShapeInstance* closest_box = nullptr;  // used only when every shape is a box
-  for (const auto& s : shapes) {
+  std::optional<std::size_t> closest_face;
+  for (std::size_t i = 0; i < shapes.size(); ++i) {
+    const ShapeInstance& s = shapes[i];
     all_boxes = all_boxes && s.is_box;
     if (!s.enclosing_half) {
       all_held = false;
       continue;
     }
-    const double gap = field.boxDistance(shapePose(s), *s.enclosing_half, best);
-    if (gap < best) {
-      best = gap;
+    // A box's spheres cover it, so a sphere bound at or beyond `best` means its gap would come
+    // back as `best`: no search. (A sphere's enclosing box sticks out of its one sphere.)
+    if (s.is_box && sphere_bounds[i] >= best) continue;
+    const DistanceField::BoxGap gap = field.boxGapAndFace(shapePose(s), *s.enclosing_half, best);
+    if (gap.distance < best) {
+      best = gap.distance;
       closest_box = &s;
+      closest_face = gap.face;
     }
+  }
+  // Every box gap (or bound) and every other shape's sphere bound beyond max_distance: no contact.
+  if (bounded) {
+    double link_bound = best;
+    for (std::size_t i = 0; i < shapes.size(); ++i) {
+      if (!shapes[i].enclosing_half) link_bound = std::min(link_bound, sphere_bounds[i]);
+    }
+    if (link_bound > max_distance) return {};
   }
   // Every shape provably farther than max_distance: no contact and no FCL query (the SDH's palm
   // and knuckle cylinders had taken a third of a settled score in those).
@@ -341,8 +363,10 @@ std::vector<Contact> fastContactPatch(const HandModel& hand,
     // No surface sample near the gap (a box edge or corner touches): the closest points of the
     // box and its nearest triangle, which FCL would find by GJK over the whole mesh.
     std::optional<DistanceField::BoxClosestPoints> pair;
-    if (!exact && closest_box)
-      pair = field.boxClosestPoints(shapePose(*closest_box), *closest_box->enclosing_half, upper);
+    if (!exact && closest_box && closest_face && best > 0) {
+      pair = field.boxClosestPointsOnFace(shapePose(*closest_box), *closest_box->enclosing_half,
+                                          *closest_face);
+    }
     if (pair) {
       centre = {pair->on_surface.point, pair->on_box};
     } else {

@@ -417,13 +417,26 @@ double DistanceField::boxDistance(const Pose& box_pose, const Eigen::Vector3d& h
   return boxGap(box_pose, half, upper, nullptr);
 }
 
+DistanceField::BoxGap DistanceField::boxGapAndFace(const Pose& box_pose,
+                                                   const Eigen::Vector3d& half,
+                                                   double upper) const {
+  BoxGap gap;
+  gap.distance = boxGap(box_pose, half, upper, &gap.face);
+  return gap;
+}
+
 std::optional<DistanceField::BoxClosestPoints> DistanceField::boxClosestPoints(
     const Pose& box_pose, const Eigen::Vector3d& half, double upper) const {
-  std::optional<std::size_t> face;
-  const double gap = boxGap(box_pose, half, upper, &face);
-  if (!face || !(gap > 0)) return std::nullopt;
+  const BoxGap gap = boxGapAndFace(box_pose, half, upper);
+  if (!gap.face || !(gap.distance > 0)) return std::nullopt;
+  return boxClosestPointsOnFace(box_pose, half, *gap.face);
+}
+
+std::optional<DistanceField::BoxClosestPoints> DistanceField::boxClosestPointsOnFace(
+    const Pose& box_pose, const Eigen::Vector3d& half, std::size_t face) const {
   const auto& m = *impl_;
-  const auto& t = m.faces[*face];
+  if (face >= m.faces.size()) throw InvalidArgument("distance field: face index out of range");
+  const auto& t = m.faces[face];
   const Eigen::Matrix3d to_box = box_pose.linear().transpose();
   const Eigen::Vector3d centre = box_pose.translation();
   const auto closest = internal::boxTriangleClosestPoints(
@@ -431,7 +444,7 @@ std::optional<DistanceField::BoxClosestPoints> DistanceField::boxClosestPoints(
       to_box * (m.vertices[t[2]] - centre));
   if (!closest) return std::nullopt;  // touching within rounding
   return BoxClosestPoints{box_pose * closest->on_box,
-                          SurfacePoint{box_pose * closest->on_triangle, *face, closest->distance}};
+                          SurfacePoint{box_pose * closest->on_triangle, face, closest->distance}};
 }
 
 double DistanceField::boxGap(const Pose& box_pose, const Eigen::Vector3d& half, double upper,

@@ -166,6 +166,14 @@ bool linkHitsObject(const std::vector<ShapeInstance>& link,
   return false;
 }
 
+double sphereCoverLowerBound(const ShapeInstance& shape, const DistanceField& field) {
+  const Pose pose = shapePose(shape);
+  double bound = std::numeric_limits<double>::infinity();
+  for (const auto& [centre, radius] : shape.sphere_cover)
+    bound = std::min(bound, field.lowerBound(pose * centre) - radius);
+  return bound;
+}
+
 double linkObjectGap(const std::vector<ShapeInstance>& link, const DistanceField& field,
                      double needed) {
   // The spheres cost a field lookup each; the exact box gap (tens of microseconds) only runs for
@@ -174,9 +182,7 @@ double linkObjectGap(const std::vector<ShapeInstance>& link, const DistanceField
   double gap = std::numeric_limits<double>::infinity();
   for (const auto& s : link) {
     const Pose pose = shapePose(s);
-    double shape_gap = std::numeric_limits<double>::infinity();
-    for (const auto& [centre, radius] : s.sphere_cover)
-      shape_gap = std::min(shape_gap, field.lowerBound(pose * centre) - radius);
+    double shape_gap = sphereCoverLowerBound(s, field);
     // The exact gap is asked only up to kExactGapReachM: beyond it, it cannot raise the bound.
     const double exact_upper = std::min(needed, kExactGapReachM);
     if (shape_gap < exact_upper && s.enclosing_half)

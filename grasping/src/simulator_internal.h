@@ -33,6 +33,10 @@ inline Pose shapePose(const ShapeInstance& shape) {
   return Pose(shape.object->getTransform().matrix());
 }
 
+// A lower bound of the distance from a placed shape to the object: its covering spheres' field
+// bounds (one field lookup per sphere).
+double sphereCoverLowerBound(const ShapeInstance& shape, const DistanceField& field);
+
 // A lower bound of the distance from a link to the object from the object's distance field: its
 // covering spheres, then, for box shapes that may be within `needed`, the exact gap. At least
 // `needed` when the link is provably that far.

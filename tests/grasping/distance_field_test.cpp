@@ -189,7 +189,18 @@ TEST(DistanceField, BoxDistanceOverAFlatFaceIsItsLowestCornersHeight) {
         (pair->on_surface.point - Eigen::Vector3d(corner.x(), corner.y(), object_half.z())).norm(),
         1e-6)
         << i;
+    // The same gap and pair from one search and its face (the contact patch's path).
+    const DistanceField::BoxGap gap = field.boxGapAndFace(pose, half, 0.01);
+    EXPECT_EQ(gap.distance, field.boxDistance(pose, half, 0.01)) << i;
+    ASSERT_TRUE(gap.face.has_value()) << i;
+    const auto on_face = field.boxClosestPointsOnFace(pose, half, *gap.face);
+    ASSERT_TRUE(on_face.has_value()) << i;
+    EXPECT_NEAR(on_face->on_surface.distance, height, 1e-9) << i;
+    EXPECT_LT((on_face->on_box - corner).norm(), 1e-6) << i;
   }
+  EXPECT_THROW(
+      field.boxClosestPointsOnFace(Pose::Identity(), Eigen::Vector3d::Constant(0.01), 1u << 30),
+      InvalidArgument);
   // Farther than `upper`: no pair.
   Pose far = Pose::Identity();
   far.translation() = Eigen::Vector3d(0, 0, object_half.z() + 0.05);

@@ -63,6 +63,14 @@ class DistanceField {
   // Exact distance between the solid box of half extents `half` placed at `box_pose` and the
   // surface (0 when they intersect), or `upper` when it is at least `upper`.
   double boxDistance(const Pose& box_pose, const Eigen::Vector3d& half, double upper) const;
+  // boxDistance, and the face of a closest triangle when the gap is below `upper` (unset
+  // otherwise): a caller that may need the closest points later (boxClosestPointsOnFace) gets them
+  // without a second search.
+  struct BoxGap {
+    double distance = 0;
+    std::optional<std::size_t> face;
+  };
+  BoxGap boxGapAndFace(const Pose& box_pose, const Eigen::Vector3d& half, double upper) const;
 
   // The closest points of that box and the surface (world frame) when their gap is positive and
   // below `upper`; nullopt when they intersect or the gap is at least `upper`.
@@ -73,6 +81,11 @@ class DistanceField {
   };
   std::optional<BoxClosestPoints> boxClosestPoints(const Pose& box_pose,
                                                    const Eigen::Vector3d& half, double upper) const;
+  // The same from a gap already searched (boxGapAndFace at this pose): the closest points of the
+  // box and that face; nullopt when they touch (within rounding).
+  std::optional<BoxClosestPoints> boxClosestPointsOnFace(const Pose& box_pose,
+                                                         const Eigen::Vector3d& half,
+                                                         std::size_t face) const;
 
  private:
   // boxDistance, and the face of a closest triangle when the gap is below `upper`.
