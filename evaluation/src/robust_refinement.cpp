@@ -22,10 +22,30 @@ using Moves = CompassSearch::Moves;
 constexpr double kSamePoseDistanceM = 1e-4;
 constexpr double kSamePoseAngleRad = 1e-3;
 
-const char* otherPreshapeName(const std::string& name) {
-  if (name == "precision") return "power";
-  if (name == "power") return "precision";
-  return nullptr;
+// The preshapes the search may switch a grasp with preshape `current` to: the hand's "power" and
+// "precision" other than `current`, its own type's first (an alternative such as the SDH's
+// "spherical" may go back to "power"), each type only where the hand does it. Not the
+// alternatives: the planners already closed them at every pose of their type, and over the 58
+// YCB meshes switching to them cost the SDH 1.2 s of ranking per object for no gain in r
+// (docs/results.md).
+std::vector<const grasping::Preshape*> switchPreshapes(const grasping::HandModel& hand,
+                                                       const std::string& current) {
+  const auto it = hand.preshapes().find(current);
+  if (it == hand.preshapes().end() || !it->second.grasp_type) return {};
+  const grasping::GraspType own = *it->second.grasp_type;
+  const grasping::GraspType other = own == grasping::GraspType::kPower
+                                        ? grasping::GraspType::kPrecision
+                                        : grasping::GraspType::kPower;
+  std::vector<const grasping::Preshape*> out;
+  for (grasping::GraspType type : {own, other}) {
+    const bool done = type == grasping::GraspType::kPower ? hand.thresholds().power.has_value()
+                                                          : hand.thresholds().precision.has_value();
+    if (!done) continue;
+    for (const grasping::Preshape* p : hand.plannerPreshapes(type, /*alternatives=*/false)) {
+      if (p->name != current) out.push_back(p);
+    }
+  }
+  return out;
 }
 
 bool samePose(const Pose& a, const Pose& b) {
@@ -96,8 +116,9 @@ RobustRefinementOutcome refineForRobustness(grasping::GraspSimulator& simulator,
   const Eigen::Vector3d approach = grasp.gcp_pose.linear().col(2);
   Pose hypothesis = grasp.gcp_pose;
   hypothesis.translation() += grasp.retreat_m * approach;
-  auto baseExtraRetreat = [&](const std::string& preshape) {
-    return preshape == "power" ? hand.thresholds().power_retreat_m : 0.0;
+  auto baseExtraRetreat = [&](const grasping::Preshape& preshape) {
+    return preshape.grasp_type == grasping::GraspType::kPower ? hand.thresholds().power_retreat_m
+                                                              : 0.0;
   };
 
   // The search needs only the verdict; epsilon and volume (a hull each) are computed for the pose
@@ -109,7 +130,7 @@ RobustRefinementOutcome refineForRobustness(grasping::GraspSimulator& simulator,
     if (out.evaluations >= evaluation_limit) return false;
     ++out.evaluations;
     grasping::HypothesisParams moved = planner;
-    moved.extra_retreat_m = std::max(0.0, baseExtraRetreat(preshape.name) + standoff);
+    moved.extra_retreat_m = std::max(0.0, baseExtraRetreat(preshape) + standoff);
     if (verdict_only) moved.quality.compute_epsilon = moved.quality.compute_volume = false;
     grasping::HypothesisOutcome judged = grasping::judgeHypothesis(
         grasping::closeHypothesis(simulator, gcp, preshape, moved), simulator.object(), moved);
@@ -130,9 +151,8 @@ RobustRefinementOutcome refineForRobustness(grasping::GraspSimulator& simulator,
     moved_grasp.id = grasp.id;
     // The type follows the preshape only where the search switched it (a hand's own preshape
     // names need not say the type).
-    moved_grasp.type = preshape.name == grasp.preshape ? grasp.type
-                       : preshape.name == "precision"  ? grasping::GraspType::kPrecision
-                                                       : grasping::GraspType::kPower;
+    moved_grasp.type =
+        preshape.name == grasp.preshape || !preshape.grasp_type ? grasp.type : *preshape.grasp_type;
     moved_grasp.strategy = grasp.strategy;
     moved_grasp.segment = grasp.segment;
     moved_grasp.skeleton_vertex = grasp.skeleton_vertex;
@@ -158,13 +178,11 @@ RobustRefinementOutcome refineForRobustness(grasping::GraspSimulator& simulator,
   // The other preshape first: a fingertip pinch that a power grasp at the same place would beat
   // is the commonest fragile grasp, and the switch is one evaluation.
   if (params.switch_preshape) {
-    const char* other = otherPreshapeName(grasp.preshape);
-    if (other && hand.preshapes().count(other) &&
-        (std::string(other) == "power" ? hand.thresholds().power : hand.thresholds().precision)) {
-      const grasping::Preshape& switched = hand.preshape(other);
-      if (judge(hypothesis, switched, 0.0)) {
-        preshape = &switched;
-        log().debug("robust refinement: accepted preshape switch to {} r {:.2f}", other,
+    for (const grasping::Preshape* switched : switchPreshapes(hand, grasp.preshape)) {
+      // Each is judged against the best so far: the last accepted is the best.
+      if (judge(hypothesis, *switched, 0.0)) {
+        preshape = switched;
+        log().debug("robust refinement: accepted preshape switch to {} r {:.2f}", switched->name,
                     out.search_r_after);
       }
     }
@@ -186,7 +204,7 @@ RobustRefinementOutcome refineForRobustness(grasping::GraspSimulator& simulator,
     const grasping::Preshape& best_preshape = hand.preshape(out.grasp.preshape);
     // The grasp's own centre point, already backed off: no extra standoff on top of it.
     evaluation_limit = out.evaluations + 1;
-    if (!judge(gcp, best_preshape, -baseExtraRetreat(best_preshape.name))) break;
+    if (!judge(gcp, best_preshape, -baseExtraRetreat(best_preshape))) break;
     ++out.mean_shift_steps;
   }
   if (out.mean_shift_steps > 0) {

@@ -245,12 +245,23 @@ PlanResult planFallbackGrasps(const HandModel& hand, const GraspObject& object,
   struct Trial {
     std::size_t pose;
     GraspType type;
+    const Preshape* preshape;
   };
+  // The grasp types the hand does (its thresholds say which), each with its preshapes, as the
+  // skeleton planner.
+  std::vector<std::pair<GraspType, const Preshape*>> closings;
+  for (GraspType type : {GraspType::kPrecision, GraspType::kPower}) {
+    const bool wanted = type == GraspType::kPrecision
+                            ? sp.precision && hand.thresholds().precision.has_value()
+                            : sp.power && hand.thresholds().power.has_value();
+    if (!wanted) continue;
+    for (const Preshape* preshape : hand.plannerPreshapes(
+             type, sp.alternative_preshapes && !params.hypothesis.quality.reference_compat))
+      closings.emplace_back(type, preshape);
+  }
   std::vector<Trial> trials;
   for (std::size_t i = 0; i < poses.size(); ++i) {
-    // The grasp types the hand does (its thresholds say which), as the skeleton planner.
-    if (sp.precision && hand.thresholds().precision) trials.push_back({i, GraspType::kPrecision});
-    if (sp.power && hand.thresholds().power) trials.push_back({i, GraspType::kPower});
+    for (const auto& [type, preshape] : closings) trials.push_back({i, type, preshape});
   }
   std::shuffle(trials.begin(), trials.end(), std::mt19937_64(params.seed));
 
@@ -269,7 +280,7 @@ PlanResult planFallbackGrasps(const HandModel& hand, const GraspObject& object,
       break;
     }
     const bool precision = trial.type == GraspType::kPrecision;
-    const Preshape& preshape = hand.preshape(precision ? "precision" : "power");
+    const Preshape& preshape = *trial.preshape;
     hp.extra_retreat_m = precision ? 0.0 : hand.thresholds().power_retreat_m;
     ++summary.hypotheses;
     ++summary.poses;
@@ -347,6 +358,7 @@ void addFallbackGrasps(const HandModel& hand, const GraspObject& object,
   FallbackPlannerParams fp;
   fp.seed = params.seed;
   fp.strategies = params.fallback_strategies;
+  fp.strategies.alternative_preshapes = params.alternative_preshapes;
   fp.hypothesis = params.hypothesis;
   fp.timeout_s = budget->timeout_s;
   fp.max_grasps = budget->max_grasps;

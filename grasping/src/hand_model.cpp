@@ -121,6 +121,17 @@ const Preshape& HandModel::preshape(const std::string& name) const {
   return it->second;
 }
 
+std::vector<const Preshape*> HandModel::plannerPreshapes(GraspType type, bool alternatives) const {
+  std::vector<const Preshape*> out;
+  const auto main = preshapes_.find(toString(type));
+  if (main != preshapes_.end()) out.push_back(&main->second);
+  if (!alternatives) return out;
+  for (const auto& [name, preshape] : preshapes_) {
+    if (preshape.grasp_type == type && name != toString(type)) out.push_back(&preshape);
+  }
+  return out;
+}
+
 Pose HandModel::gcpInRoot(const Preshape& preshape) const {
   return linkPoses(preshape.joints)[preshape.gcp_link] * preshape.gcp_in_link;
 }

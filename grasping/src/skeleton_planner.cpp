@@ -184,27 +184,31 @@ PlanResult planSkeletonGrasps(const HandModel& hand, const GraspObject& object,
         reject(why);
         continue;
       }
-      const Preshape& preshape = hand.preshape(precision ? "precision" : "power");
+      const std::vector<const Preshape*> preshapes = hand.plannerPreshapes(
+          type, params.alternative_preshapes && !params.hypothesis.quality.reference_compat);
       HypothesisParams hp = params.hypothesis;
       hp.quality = withHandContactModel(hp.quality, hand);
       hp.extra_retreat_m =
           precision ? params.precision_retreat_m : hand.thresholds().power_retreat_m;
       const RefinementFrame local{shape.tangent, localCentroid(skel, object.mesh(), shape)};
       for (const Pose& frame : hypothesisFrames(v.position, shape, endpoint, params)) {
-        if (stop()) break;
-        ++summary.hypotheses;
-        ++summary.poses;
-        auto kept = countOutcome(
-            evaluateRefinedHypothesis(simulator, frame, preshape, hp, local, params.refinement),
-            summary);
-        if (!kept) continue;
-        Grasp grasp = std::move(*kept);
-        grasp.type = type;
-        grasp.strategy = strategy;
-        grasp.segment = v.segment;
-        grasp.skeleton_vertex = vertex;
-        (precision ? summary.precision : summary.power) += 1;
-        result.grasps.push_back(std::move(grasp));
+        // Each preshape closed at the pose is a hand pose of its own.
+        for (const Preshape* preshape : preshapes) {
+          if (stop()) break;
+          ++summary.hypotheses;
+          ++summary.poses;
+          auto kept = countOutcome(
+              evaluateRefinedHypothesis(simulator, frame, *preshape, hp, local, params.refinement),
+              summary);
+          if (!kept) continue;
+          Grasp grasp = std::move(*kept);
+          grasp.type = type;
+          grasp.strategy = strategy;
+          grasp.segment = v.segment;
+          grasp.skeleton_vertex = vertex;
+          (precision ? summary.precision : summary.power) += 1;
+          result.grasps.push_back(std::move(grasp));
+        }
       }
     }
   }

@@ -165,6 +165,54 @@ TEST(FallbackPlanner, CentreCandidatesAddPowerGraspsAboutTheCentre) {
   EXPECT_GT(with.result.summary.hypotheses, without.result.summary.hypotheses);
 }
 
+// Alternative preshapes (the SDH's tripod "spherical"): every pose closed with a hand's power
+// preshape is also closed with its power alternatives, by the skeleton strategies and the centre
+// candidates alike; the grasps of the main preshapes stay exactly as without them, and switching
+// them off or asking for the reference's quality leaves only those.
+TEST(FallbackPlanner, AlternativePreshapesOnlyAddGraspsOfTheirOwnPreshape) {
+  const HandModel sdh = loadBuiltinHand("sdh");
+  const TriangleMesh capsule = primitives::makeCapsule(0.03, 0.14, 48);
+  SkeletonPlannerParams with_alternatives;
+  with_alternatives.surface_candidates = 0;  // the surface planner closes "power" only
+  SkeletonPlannerParams without = with_alternatives;
+  without.alternative_preshapes = false;
+  SkeletonPlannerParams reference = with_alternatives;
+  reference.hypothesis.quality.reference_compat = true;
+  const auto with = planOn(capsule, sdh, with_alternatives);
+  const auto main_only = planOn(capsule, sdh, without);
+  const auto ref = planOn(capsule, sdh, reference);
+  expectSound(with.result, sdh, *with.object);
+  ASSERT_EQ(fallbackReasons(with.result.summary), fallbackReasons(main_only.result.summary));
+  const auto keys = [](const PlanResult& r, bool spherical) {
+    std::set<std::string> out;
+    for (const auto& g : r.grasps) {
+      if ((g.preshape == "spherical") != spherical) continue;
+      const Eigen::Vector3d t = g.hand_pose.translation();
+      out.insert(g.strategy + "/" + std::to_string(g.skeleton_vertex) + "/" + g.preshape + "/" +
+                 std::to_string(std::lround(t.x() * 1e6)) + "," +
+                 std::to_string(std::lround(t.y() * 1e6)) + "," +
+                 std::to_string(std::lround(t.z() * 1e6)));
+    }
+    return out;
+  };
+  EXPECT_EQ(keys(with.result, false), keys(main_only.result, false));
+  EXPECT_TRUE(keys(main_only.result, true).empty());
+  EXPECT_TRUE(keys(ref.result, true).empty());
+  std::set<std::string> strategies;
+  for (const auto& g : with.result.grasps) {
+    if (g.preshape != "spherical") continue;
+    EXPECT_EQ(g.type, GraspType::kPower);
+    strategies.insert(isFallbackStrategy(g.strategy) ? "centre" : "skeleton");
+  }
+  EXPECT_EQ(strategies, (std::set<std::string>{"centre", "skeleton"}));
+  const auto spherical_grasps =
+      std::count_if(with.result.grasps.begin(), with.result.grasps.end(),
+                    [](const Grasp& g) { return g.preshape == "spherical"; });
+  EXPECT_EQ(with.result.grasps.size(),
+            main_only.result.grasps.size() + static_cast<std::size_t>(spherical_grasps));
+  EXPECT_GT(with.result.summary.hypotheses, main_only.result.summary.hypotheses);
+}
+
 // A grasp limit does not shut the centre candidates out: the skeleton strategies stop at its
 // larger half, the centre candidates fill up the rest.
 TEST(FallbackPlanner, CentreCandidatesGetTheRestOfAGraspLimit) {
@@ -296,7 +344,8 @@ TEST(FallbackPlanner, TopStrategyComesFromAboveWhenThereIsASupportPlane) {
   const PlanResult r = planFallbackGrasps(hand, object, params);
   const FallbackStrategyParams& sp = params.strategies;
   const std::size_t poses = sp.top_rolls + sp.top_tilted_azimuths * sp.top_tilted_rolls;
-  EXPECT_EQ(r.summary.poses, 2 * poses);  // precision and power
+  // Precision, power and the SDH's power alternative (its tripod).
+  EXPECT_EQ(r.summary.poses, 3 * poses);
   EXPECT_GE(r.grasps.size(), kWantedGrasps);
   expectSound(r, hand, object);
   const double steepest = std::cos(sp.top_tilt_rad) - 1e-9;

@@ -6,6 +6,7 @@
 #include <functional>
 #include <regex>
 
+#include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/error.h"
 #include "test_support.h"
 
@@ -93,6 +94,58 @@ TEST(HandModel, MimicJointsFollowTheirLeader) {
   EXPECT_DOUBLE_EQ(g[gripper.jointIndex("finger_right")], 0.04);
 }
 
+TEST(HandModel, PlannersCloseEachTypesPreshapeThenItsAlternatives) {
+  const HandModel sdh = loadBuiltinHand("sdh");
+  const auto names = [](const std::vector<const Preshape*>& preshapes) {
+    std::vector<std::string> out;
+    for (const Preshape* p : preshapes) out.push_back(p->name);
+    return out;
+  };
+  using Names = std::vector<std::string>;
+  EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPower)), (Names{"power", "spherical"}));
+  EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPower, false)), (Names{"power"}));
+  EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPrecision)), (Names{"precision"}));
+  EXPECT_EQ(sdh.preshape("spherical").grasp_type, GraspType::kPower);
+  EXPECT_EQ(sdh.preshape("precision").grasp_type, GraspType::kPrecision);
+  // The paper's hands keep their two preshapes.
+  for (const char* name : {"armar3", "shadow", "parallel_gripper"}) {
+    const HandModel hand = loadBuiltinHand(name);
+    EXPECT_EQ(names(hand.plannerPreshapes(GraspType::kPower)), (Names{"power"})) << name;
+    EXPECT_EQ(names(hand.plannerPreshapes(GraspType::kPrecision)), (Names{"precision"})) << name;
+  }
+}
+
+// The SDH's spherical preshape turns fingers 1 and 2 by 60 degrees about their bases. The three
+// finger bases lie on a circle about the palm axis (the fact sheet's 38.1 mm), so then every
+// finger closes towards that axis (a tripod, 120 degrees apart); in the power preshape fingers 1
+// and 2 close side by side towards the thumb's side.
+TEST(HandModel, SdhSphericalPreshapeClosesEveryFingerTowardsThePalmAxis) {
+  const HandModel sdh = loadBuiltinHand("sdh");
+  const auto closingDirections = [&](const Preshape& preshape) {
+    std::vector<Eigen::Vector2d> out;
+    for (const char* finger : {"finger1", "finger2", "thumb"}) {
+      const int proximal = sdh.jointIndex(std::string(finger) + "_proximal_joint");
+      const int distal = sdh.linkIndex(std::string(finger) + "_distal");
+      Eigen::VectorXd q = preshape.joints;
+      const Eigen::Vector3d before = sdh.linkPoses(q)[distal].translation();
+      q[proximal] += 0.01;  // the closing direction of every SDH drive is +1
+      const Eigen::Vector3d after = sdh.linkPoses(q)[distal].translation();
+      const Eigen::Vector3d base =
+          sdh.linkPoses(q)[sdh.linkIndex(std::string(finger) + "_knuckle")].translation();
+      EXPECT_NEAR(base.head<2>().norm(), 0.0381, 2e-4) << finger;
+      out.push_back((after - before).head<2>().normalized());
+      out.push_back(-base.head<2>().normalized());  // towards the palm axis
+    }
+    return out;
+  };
+  const auto spherical = closingDirections(sdh.preshape("spherical"));
+  for (std::size_t f = 0; f < 3; ++f)
+    EXPECT_GT(spherical[2 * f].dot(spherical[2 * f + 1]), std::cos(2 * kPi / 180)) << f;
+  const auto power = closingDirections(sdh.preshape("power"));
+  EXPECT_GT(power[0].dot(power[2]), std::cos(2 * kPi / 180));   // fingers 1 and 2 parallel
+  EXPECT_LT(power[0].dot(power[4]), -std::cos(2 * kPi / 180));  // against the thumb
+}
+
 TEST(HandModel, LoadsFromFilesThroughTheSamePathAsBuiltIns) {
   const HandModel hand = loadHand(handFile("sdh", "sdh.urdf"), handFile("sdh", "sdh.grasp.json"));
   EXPECT_EQ(hand.name(), "sdh");
@@ -132,6 +185,25 @@ TEST(HandModel, BadHandInputsNameTheFileAndTheProblem) {
   std::ofstream(dir + "/desc.json") << renamed;
   expectIoError([&] { loadHand(handFile("armar3", "armar3.urdf"), dir + "/desc.json"); },
                 dir + "/desc.json", "unknown joint 'index_j9'");
+  // A preshape's grasp type: one of the two, and its own name's for "power" and "precision".
+  const auto withPreshapeType = [&](const std::string& preshape, const std::string& type) {
+    const std::string typed = std::regex_replace(
+        text, std::regex("\"" + preshape + "\": \\{"),
+        "\"" + preshape + "\": {\"grasp_type\": \"" + type + "\", ",
+        std::regex_constants::format_first_only);  // the preshape, not the thresholds after it
+    std::ofstream(dir + "/typed.json") << typed;
+    return dir + "/typed.json";
+  };
+  expectIoError(
+      [&] { loadHand(handFile("armar3", "armar3.urdf"), withPreshapeType("power", "x")); },
+      dir + "/typed.json", "grasp_type must be \"power\" or \"precision\"");
+  expectIoError(
+      [&] { loadHand(handFile("armar3", "armar3.urdf"), withPreshapeType("power", "precision")); },
+      dir + "/typed.json", "its own name's type");
+  EXPECT_EQ(loadHand(handFile("armar3", "armar3.urdf"), withPreshapeType("power", "power"))
+                .plannerPreshapes(GraspType::kPower)
+                .size(),
+            1u);
   std::ofstream(dir + "/schema.json") << "{\"schema\": \"other\"}";
   expectIoError([&] { loadHand(handFile("armar3", "armar3.urdf"), dir + "/schema.json"); },
                 dir + "/schema.json", "schema");

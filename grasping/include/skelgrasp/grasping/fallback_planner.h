@@ -55,6 +55,10 @@ struct FallbackStrategyParams {
   // The preshapes tried at every pose, where the hand does that grasp type (at least one).
   bool precision = true;
   bool power = true;
+  // Also close the hand's alternative preshapes of each grasp type at every pose of that type
+  // (HandModel::plannerPreshapes). false, or hypothesis.quality.reference_compat: "power" and
+  // "precision" only, as the reference. The skeleton planner passes on its own flag.
+  bool alternative_preshapes = true;
   // The object is a disc ("rim" applies) when the standard deviation of its surface along the
   // thinnest principal axis is below this fraction of that along the middle axis (a sphere: 1;
   // a disc 90 mm across and 15 mm thick: about 0.4).

@@ -10,6 +10,7 @@
 
 #include "skelgrasp/common/mesh.h"
 #include "skelgrasp/common/pose.h"
+#include "skelgrasp/grasping/grasp.h"
 
 namespace skelgrasp::grasping {
 
@@ -70,6 +71,10 @@ struct Preshape {
   Eigen::VectorXd joints;  // all joints of the model (mimics applied)
   int gcp_link = -1;
   Pose gcp_in_link = Pose::Identity();  // grasp centre point: z = approach, y = finger spread
+  // The grasp type the planners close this preshape for: "power" and "precision" are their own
+  // types; another preshape with a type is an alternative the planners also close at every pose
+  // of that type (the SDH's "spherical", docs/hands.md). Unset: the planners never use it.
+  std::optional<GraspType> grasp_type;
 };
 
 // Thresholds of one grasp type on the local surface shape (paper Table II), in metres of the
@@ -128,6 +133,11 @@ class HandModel {
   const std::map<std::string, Preshape>& preshapes() const { return preshapes_; }
   // Throws InvalidArgument naming the known preshapes.
   const Preshape& preshape(const std::string& name) const;
+  // The preshapes the planners close for grasps of `type`: the one named after the type first,
+  // then (with `alternatives`) the other preshapes of that type by name. Empty when the hand has
+  // none of that type. The planners and the robust refinement ask for alternatives unless told
+  // not to or in reference_compat (the reference's hands close their two preshapes only).
+  std::vector<const Preshape*> plannerPreshapes(GraspType type, bool alternatives = true) const;
   // Grasp centre point of a preshape in the root frame (at the preshape's joint values).
   Pose gcpInRoot(const Preshape& preshape) const;
   const PlannerThresholds& thresholds() const { return thresholds_; }
