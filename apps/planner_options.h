@@ -52,6 +52,7 @@ struct PlannerOptions {
   bool reference_compat = false;
   bool no_fallback = false;  // skeleton planner: the skeleton strategies only
   bool centre_candidates = grasping::SkeletonPlannerParams{}.centre_candidates;
+  bool alternative_preshapes = grasping::SkeletonPlannerParams{}.alternative_preshapes;
   std::size_t surface_candidates = grasping::SkeletonPlannerParams{}.surface_candidates;
   std::string fc_test = defaultForceClosureTest();
   bool wrench_volume = grasping::QualityParams{}.compute_volume;
@@ -112,6 +113,11 @@ struct PlannerOptions {
                  "Skeleton planner: no fallback strategies for objects whose skeleton gives few "
                  "grasps (docs/planning.md)");
     addCentreCandidatesFlag(cmd, centre_candidates);
+    cmd.add_flag("--alternative-preshapes,!--no-alternative-preshapes", alternative_preshapes,
+                 "Skeleton planner: also close every pose with the hand's alternative preshapes "
+                 "of its grasp type (the SDH's spherical tripod; docs/hands.md); off with "
+                 "--reference-compat")
+        ->capture_default_str();
     addSurfaceCandidatesOption(cmd, surface_candidates);
     addForceClosureTestOption(cmd, fc_test);
     addTorsionalFrictionOption(cmd, torsional_friction_m);
@@ -150,6 +156,7 @@ struct PlannerOptions {
     p.round_ratio = round_ratio;
     p.fallback = !no_fallback;
     p.centre_candidates = centre_candidates;
+    p.alternative_preshapes = alternative_preshapes;
     p.surface_candidates = surface_candidates;
     p.precision_retreat_m = precision_retreat_m;
     p.hypothesis = hypothesis();

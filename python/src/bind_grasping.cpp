@@ -36,7 +36,8 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
           const std::string& robustness_variant, std::size_t robustness_top_k,
           std::size_t robustness_screen, std::optional<double> robustness_mu, bool robust_refine,
           bool centre_candidates, std::size_t surface_candidates, bool wrench_volume,
-          std::optional<double> torsional_friction, const std::string& contact_patch) {
+          std::optional<double> torsional_friction, const std::string& contact_patch,
+          bool alternative_preshapes) {
   if (planner != "skeleton" && planner != "surface")
     throw InvalidArgument("planner: '" + planner + "' is not skeleton or surface");
   grasping::HypothesisParams hypothesis;
@@ -70,6 +71,7 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
     p.round_ratio = round_ratio;
     p.centre_candidates = centre_candidates;
     p.surface_candidates = surface_candidates;
+    p.alternative_preshapes = alternative_preshapes;
     p.hypothesis = hypothesis;
     out.result = grasping::planSkeletonGrasps(*hand, object, out.skeleton->result.skeleton, p);
   } else {
@@ -264,6 +266,7 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
       py::arg("wrench_volume") = planner.hypothesis.quality.compute_volume,
       py::arg("torsional_friction") = planner.hypothesis.quality.torsional_friction_m,
       py::arg("contact_patch") = std::string(toString(planner.hypothesis.closing.contact_patch)),
+      py::arg("alternative_preshapes") = planner.alternative_preshapes,
       R"doc(
 Plans grasps for ``mesh`` with ``hand`` (``skelgrasp plan``): planner 'skeleton' (paper Alg. 1)
 or 'surface' (surface-normal baseline). Deterministic for a seed. The defaults are the library's
@@ -282,8 +285,10 @@ grasp's wrench space volume (the whole 6D hull, slower; else ``Grasp.volume`` is
 ``torsional_friction`` (metres) judges contacts as soft fingers (docs/hands.md; None: the hand's
 own model, point contacts for the built-in hands), in planning and in r. ``contact_patch``
 'corners' lets a link touching over an area push through its patch's corners, 'centre' through its
-centre only (the reference's model; implied by ``reference_compat``). A mesh the skeleton stage
-cannot process raises ValueError.)doc");
+centre only (the reference's model; implied by ``reference_compat``). ``alternative_preshapes``
+(skeleton planner) also closes every pose with the hand's alternative preshapes of its grasp type,
+the SDH's 'spherical' tripod (docs/hands.md); False or ``reference_compat``: 'power' and
+'precision' only. A mesh the skeleton stage cannot process raises ValueError.)doc");
 
   m.def(
       "render_plan",

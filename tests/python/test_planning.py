@@ -134,6 +134,19 @@ def test_surface_candidates_join_the_skeleton_planners_pool(capsule):
     assert surface and len(result.grasps) == len(without.grasps) + len(surface)
 
 
+def test_alternative_preshapes_is_a_keyword_of_plan(capsule, sdh, capsule_plan):
+    # The SDH's tripod ("spherical", a power preshape) is closed wherever its power preshape is.
+    assert "alternative_preshapes: bool = True" in skelgrasp.plan.__doc__
+    with_alternatives = skelgrasp.plan(capsule, sdh, seed=1, robustness=False)
+    plain = skelgrasp.plan(capsule, sdh, seed=1, robustness=False, alternative_preshapes=False)
+    reference = skelgrasp.plan(capsule, sdh, seed=1, robustness=False, reference_compat=True)
+    spherical = [g for g in with_alternatives.to_dict()["grasps"] if g["preshape"] == "spherical"]
+    assert spherical and all(g["type"] == "power" for g in spherical)
+    assert len(with_alternatives.grasps) == len(plain.grasps) + len(spherical)
+    for result in (plain, reference):
+        assert {g["preshape"] for g in result.to_dict()["grasps"]} <= {"power", "precision"}
+
+
 def test_wrench_volume_is_computed_on_request_only(capsule, sdh):
     assert "wrench_volume: bool = False" in skelgrasp.plan.__doc__
     without = skelgrasp.plan(capsule, sdh, seed=1, max_grasps=5, robustness=False)
@@ -279,11 +292,17 @@ def test_score_grasps_closes_again_at_each_mu(capsule, sdh, capsule_plan):
         for c in s["closure"]:
             r = c["robustness"]
             assert r["ci95"][0] <= r["r"] <= r["ci95"][1]
+    # Soft fingers hold wherever point contacts do, sample by sample, in the paper variant: the
+    # same closings judged with a larger wrench cone. (Not per sample in the settled variant,
+    # whose settling path itself depends on the contact model.)
+    point = skelgrasp.score_grasps(capsule, sdh, capsule_plan.to_dict(), mu=[0.35],
+                                   robustness_samples=4, seed=3, robustness_variant="paper")
     soft = skelgrasp.score_grasps(capsule, sdh, capsule_plan.to_dict(), mu=[0.35],
-                                  robustness_samples=4, seed=3, torsional_friction=0.0023)
+                                  robustness_samples=4, seed=3, robustness_variant="paper",
+                                  torsional_friction=0.0023)
     assert soft["parameters"]["torsional_friction_m"] == 0.0023
-    assert doc["parameters"]["torsional_friction_m"] == 0.0  # the SDH's own: point contacts
-    for s, p in zip(soft["grasps"], doc["grasps"]):
+    assert point["parameters"]["torsional_friction_m"] == 0.0  # the SDH's own: point contacts
+    for s, p in zip(soft["grasps"], point["grasps"]):
         assert s["closure"][0]["robustness"]["r"] >= p["closure"][0]["robustness"]["r"]
     with pytest.raises(ValueError, match="schema"):
         skelgrasp.score_grasps(capsule, sdh, {"schema": "other/1", "grasps": []})
