@@ -49,6 +49,7 @@ struct EvaluateArgs {
   double mu = grasping::QualityParams{}.friction;
   double vertex_distance_m = evaluation::BatchParams{}.vertex_distance_m;
   bool centre_candidates = evaluation::BatchParams{}.centre_candidates;
+  bool alternative_preshapes = evaluation::BatchParams{}.alternative_preshapes;
   std::size_t surface_candidates = evaluation::BatchParams{}.surface_candidates;
   std::size_t limit = evaluation::BatchParams{}.object_limit;
   std::uint64_t seed = evaluation::BatchParams{}.seed;
@@ -114,6 +115,7 @@ int runEvaluate(const EvaluateArgs& a) {
   p.timeout_s = a.timeout_s;
   p.vertex_distance_m = a.vertex_distance_m;
   p.centre_candidates = a.centre_candidates;
+  p.alternative_preshapes = a.alternative_preshapes;
   p.surface_candidates = a.surface_candidates;
   p.robustness_grasps = a.robustness_grasps;
   p.robustness.samples = a.samples;
@@ -201,6 +203,7 @@ void registerEvaluateCommands(CLI::App& app, Action& action) {
       ->check(lengthOrZero())
       ->capture_default_str();
   addCentreCandidatesFlag(*cmd, a->centre_candidates);
+  addAlternativePreshapesFlag(*cmd, a->alternative_preshapes);
   addSurfaceCandidatesOption(*cmd, a->surface_candidates);
   cmd->add_option("--units", a->units, "Mesh units: auto, m or mm")->capture_default_str();
   cmd->add_option("--limit", a->limit, "Only the first N objects (0 = all)")

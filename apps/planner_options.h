@@ -27,6 +27,16 @@ inline CLI::Option* addCentreCandidatesFlag(CLI::App& cmd, bool& centre_candidat
                       "object, the robust ones the ranking chooses from (docs/planning.md)");
 }
 
+// --alternative-preshapes / --no-alternative-preshapes, the same on every command that plans.
+inline CLI::Option* addAlternativePreshapesFlag(CLI::App& cmd, bool& alternative_preshapes) {
+  return cmd
+      .add_flag("--alternative-preshapes,!--no-alternative-preshapes", alternative_preshapes,
+                "Skeleton planner: also close every pose with the hand's alternative preshapes of "
+                "its grasp type (the SDH's spherical tripod; docs/hands.md); off with "
+                "--reference-compat")
+      ->capture_default_str();
+}
+
 // --surface-candidates, the same on every command that plans.
 inline CLI::Option* addSurfaceCandidatesOption(CLI::App& cmd, std::size_t& surface_candidates) {
   return cmd
@@ -113,11 +123,7 @@ struct PlannerOptions {
                  "Skeleton planner: no fallback strategies for objects whose skeleton gives few "
                  "grasps (docs/planning.md)");
     addCentreCandidatesFlag(cmd, centre_candidates);
-    cmd.add_flag("--alternative-preshapes,!--no-alternative-preshapes", alternative_preshapes,
-                 "Skeleton planner: also close every pose with the hand's alternative preshapes "
-                 "of its grasp type (the SDH's spherical tripod; docs/hands.md); off with "
-                 "--reference-compat")
-        ->capture_default_str();
+    addAlternativePreshapesFlag(cmd, alternative_preshapes);
     addSurfaceCandidatesOption(cmd, surface_candidates);
     addForceClosureTestOption(cmd, fc_test);
     addTorsionalFrictionOption(cmd, torsional_friction_m);

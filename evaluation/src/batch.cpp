@@ -147,6 +147,7 @@ class ObjectEvaluator {
       sp.seed = seed;
       sp.vertex_distance_m = p_.vertex_distance_m;
       sp.centre_candidates = p_.centre_candidates;
+      sp.alternative_preshapes = p_.alternative_preshapes;
       sp.surface_candidates = p_.surface_candidates;
       sp.hypothesis = hypothesis;
       result = grasping::planSkeletonGrasps(hand, object, skel->skeleton, sp);
@@ -348,7 +349,7 @@ BatchStats runBatch(const BatchParams& p) {
   if (p.object_limit > 0 && objects.size() > p.object_limit) objects.resize(p.object_limit);
   prepareOutDir(p.out_dir);
   const internal::DirectoryLock lock(p.out_dir);
-  const nlohmann::json options = internal::resultOptions(p);
+  const nlohmann::json options = internal::resultOptions(p, hands);
   if (p.restart) {
     removeBatchFiles(p.out_dir);
   } else if (const auto recorded = internal::readBatchOptions(p.out_dir)) {

@@ -97,7 +97,7 @@ nlohmann::json rankingOptions(const RobustRankingParams& r) {
             {"mean_shift_steps", r.refinement.mean_shift_steps}}}};
 }
 
-nlohmann::json resultOptions(const BatchParams& p) {
+nlohmann::json resultOptions(const BatchParams& p, const std::vector<grasping::HandModel>& hands) {
   std::vector<std::string> planners;
   for (const Planner planner : p.planners) planners.push_back(toString(planner));
   const auto& q = p.quality;
@@ -146,6 +146,23 @@ nlohmann::json resultOptions(const BatchParams& p) {
     options["contact_patch"] = grasping::toString(c.contact_patch);
   // Only when on, so batches from before the option resume.
   if (p.surface_candidates > 0) options["surface_candidates"] = p.surface_candidates;
+  // The hands whose planners close alternative preshapes (the SDH's tripod since 2026-11-27): only
+  // those, so batches of the other hands resume, and older ones with --no-alternative-preshapes.
+  std::vector<std::string> with_alternatives;
+  const bool skeleton_planner =
+      std::find(p.planners.begin(), p.planners.end(), Planner::kSkeleton) != p.planners.end();
+  if (p.alternative_preshapes && !q.reference_compat && skeleton_planner) {
+    for (const auto& hand : hands) {
+      for (grasping::GraspType type :
+           {grasping::GraspType::kPower, grasping::GraspType::kPrecision}) {
+        if (hand.plannerPreshapes(type).size() > 1) {
+          with_alternatives.push_back(hand.name());
+          break;
+        }
+      }
+    }
+  }
+  if (!with_alternatives.empty()) options["alternative_preshapes"] = with_alternatives;
   return options;
 }
 

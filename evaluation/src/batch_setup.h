@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "skelgrasp/evaluation/batch.h"
+#include "skelgrasp/grasping/hand_model.h"
 
 namespace skelgrasp::evaluation::internal {
 
@@ -16,7 +17,9 @@ namespace skelgrasp::evaluation::internal {
 constexpr int kBatchSchemaVersion = 1;
 
 // Every option of `params` that changes a run's records; not jobs, shards, out_dir or the list.
-nlohmann::json resultOptions(const BatchParams& params);
+// `hands` are params.hands resolved: which of them close alternative preshapes is recorded.
+nlohmann::json resultOptions(const BatchParams& params,
+                             const std::vector<grasping::HandModel>& hands);
 
 // "mu 0.35 -> 0.5, robustness.samples 8 -> 4" for the options that differ; empty when none.
 std::string describeDifferences(const nlohmann::json& recorded, const nlohmann::json& current);

@@ -129,6 +129,36 @@ TEST_F(BatchTest, AResumeWithOtherOptionsRefusesUnlessRestarted) {
   EXPECT_EQ(runBatch(p).objects_skipped, 3u);  // the new options are now the batch's
 }
 
+// A hand with alternative preshapes (the SDH's tripod) plans differently with them: batch.json
+// names the hands that closed them, so a resume without them is refused, and batches of hands
+// without any (all those from before the option) record nothing and resume as before.
+TEST_F(BatchTest, HandsClosingAlternativePreshapesAreRecorded) {
+  const std::string out = test::tempDir("batch_alternative_preshapes");
+  auto p = params(out);
+  p.planners = {Planner::kSkeleton};
+  p.max_objects = 1;
+  runBatch(p);
+  EXPECT_EQ(readJsonFile(out + "/batch.json")["options"]["alternative_preshapes"],
+            nlohmann::json::array({"sdh"}));
+  p.alternative_preshapes = false;
+  try {
+    runBatch(p);
+    FAIL() << "a resume without the alternative preshapes was accepted";
+  } catch (const InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("alternative_preshapes"), std::string::npos) << e.what();
+  }
+  const std::string armar_out = test::tempDir("batch_alternative_preshapes_armar3");
+  auto armar = params(armar_out);
+  armar.hands = {"armar3"};
+  armar.planners = {Planner::kSkeleton};
+  armar.max_objects = 1;
+  runBatch(armar);
+  EXPECT_FALSE(
+      readJsonFile(armar_out + "/batch.json")["options"].contains("alternative_preshapes"));
+  armar.alternative_preshapes = false;
+  EXPECT_EQ(runBatch(armar).objects_skipped, 1u);  // the same plans: it resumes
+}
+
 TEST_F(BatchTest, MergeRefusesShardsRunWithOtherOptions) {
   const std::string s0 = test::tempDir("batch_opt_s0"), s1 = test::tempDir("batch_opt_s1"),
                     merged = test::tempDir("batch_opt_merged");
