@@ -153,13 +153,13 @@ nlohmann::json resultOptions(const BatchParams& p, const std::vector<grasping::H
       std::find(p.planners.begin(), p.planners.end(), Planner::kSkeleton) != p.planners.end();
   if (p.alternative_preshapes && !q.reference_compat && skeleton_planner) {
     for (const auto& hand : hands) {
-      for (grasping::GraspType type :
-           {grasping::GraspType::kPower, grasping::GraspType::kPrecision}) {
-        if (hand.plannerPreshapes(type).size() > 1) {
-          with_alternatives.push_back(hand.name());
-          break;
-        }
-      }
+      // A preshape with a grasp type that is not named after it is an alternative.
+      const auto& preshapes = hand.preshapes();
+      if (std::any_of(preshapes.begin(), preshapes.end(), [](const auto& named) {
+            const auto& [name, preshape] = named;
+            return preshape.grasp_type && name != grasping::toString(*preshape.grasp_type);
+          }))
+        with_alternatives.push_back(hand.name());
     }
   }
   if (!with_alternatives.empty()) options["alternative_preshapes"] = with_alternatives;

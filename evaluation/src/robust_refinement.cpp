@@ -38,9 +38,7 @@ std::vector<const grasping::Preshape*> switchPreshapes(const grasping::HandModel
                                         : grasping::GraspType::kPower;
   std::vector<const grasping::Preshape*> out;
   for (grasping::GraspType type : {own, other}) {
-    const bool done = type == grasping::GraspType::kPower ? hand.thresholds().power.has_value()
-                                                          : hand.thresholds().precision.has_value();
-    if (!done) continue;
+    if (!hand.thresholds().of(type)) continue;
     for (const grasping::Preshape* p : hand.plannerPreshapes(type, /*alternatives=*/false)) {
       if (p->name != current) out.push_back(p);
     }

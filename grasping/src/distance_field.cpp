@@ -425,13 +425,6 @@ DistanceField::BoxGap DistanceField::boxGapAndFace(const Pose& box_pose,
   return gap;
 }
 
-std::optional<DistanceField::BoxClosestPoints> DistanceField::boxClosestPoints(
-    const Pose& box_pose, const Eigen::Vector3d& half, double upper) const {
-  const BoxGap gap = boxGapAndFace(box_pose, half, upper);
-  if (!gap.face || !(gap.distance > 0)) return std::nullopt;
-  return boxClosestPointsOnFace(box_pose, half, *gap.face);
-}
-
 std::optional<DistanceField::BoxClosestPoints> DistanceField::boxClosestPointsOnFace(
     const Pose& box_pose, const Eigen::Vector3d& half, std::size_t face) const {
   const auto& m = *impl_;

@@ -251,10 +251,8 @@ PlanResult planFallbackGrasps(const HandModel& hand, const GraspObject& object,
   // skeleton planner.
   std::vector<std::pair<GraspType, const Preshape*>> closings;
   for (GraspType type : {GraspType::kPrecision, GraspType::kPower}) {
-    const bool wanted = type == GraspType::kPrecision
-                            ? sp.precision && hand.thresholds().precision.has_value()
-                            : sp.power && hand.thresholds().power.has_value();
-    if (!wanted) continue;
+    const bool asked = type == GraspType::kPrecision ? sp.precision : sp.power;
+    if (!asked || !hand.thresholds().of(type)) continue;
     for (const Preshape* preshape : hand.plannerPreshapes(
              type, sp.alternative_preshapes && !params.hypothesis.quality.reference_compat))
       closings.emplace_back(type, preshape);

@@ -70,17 +70,9 @@ class DescriptionReader {
     p.gcp_in_link = poseFromJson(gcp);
     // "power" and "precision" are of their own type; another preshape is an alternative of the
     // type it names, or none.
-    const auto ownType = [&]() -> std::optional<GraspType> {
-      if (name == "power") return GraspType::kPower;
-      if (name == "precision") return GraspType::kPrecision;
-      return std::nullopt;
-    };
-    p.grasp_type = ownType();
+    p.grasp_type = graspTypeNamed(name);
     if (j.contains("grasp_type")) {
-      const std::string type = j.at("grasp_type").get<std::string>();
-      const std::optional<GraspType> named = type == "power"       ? GraspType::kPower
-                                             : type == "precision" ? GraspType::kPrecision
-                                                                   : std::optional<GraspType>();
+      const std::optional<GraspType> named = graspTypeNamed(j.at("grasp_type").get<std::string>());
       if (!named) fail(where + ": grasp_type must be \"power\" or \"precision\"");
       if (p.grasp_type && *p.grasp_type != *named)
         fail(where + ": grasp_type must be its own name's type");

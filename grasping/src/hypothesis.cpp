@@ -9,6 +9,13 @@ const char* toString(GraspType type) {
   return type == GraspType::kPower ? "power" : "precision";
 }
 
+std::optional<GraspType> graspTypeNamed(const std::string& name) {
+  for (GraspType type : {GraspType::kPrecision, GraspType::kPower}) {
+    if (name == toString(type)) return type;
+  }
+  return std::nullopt;
+}
+
 HypothesisOutcome evaluateHypothesis(GraspSimulator& simulator, const Pose& gcp,
                                      const Preshape& preshape, const HypothesisParams& params) {
   return judgeHypothesis(closeHypothesis(simulator, gcp, preshape, params), simulator.object(),

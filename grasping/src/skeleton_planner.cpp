@@ -166,7 +166,7 @@ PlanResult planSkeletonGrasps(const HandModel& hand, const GraspObject& object,
         reject(reason::kBranchVertex);
         continue;
       }
-      const auto& limits = precision ? hand.thresholds().precision : hand.thresholds().power;
+      const auto& limits = hand.thresholds().of(type);
       if (!limits) {
         reject(reason::kGraspTypeDisabled);
         continue;

@@ -177,10 +177,13 @@ TEST(DistanceField, BoxDistanceOverAFlatFaceIsItsLowestCornersHeight) {
     pose.translation() =
         Eigen::Vector3d(0.02 * unit(rng), 0.02 * unit(rng), object_half.z() + height - lowest);
     EXPECT_NEAR(field.boxDistance(pose, half, 0.01), height, 1e-9) << i;
-    // Tilted, the box touches with its lowest corner: the closest points are that corner and
-    // the point of the face below it.
-    const auto pair = field.boxClosestPoints(pose, half, 0.01);
+    // Tilted, the box touches with its lowest corner: the closest points, from the face the
+    // gap was found at, are that corner and the point of the face below it.
+    const DistanceField::BoxGap gap = field.boxGapAndFace(pose, half, 0.01);
+    EXPECT_EQ(gap.distance, field.boxDistance(pose, half, 0.01)) << i;
     if (height < 1e-6) continue;  // touching: no unique pair
+    ASSERT_TRUE(gap.face.has_value()) << i;
+    const auto pair = field.boxClosestPointsOnFace(pose, half, *gap.face);
     ASSERT_TRUE(pair.has_value()) << i;
     const Eigen::Vector3d corner = pose * lowest_corner;
     EXPECT_NEAR(pair->on_surface.distance, height, 1e-9) << i;
@@ -189,22 +192,17 @@ TEST(DistanceField, BoxDistanceOverAFlatFaceIsItsLowestCornersHeight) {
         (pair->on_surface.point - Eigen::Vector3d(corner.x(), corner.y(), object_half.z())).norm(),
         1e-6)
         << i;
-    // The same gap and pair from one search and its face (the contact patch's path).
-    const DistanceField::BoxGap gap = field.boxGapAndFace(pose, half, 0.01);
-    EXPECT_EQ(gap.distance, field.boxDistance(pose, half, 0.01)) << i;
-    ASSERT_TRUE(gap.face.has_value()) << i;
-    const auto on_face = field.boxClosestPointsOnFace(pose, half, *gap.face);
-    ASSERT_TRUE(on_face.has_value()) << i;
-    EXPECT_NEAR(on_face->on_surface.distance, height, 1e-9) << i;
-    EXPECT_LT((on_face->on_box - corner).norm(), 1e-6) << i;
   }
   EXPECT_THROW(
       field.boxClosestPointsOnFace(Pose::Identity(), Eigen::Vector3d::Constant(0.01), 1u << 30),
       InvalidArgument);
-  // Farther than `upper`: no pair.
+  // Farther than `upper`: the gap comes back as `upper`, with no face.
   Pose far = Pose::Identity();
   far.translation() = Eigen::Vector3d(0, 0, object_half.z() + 0.05);
-  EXPECT_FALSE(field.boxClosestPoints(far, Eigen::Vector3d::Constant(0.01), 0.01).has_value());
+  const DistanceField::BoxGap far_gap =
+      field.boxGapAndFace(far, Eigen::Vector3d::Constant(0.01), 0.01);
+  EXPECT_EQ(far_gap.distance, 0.01);
+  EXPECT_FALSE(far_gap.face.has_value());
 }
 
 TEST(DistanceField, MemoryGuardGrowsTheSpacingAndOpenMeshesAreUnsigned) {

@@ -72,17 +72,13 @@ class DistanceField {
   };
   BoxGap boxGapAndFace(const Pose& box_pose, const Eigen::Vector3d& half, double upper) const;
 
-  // The closest points of that box and the surface (world frame) when their gap is positive and
-  // below `upper`; nullopt when they intersect or the gap is at least `upper`.
-  // `on_surface.distance` is the gap.
+  // The closest points of that box and the surface (world frame) from a gap already searched
+  // (boxGapAndFace at this pose, its face): those of the box and that face; nullopt when they
+  // touch (within rounding). `on_surface.distance` is the gap.
   struct BoxClosestPoints {
     Eigen::Vector3d on_box;
     SurfacePoint on_surface;
   };
-  std::optional<BoxClosestPoints> boxClosestPoints(const Pose& box_pose,
-                                                   const Eigen::Vector3d& half, double upper) const;
-  // The same from a gap already searched (boxGapAndFace at this pose): the closest points of the
-  // box and that face; nullopt when they touch (within rounding).
   std::optional<BoxClosestPoints> boxClosestPointsOnFace(const Pose& box_pose,
                                                          const Eigen::Vector3d& half,
                                                          std::size_t face) const;

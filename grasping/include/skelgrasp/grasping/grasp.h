@@ -13,6 +13,8 @@ namespace skelgrasp::grasping {
 
 enum class GraspType { kPrecision, kPower };
 const char* toString(GraspType type);
+// The type toString names ("power", "precision"); nullopt for any other text.
+std::optional<GraspType> graspTypeNamed(const std::string& name);
 
 // How refinement for robustness (evaluation/robust_refinement.h) moved a scored grasp: the search
 // for a more robust pose near it, with the pose it kept relative to the planner's.

@@ -89,6 +89,10 @@ struct PlannerThresholds {
   std::optional<ShapeThresholds> precision;  // nullopt: the hand does no such grasps
   std::optional<ShapeThresholds> power;
   double power_retreat_m = 0.015;
+  // The limits of grasps of `type`; nullopt: the hand does no such grasps.
+  const std::optional<ShapeThresholds>& of(GraspType type) const {
+    return type == GraspType::kPrecision ? precision : power;
+  }
 };
 
 struct ClosingDefaults {
