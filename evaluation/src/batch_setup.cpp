@@ -81,20 +81,25 @@ std::string shown(const nlohmann::json& value) {
 // Robust ranking as recorded in batch.json (only when on, so batches from before the option
 // resume).
 nlohmann::json rankingOptions(const RobustRankingParams& r) {
-  return {{"top_k", r.top_k},
-          {"screen_k", r.screen_k},
-          {"screen_samples", r.screen_samples},
-          {"samples", r.robustness.samples},
-          {"variant", toString(r.robustness.variant)},
-          // The search moves the returned grasps, so a batch resumed with another search would
-          // mix two kinds of grasps.
-          {"refinement",
-           {{"enabled", r.refinement.enabled},
-            {"max_grasps", r.refinement.max_grasps},
-            {"max_evaluations", r.refinement.max_evaluations},
-            {"samples", r.refinement.samples},
-            {"max_standoff_m", r.refinement.max_standoff_m},
-            {"mean_shift_steps", r.refinement.mean_shift_steps}}}};
+  nlohmann::json options = {{"top_k", r.top_k},
+                            {"screen_k", r.screen_k},
+                            {"screen_samples", r.screen_samples},
+                            {"samples", r.robustness.samples},
+                            {"variant", toString(r.robustness.variant)},
+                            // The search moves the returned grasps, so a batch resumed with another
+                            // search would mix two kinds of grasps.
+                            {"refinement",
+                             {{"enabled", r.refinement.enabled},
+                              {"max_grasps", r.refinement.max_grasps},
+                              {"max_evaluations", r.refinement.max_evaluations},
+                              {"samples", r.refinement.samples},
+                              {"max_standoff_m", r.refinement.max_standoff_m},
+                              {"mean_shift_steps", r.refinement.mean_shift_steps}}}};
+  // Since 2026-11-27 a found pose is checked on samples of its own, not on r's; a batch from
+  // before reported the moved grasps' r from the samples that chose them, so it does not resume
+  // into this one.
+  if (r.refinement.enabled) options["refinement"]["check"] = "own_samples";
+  return options;
 }
 
 nlohmann::json resultOptions(const BatchParams& p, const std::vector<grasping::HandModel>& hands) {

@@ -72,6 +72,13 @@ nlohmann::json graspToJson(const Grasp& g, const HandModel& hand) {
                                           {{"steps", f.mean_shift_steps},
                                            {"distance_m", f.mean_shift_m},
                                            {"angle_rad", f.mean_shift_rad}}}};
+      if (f.check_samples > 0) {
+        out["robustness"]["refinement"]["check"] = {
+            {"samples", f.check_samples},
+            {"holds_before", f.check_holds_before},
+            {"holds_after",
+             f.check_holds_after ? nlohmann::json(*f.check_holds_after) : nlohmann::json(nullptr)}};
+      }
     }
   }
   return withRefinementJson(g, std::move(out));

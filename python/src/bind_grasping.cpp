@@ -164,8 +164,9 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
           "{r, ci95, samples, mu, sigma_m, sigma_rad, variant, failures} when the robust ranking "
           "scored the grasp, else None (failures: {start_collision, closing, no_force_closure}, "
           "why the failed samples failed); with 'refinement' {refined, evaluations, "
-          "search_samples, r_before, preshape_before, moves} where refinement for robustness "
-          "searched near it.")
+          "search_samples, r_before, preshape_before, moves, mean_shift} where refinement for "
+          "robustness searched near it, and there 'check' {samples, holds_before, holds_after} "
+          "where it checked a pose it found against the planner's.")
       .def_property_readonly(
           "type", [](const Grasp& g) { return std::string(toString(g.grasp.type)); },
           "'power' or 'precision'.")

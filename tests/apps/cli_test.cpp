@@ -277,13 +277,23 @@ TEST(Cli, PlanScoresAndRanksByRobustness) {
     return records;
   };
   // By default refinement for robustness searches near the scored grasps (all 4 here, at most 5)
-  // and records it; a grasp it moved is at least as robust as the planner's on the same samples.
+  // and records it; a grasp it moved held at least as often as the planner's in the check.
   const auto searched = scoredRobustness("refined.json", "--robust-refine-evaluations 3");
   ASSERT_EQ(searched.size(), 4u);
   for (std::size_t i = 0; i < searched.size(); ++i) {
     const auto& r = searched[i];
     ASSERT_TRUE(r.contains("refinement")) << i;
-    EXPECT_LE(r["refinement"]["r_before"].get<double>(), r["r"].get<double>()) << i;
+    const auto& f = r["refinement"];
+    if (f.contains("check")) {
+      const auto& check = f["check"];
+      EXPECT_EQ(check["samples"], r["samples"]) << i;
+      EXPECT_EQ(f["refined"].get<bool>(),
+                !check["holds_after"].is_null() &&
+                    check["holds_after"].get<int>() >= check["holds_before"].get<int>())
+          << i;
+    } else {
+      EXPECT_FALSE(f["refined"].get<bool>()) << i;
+    }
     // 3 compass poses and the default one mean-shift step.
     EXPECT_LE(r["refinement"]["evaluations"].get<int>(), 3 + 1) << i;
     EXPECT_EQ(r["refinement"]["search_samples"], 12) << i;

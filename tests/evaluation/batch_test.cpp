@@ -180,6 +180,15 @@ TEST_F(BatchTest, RobustRankingRecordsTheReturnedGraspsRAndIsPartOfTheOptions) {
             std::string::npos)
       << summary;
   EXPECT_EQ(readJsonFile(out + "/batch.json")["options"]["ranking"]["top_k"], 2);
+  // How a found pose was checked is part of what r means: a batch from before the check on its
+  // own samples (no "check") does not resume into this one.
+  const nlohmann::json batch_json = readJsonFile(out + "/batch.json");
+  EXPECT_EQ(batch_json["options"]["ranking"]["refinement"]["check"], "own_samples");
+  nlohmann::json before_check = batch_json;
+  before_check["options"]["ranking"]["refinement"].erase("check");
+  std::ofstream(out + "/batch.json") << before_check.dump(2);
+  EXPECT_THROW(runBatch(p), InvalidArgument);
+  std::ofstream(out + "/batch.json") << batch_json.dump(2);
   // The search for more robust poses moves the returned grasps: another search is another batch.
   auto other_search = p;
   other_search.ranking.refinement.max_standoff_m += 0.01;

@@ -32,7 +32,9 @@ RobustnessParams judgedAs(const Planned& p, int samples) {
 }
 
 // Ranks `p`'s grasps twice with the same seed, with and without refinement for robustness, and
-// checks the refined ranking against the plain one grasp by grasp.
+// checks the refined ranking against the plain one grasp by grasp: a moved grasp holds in at least
+// as many of the check's samples as the planner's pose, and every reported r is the grasp's own on
+// the scoring samples, which chose nothing.
 void expectNeverLessRobust(const Planned& p, std::size_t top_k) {
   RobustRankingParams params;
   params.top_k = top_k;
@@ -63,7 +65,6 @@ void expectNeverLessRobust(const Planned& p, std::size_t top_k) {
     const auto& record = *g.robustness->refinement;
     EXPECT_DOUBLE_EQ(record.r_before, seed.robustness->r) << i;
     EXPECT_EQ(record.preshape_before, seed.preshape) << i;
-    EXPECT_GE(g.robustness->r, seed.robustness->r) << i;
     EXPECT_LE(record.evaluations,
               params.refinement.max_evaluations + params.refinement.mean_shift_steps)
         << i;
@@ -72,6 +73,19 @@ void expectNeverLessRobust(const Planned& p, std::size_t top_k) {
     // A returned grasp is a force-closure grasp whose reported r is its own (same samples).
     EXPECT_TRUE(g.force_closure) << i;
     EXPECT_EQ(g.robustness->r, evaluateRobustness(sim, g, rp, 0).score) << i;
+    // The check ran on its own stream (3), the planner's pose in full, the found one until it had
+    // failed more often; only a found pose holding as often there replaces the planner's.
+    EXPECT_TRUE(record.check_samples > 0 || !record.refined) << i;
+    if (record.check_samples > 0) {
+      EXPECT_EQ(record.check_samples, rp.samples) << i;
+      EXPECT_EQ(record.check_holds_before, evaluateRobustness(sim, seed, rp, 3).force_closure) << i;
+      EXPECT_EQ(record.refined, record.check_holds_after.has_value() &&
+                                    *record.check_holds_after >= record.check_holds_before)
+          << i;
+      if (record.refined) {
+        EXPECT_EQ(*record.check_holds_after, evaluateRobustness(sim, g, rp, 3).force_closure) << i;
+      }
+    }
     if (record.refined) {
       ++moved;
       EXPECT_FALSE(g.hand_pose.isApprox(seed.hand_pose, 1e-9)) << i;
@@ -218,6 +232,21 @@ TEST(RobustRefinement, RecordsTheSearchInGraspsJson) {
   EXPECT_EQ(j["mean_shift"]["steps"], 1);
   EXPECT_DOUBLE_EQ(j["mean_shift"]["distance_m"].get<double>(), 0.004);
   EXPECT_DOUBLE_EQ(j["mean_shift"]["angle_rad"].get<double>(), 0.05);
+  // No check ran: no "check" entry. A check that stopped early has no holds_after.
+  EXPECT_FALSE(j.contains("check"));
+  record.check_samples = 50;
+  record.check_holds_before = 41;
+  record.check_holds_after = 44;
+  g.robustness->refinement = record;
+  const auto check = grasping::graspToJson(g, hand)["robustness"]["refinement"]["check"];
+  EXPECT_EQ(check["samples"], 50);
+  EXPECT_EQ(check["holds_before"], 41);
+  EXPECT_EQ(check["holds_after"], 44);
+  record.refined = false;
+  record.check_holds_after.reset();
+  g.robustness->refinement = record;
+  EXPECT_TRUE(
+      grasping::graspToJson(g, hand)["robustness"]["refinement"]["check"]["holds_after"].is_null());
   grasping::Grasp unrefined;
   unrefined.robustness.emplace();
   EXPECT_FALSE(grasping::graspToJson(unrefined, hand)["robustness"].contains("refinement"));

@@ -94,8 +94,15 @@ def test_plan_robustness_keywords(capsule, sdh):
     for r, entry in zip(scored[:2], result.to_dict()["grasps"]):
         assert r == entry["robustness"] and r["samples"] == 10 and r["variant"] == "reference"
         assert 0 <= r["ci95"][0] <= r["r"] <= r["ci95"][1] <= 1 and r["mu"] == 0.5
-        # Refinement for robustness searched near both (the best 5 scored), never ending lower.
-        assert r["refinement"]["r_before"] <= r["r"]
+        # Refinement for robustness searched near both (the best 5 scored); a found pose replaced
+        # the planner's only where it held as often in the check's own samples.
+        check = r["refinement"].get("check")
+        if check is None:
+            assert not r["refinement"]["refined"]
+        else:
+            after = check["holds_after"]
+            assert r["refinement"]["refined"] == (after is not None
+                                                  and after >= check["holds_before"])
         assert r["refinement"]["search_samples"] >= 1
     unrefined = skelgrasp.plan(capsule, sdh, seed=1, max_grasps=4, robustness_samples=10,
                                robustness_top_k=2, robust_refine=False)

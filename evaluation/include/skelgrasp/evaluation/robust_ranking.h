@@ -50,7 +50,8 @@ struct RobustRankingParams {
   RobustnessParams robustness = defaultRankingRobustness();
   std::optional<double> friction;  // unset: the planner's QualityParams::friction (0.35)
   // Each scored grasp's neighbourhood is searched for a more robust pose (robust_refinement.h);
-  // a pose found replaces the grasp when its r (same samples as every scored grasp) is no lower.
+  // a pose found replaces the grasp when it holds at least as often in a check on samples of its
+  // own (not r's, so that the r reported is not the one a pose was chosen for).
   RobustRefinementParams refinement;
 };
 
@@ -74,10 +75,11 @@ struct RobustRankingResult {
 //    the others (beyond screen_k, screening pruned, or ranking disabled) = its pre-score;
 //  * refinement (params.refinement.enabled): the best params.refinement.max_grasps scored grasps
 //    by rank score are searched for more robust poses (robust_refinement.h, own stream
-//    grasp_index = 2); a pose found replaces its grasp when its r on the scoring samples is at
-//    least the grasp's, and its rank score is then r x trust[i] of the input grasp (the caller
+//    grasp_index = 2); a pose found replaces its grasp when it holds in at least as many samples
+//    of a check (own stream, grasp_index = 3, params.robustness.samples) as the grasp, and is then
+//    scored on the scoring samples; its rank score is r x trust[i] of the input grasp (the caller
 //    may recompute the trust of a moved grasp's contacts). Every searched grasp's robustness
-//    records the search (GraspRobustness::refinement);
+//    records the search and the check (GraspRobustness::refinement);
 //  * order: scored grasps first by rank score, ties by pre-score; then the screened ones, then
 //    the rest, each by rank score (the planner's order when trust is empty). The sort is stable.
 // Only scored grasps carry a robustness (Grasp::robustness): the screening r, from a handful of
@@ -88,10 +90,10 @@ struct RobustRankingResult {
 // plan's numbers). Screening draws its own stream (grasp_index = 1), so the reported r of a grasp
 // chosen for a lucky screening is not biased by that luck (except in the reference variant, which
 // draws one sequence whatever the grasp_index: there the screening samples are the first scoring
-// ones, and refinement searches on the scoring samples themselves). The result does not depend on
-// the thread count. Grasps without contacts stay unscored. Throws InvalidArgument for samples or
-// screen_samples < 1 (when enabled), a negative or non-finite friction, or a trust vector whose
-// size is not the grasps'.
+// ones, and refinement searches and checks on the scoring samples themselves). The result does not
+// depend on the thread count. Grasps without contacts stay unscored. Throws InvalidArgument for
+// samples or screen_samples < 1 (when enabled), a negative or non-finite friction, or a trust
+// vector whose size is not the grasps'.
 RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
                                      const grasping::GraspObject& object,
                                      std::vector<grasping::Grasp> grasps,

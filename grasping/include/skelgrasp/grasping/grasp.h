@@ -31,6 +31,13 @@ struct GraspRobustRefinement {
   int mean_shift_steps = 0;
   double mean_shift_m = 0, mean_shift_rad = 0;
   std::string preshape_before;  // the planner's preshape (differs from the grasp's when switched)
+  // The check of the pose the search found against the planner's, on samples of its own (not r's,
+  // so that the r reported is not the one a pose was chosen for): samples (0: no check ran, the
+  // search found nothing better), holds of the planner's pose, and of the found pose (none: its
+  // check stopped once it had failed more often). refined == (holds_after >= holds_before).
+  int check_samples = 0;
+  int check_holds_before = 0;
+  std::optional<int> check_holds_after;
 };
 
 // Robustness r of a grasp (evaluation::evaluateRobustness): the share of `samples` perturbed
