@@ -61,7 +61,8 @@ bool refineScoredGrasp(grasping::GraspSimulator& simulator, grasping::Grasp& gra
                 before.force_closure, moved.gave_up ? "< " : "",
                 moved.gave_up ? before.force_closure : moved.force_closure, rp.samples,
                 refined.search_r_before, refined.search_r_after);
-    if (!moved.gave_up && moved.force_closure >= before.force_closure) {
+    // The record's rule, read from the record: refined == (holds_after >= holds_before).
+    if (record.check_holds_after && *record.check_holds_after >= record.check_holds_before) {
       grasp = std::move(refined.grasp);
       grasp.robustness =
           graspRobustness(evaluateRobustness(simulator, grasp, rp, kScoreStream), rp);
