@@ -11,11 +11,11 @@ namespace skelgrasp::cli {
 
 struct SkeletonOptions {
   std::string units = "auto";
-  std::string regularise = "alpha_wrap";
-  double alpha_divisor = geometry::RegularisationParams{}.alpha_divisor;
-  double offset_divisor = geometry::RegularisationParams{}.offset_divisor;
-  double remesh_edge_m = 0;
-  std::size_t max_vertices = 0;
+  std::string regularise = toString(skeleton::SkeletonParams{}.regularisation.method);
+  double alpha_divisor = skeleton::SkeletonParams{}.regularisation.alpha_divisor;
+  double offset_divisor = skeleton::SkeletonParams{}.regularisation.offset_divisor;
+  double remesh_edge_m = skeleton::SkeletonParams{}.regularisation.remesh_target_edge_m;
+  std::size_t max_vertices = skeleton::SkeletonParams{}.regularisation.max_vertices.value_or(0);
   double stencil_m = skeleton::GraphAnalysisParams{}.curvature_stencil_m;
   double spur_factor = skeleton::SkeletonParams{}.spur_radius_factor;
   bool write_regularised = false;
@@ -26,9 +26,12 @@ struct SkeletonOptions {
     cmd.add_option("--units", units, "Input length unit: auto (diagonal > 5 means mm), m or mm")
         ->check(CLI::IsMember({"auto", "m", "mm"}))
         ->capture_default_str();
-    cmd.add_option("--regularise", regularise,
-                   "alpha_wrap, or none (input must already be a closed single-part manifold)")
-        ->check(CLI::IsMember({"alpha_wrap", "none"}))
+    cmd.add_option(
+           "--regularise", regularise,
+           "auto (the mesh as it is when it already is a closed, self-intersection-free "
+           "manifold, else alpha_wrap), alpha_wrap, or none (input must already be a closed "
+           "single-part manifold)")
+        ->check(CLI::IsMember({"alpha_wrap", "none", "auto"}))
         ->capture_default_str();
     cmd.add_option("--alpha-divisor", alpha_divisor, "Alpha = bbox diagonal / this")
         ->check(positiveFinite(kMaxRatio))
@@ -70,7 +73,8 @@ struct SkeletonOptions {
     p.regularisation.alpha_divisor = alpha_divisor;
     p.regularisation.offset_divisor = offset_divisor;
     p.regularisation.remesh_target_edge_m = remesh_edge_m;
-    if (max_vertices > 0) p.regularisation.max_vertices = max_vertices;
+    p.regularisation.max_vertices =
+        max_vertices > 0 ? std::optional<std::size_t>(max_vertices) : std::nullopt;
     p.graph.curvature_stencil_m = stencil_m;
     p.spur_radius_factor = spur_factor;
     return p;

@@ -70,11 +70,13 @@ std::pair<std::size_t, double> keepLargestComponent(CgalMesh& mesh) {
   return {parts, total > 0 ? 1.0 - area[keep] / total : 0.0};
 }
 
-// kAuto: a closed, consistently oriented, self-intersection-free 2-manifold whose parts other than
-// the largest are debris (at most join_area_fraction of the area) needs no wrap.
+// kAuto: a closed, consistently oriented, self-intersection-free 2-manifold, fine enough
+// (auto_min_vertices), whose parts other than the largest are debris (at most join_area_fraction
+// of the area) needs no wrap.
 bool acceptAsIs(const TriangleMesh& input, const RegularisationParams& params,
                 RegularisationReport& report, CgalMesh& mesh) {
   const auto& t = report.input;
+  if (params.auto_min_vertices && t.vertices < *params.auto_min_vertices) return false;
   if (t.non_manifold_edges > 0 || t.inconsistently_oriented_edges > 0) return false;
   if (t.boundary_edges > params.auto_max_hole_edges) return false;
   if (!internal::toCgalMesh(input, mesh)) return false;

@@ -45,6 +45,9 @@ skeleton::SkeletonResult runSkeleton(const TriangleMesh& mesh, const RunParams& 
       params.skeleton.regularisation.method == geometry::RegularisationMethod::kNone) {
     skeleton::SkeletonParams regularised = params.skeleton;
     regularised.regularisation.method = geometry::RegularisationMethod::kAuto;
+    // A Poisson surface of any size: its ~1 mm cells are fine enough for the contraction even where
+    // a small object has fewer vertices than the skeleton stage's floor for using a mesh as it is.
+    regularised.regularisation.auto_min_vertices = std::nullopt;
     result = skeleton::extractSkeleton(mesh, regularised);
   }
   return result;

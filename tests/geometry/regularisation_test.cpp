@@ -229,6 +229,30 @@ TEST(Regularisation, AutoKeepsClosedManifoldsAndWrapsTheRest) {
   EXPECT_EQ(parseRegularisationMethod("auto"), RegularisationMethod::kAuto);
 }
 
+// auto_min_vertices: a clean closed manifold coarser than the contraction needs is wrapped, a
+// dense one is taken as it is (and simplified to max_vertices, the skeleton stage's default).
+TEST(Regularisation, AutoWrapsACleanManifoldTooCoarseForTheContraction) {
+  RegularisationParams p;
+  p.method = RegularisationMethod::kAuto;
+  p.auto_min_vertices = 1000;
+  p.max_vertices = 1000;
+  const TriangleMesh coarse = primitives::makeSphere(0.05, 32, 16);
+  const TriangleMesh dense = primitives::makeSphere(0.05, 96, 48);
+  ASSERT_LT(coarse.numVertices(), 1000u);
+  ASSERT_GT(dense.numVertices(), 1000u);
+  const auto wrapped = regularise(coarse, p);
+  expectClosedSingleOutward(wrapped);
+  EXPECT_EQ(wrapped.report.method, "auto/alpha_wrap");
+  const auto kept = regularise(dense, p);
+  expectClosedSingleOutward(kept);
+  EXPECT_EQ(kept.report.method, "auto/as_is");
+  EXPECT_EQ(kept.report.decimated_from, dense.numVertices());
+  EXPECT_LE(kept.mesh.numVertices(), 1001u);
+  // Unset: any size is taken as it is.
+  p.auto_min_vertices.reset();
+  EXPECT_EQ(regularise(coarse, p).report.method, "auto/as_is");
+}
+
 TEST(Regularisation, RejectsBadParameters) {
   RegularisationParams bad;
   bad.alpha_divisor = 0;

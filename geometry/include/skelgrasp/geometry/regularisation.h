@@ -13,12 +13,13 @@
 namespace skelgrasp::geometry {
 
 enum class RegularisationMethod {
-  kAlphaWrap,  // CGAL 3D alpha wrapping of the triangle soup (default)
+  kAlphaWrap,  // CGAL 3D alpha wrapping of the triangle soup (default; the skeleton stage: kAuto)
   kNone,       // use the input as is; it must already be a closed single-part 2-manifold
   // Use the input as is when it already is a closed, consistently oriented, self-intersection-free
-  // 2-manifold (pinholes of at most auto_max_hole_edges boundary edges in all are filled first;
-  // parts beyond the largest holding at most join_area_fraction of the area are dropped as
-  // debris), else alpha wrap. For surfaces such as Poisson's that usually need nothing.
+  // 2-manifold of at least auto_min_vertices vertices (pinholes of at most auto_max_hole_edges
+  // boundary edges in all are filled first; parts beyond the largest holding at most
+  // join_area_fraction of the area are dropped as debris), else alpha wrap. For surfaces such as
+  // Poisson's that usually need nothing, and for clean scans.
   kAuto,
 };
 
@@ -55,6 +56,11 @@ struct RegularisationParams {
   // kAuto: an input with at most this many boundary edges is closed by hole filling instead of
   // being wrapped.
   std::size_t auto_max_hole_edges = 64;
+  // kAuto: an input with fewer vertices is wrapped even when it is a clean closed manifold. Mean-
+  // curvature flow needs a fine, even tessellation: a dense scan has one (and is simplified to
+  // max_vertices), a CAD model's few long triangles do not (a generated box's 98 vertices as they
+  // are gave a skeleton without its principal axes). Unset: any size.
+  std::optional<std::size_t> auto_min_vertices;
 };
 
 struct RegularisationReport {

@@ -25,8 +25,9 @@ constexpr std::size_t kRunMaxGrasps = 20;
 // is not, runPipeline retries with the regularisation's automatic mode (pinholes filled, else
 // wrapped).
 // A scan's Poisson mesh has ~1 mm cells (3-15k vertices per object); the contraction's cost grows
-// with the vertex count, so it runs on the mesh simplified to this many (docs/pipeline.md).
-constexpr std::size_t kRunMaxContractionVertices = 2000;
+// with the vertex count, so it runs on the mesh simplified to this many (docs/pipeline.md): the
+// skeleton stage's own default since it became the default of every command.
+constexpr std::size_t kRunMaxContractionVertices = skeleton::kDefaultContractionVertices;
 inline skeleton::SkeletonParams runSkeletonParams() {
   skeleton::SkeletonParams params;
   params.regularisation.method = geometry::RegularisationMethod::kNone;

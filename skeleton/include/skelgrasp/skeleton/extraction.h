@@ -28,8 +28,22 @@ struct ContractionParams {
   std::optional<std::size_t> arena_reserve_bytes;
 };
 
+// The contraction's input by default: a mesh of more than this many vertices as it is when it
+// already is a closed, self-intersection-free manifold (most YCB scans are: no wrap, 0.5-1.7 s
+// saved per object), else its alpha wrap (a coarse CAD model too); either simplified to about this
+// many vertices. The contraction's cost grows with the vertex count while its skeleton depends on
+// the shape (docs/regularisation.md, "The skeleton stage's default").
+inline constexpr std::size_t kDefaultContractionVertices = 2000;
+inline geometry::RegularisationParams defaultSkeletonRegularisation() {
+  geometry::RegularisationParams params;
+  params.method = geometry::RegularisationMethod::kAuto;
+  params.auto_min_vertices = kDefaultContractionVertices;
+  params.max_vertices = kDefaultContractionVertices;
+  return params;
+}
+
 struct SkeletonParams {
-  geometry::RegularisationParams regularisation;
+  geometry::RegularisationParams regularisation = defaultSkeletonRegularisation();
   ContractionParams contraction;
   // Terminal branches shorter than this factor times the inscribed radius where they attach are
   // removed as contraction artefacts (see cleanup.h); 0 keeps the raw CGAL skeleton.
