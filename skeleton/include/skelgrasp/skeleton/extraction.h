@@ -28,7 +28,7 @@ struct ContractionParams {
   std::optional<std::size_t> arena_reserve_bytes;
 };
 
-// The contraction's input by default: a mesh of more than this many vertices as it is when it
+// The contraction's input by default: a mesh of at least this many vertices as it is when it
 // already is a closed, self-intersection-free manifold (most YCB scans are: no wrap, 0.5-1.7 s
 // saved per object), else its alpha wrap (a coarse CAD model too); either simplified to about this
 // many vertices. The contraction's cost grows with the vertex count while its skeleton depends on
