@@ -26,11 +26,12 @@ struct SkeletonOptions {
     cmd.add_option("--units", units, "Input length unit: auto (diagonal > 5 means mm), m or mm")
         ->check(CLI::IsMember({"auto", "m", "mm"}))
         ->capture_default_str();
-    cmd.add_option(
-           "--regularise", regularise,
-           "auto (the mesh as it is when it already is a closed, self-intersection-free "
-           "manifold, else alpha_wrap), alpha_wrap, or none (input must already be a closed "
-           "single-part manifold)")
+    const auto as_is_floor = skeleton::SkeletonParams{}.regularisation.auto_min_vertices;
+    cmd.add_option("--regularise", regularise,
+                   "auto (a closed, self-intersection-free manifold of at least " +
+                       std::to_string(as_is_floor.value_or(0)) +
+                       " vertices as it is, any other mesh alpha-wrapped), alpha_wrap, or none "
+                       "(input must already be a closed single-part manifold)")
         ->check(CLI::IsMember({"alpha_wrap", "none", "auto"}))
         ->capture_default_str();
     cmd.add_option("--alpha-divisor", alpha_divisor, "Alpha = bbox diagonal / this")
