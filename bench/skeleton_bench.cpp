@@ -83,8 +83,7 @@ void BM_DenseMeshSkeleton(benchmark::State& state) {
   old_path.regularisation.method = geometry::RegularisationMethod::kAuto;
   old_path.regularisation.max_vertices = std::nullopt;
   skeleton::SkeletonParams new_path = old_path;
-  constexpr std::size_t kRunBudget = 2000;  // pipeline's kRunMaxContractionVertices
-  new_path.regularisation.max_vertices = kRunBudget;
+  new_path.regularisation.max_vertices = skeleton::kDefaultContractionVertices;  // run's budget
   compareSkeletonPaths(state, {mesh}, old_path, new_path);
   state.counters["mesh_vertices"] = static_cast<double>(mesh.numVertices());
 }
