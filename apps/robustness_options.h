@@ -54,6 +54,7 @@ inline CLI::Option* addScreenSamplesOption(CLI::App& cmd, int& screen_samples) {
 struct RobustRefineOptions {
   bool disabled = !evaluation::RobustRefinementParams{}.enabled;
   std::size_t grasps = evaluation::RobustRefinementParams{}.max_grasps;
+  double search_below_r = evaluation::RobustRefinementParams{}.search_below_r;
   int evaluations = evaluation::RobustRefinementParams{}.max_evaluations;
   int samples = evaluation::RobustRefinementParams{}.samples;
   double max_standoff_m = evaluation::RobustRefinementParams{}.max_standoff_m;
@@ -66,6 +67,11 @@ struct RobustRefineOptions {
     cmd.add_option("--robust-refine-grasps", grasps,
                    "Most robust scored grasps searched for a more robust pose (0 = all scored)")
         ->transform(countIn(0, kMaxCount))
+        ->capture_default_str();
+    cmd.add_option("--robust-refine-below-r", search_below_r,
+                   "Only scored grasps whose r is below this are searched (1 = all but those "
+                   "that held in every sample, 0 = none)")
+        ->check(finiteIn(0, 1))
         ->capture_default_str();
     cmd.add_option("--robust-refine-evaluations", evaluations,
                    "Poses tried near each scored grasp in the search for a more robust one")
@@ -89,6 +95,7 @@ struct RobustRefineOptions {
   void applyTo(evaluation::RobustRefinementParams& p) const {
     p.enabled = !disabled;
     p.max_grasps = grasps;
+    p.search_below_r = search_below_r;
     p.max_evaluations = evaluations;
     p.samples = samples;
     p.max_standoff_m = max_standoff_m;

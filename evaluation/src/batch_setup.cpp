@@ -94,6 +94,7 @@ nlohmann::json rankingOptions(const RobustRankingParams& r) {
                             {"refinement",
                              {{"enabled", r.refinement.enabled},
                               {"max_grasps", r.refinement.max_grasps},
+                              {"search_below_r", r.refinement.search_below_r},
                               {"max_evaluations", r.refinement.max_evaluations},
                               {"samples", r.refinement.samples},
                               {"max_standoff_m", r.refinement.max_standoff_m},

@@ -38,9 +38,9 @@ bool refineScoredGrasp(grasping::GraspSimulator& simulator, grasping::Grasp& gra
   record.search_samples = params.samples;
   record.r_before = grasp.robustness->r;
   record.preshape_before = grasp.preshape;
-  // A grasp that held in every scoring sample is not searched: its r is at most a sample or two
-  // short of 1, which the search's few samples cannot tell apart.
-  if (grasp.robustness->r >= 1.0) {
+  // A grasp that held in (nearly) every scoring sample is not searched: its r is at most a few
+  // samples short of 1, which the search's few samples cannot tell apart.
+  if (grasp.robustness->r >= params.search_below_r) {
     grasp.robustness->refinement = record;
     return false;
   }
@@ -126,6 +126,8 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
     throw InvalidArgument("robust ranking: need at least one screening sample");
   if (params.friction && !(std::isfinite(*params.friction) && *params.friction >= 0))
     throw InvalidArgument("robust ranking: friction must be finite and >= 0");
+  if (!(params.refinement.search_below_r >= 0 && params.refinement.search_below_r <= 1))
+    throw InvalidArgument("robust ranking: refinement's search_below_r must be in [0, 1]");
   Stopwatch watch;
   // Where the ranking's time goes, for the debug log: screening, scoring, refinement.
   double screen_s = 0, score_s = 0, refine_s = 0;

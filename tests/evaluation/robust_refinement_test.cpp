@@ -70,6 +70,12 @@ void expectNeverLessRobust(const Planned& p, std::size_t top_k) {
         << i;
     EXPECT_LE(record.mean_shift_steps, params.refinement.mean_shift_steps) << i;
     EXPECT_EQ(record.search_samples, params.refinement.samples) << i;
+    // Grasps at or above the r bar are not searched: no pose closed, no check, not moved.
+    if (record.r_before >= params.refinement.search_below_r) {
+      EXPECT_EQ(record.evaluations, 0) << i;
+      EXPECT_EQ(record.check_samples, 0) << i;
+      EXPECT_FALSE(record.refined) << i;
+    }
     // A returned grasp is a force-closure grasp whose reported r is its own (same samples).
     EXPECT_TRUE(g.force_closure) << i;
     EXPECT_EQ(g.robustness->r, evaluateRobustness(sim, g, rp, 0).score) << i;
@@ -106,6 +112,43 @@ TEST(RobustRefinement, NeverReturnsAGraspLessRobustThanThePlannersOnACylinder) {
   const auto p = planOn("sdh", primitives::makeCylinder(0.035, 0.2, 48, 10), 6);
   ASSERT_GE(p.plan.grasps.size(), 3u);
   expectNeverLessRobust(p, 3);
+}
+
+// The ranking searches only grasps whose scored r is below search_below_r: at 0 none, at 1 every
+// grasp short of r = 1 whose search samples leave room for a gain.
+TEST(RobustRefinement, SearchesOnlyGraspsBelowTheRBar) {
+  const auto p = planOn("sdh", primitives::makeCylinder(0.035, 0.2, 48, 10), 6);
+  ASSERT_GE(p.plan.grasps.size(), 3u);
+  RobustRankingParams params;
+  params.top_k = params.screen_k = 3;
+  params.robustness.samples = 24;
+  for (double bar : {0.0, 0.5, 1.0}) {
+    SCOPED_TRACE(bar);
+    params.refinement.search_below_r = bar;
+    const auto ranked =
+        rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params);
+    ASSERT_GT(ranked.scored, 0u);
+    int searched = 0;
+    for (const auto& g : ranked.grasps) {
+      if (!g.robustness) continue;
+      ASSERT_TRUE(g.robustness->refinement);
+      const auto& record = *g.robustness->refinement;
+      if (record.r_before >= bar) {
+        EXPECT_EQ(record.evaluations, 0);
+        EXPECT_FALSE(record.refined);
+      }
+      if (record.evaluations > 0) EXPECT_LT(record.r_before, bar);
+      searched += record.evaluations > 0;
+    }
+    if (bar == 0.0) EXPECT_EQ(ranked.refined, 0u);
+    // The three scored grasps hold in 21-23 of 24 samples: all are searched at 1.
+    if (bar == 1.0) EXPECT_GT(searched, 0);
+  }
+  for (double bad : {-0.1, 1.1}) {
+    params.refinement.search_below_r = bad;
+    EXPECT_THROW(rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params),
+                 InvalidArgument);
+  }
 }
 
 TEST(RobustRefinement, NeverReturnsAGraspLessRobustThanThePlannersOnRealObjects) {

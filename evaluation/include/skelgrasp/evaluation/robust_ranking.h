@@ -73,8 +73,9 @@ struct RobustRankingResult {
 //  * screening score = screening r x trust[i]; the top_k by it (ties: pre-score) are scored;
 //  * rank score of a scored grasp = r x trust[i]; of a screened one = its screening score; of
 //    the others (beyond screen_k, screening pruned, or ranking disabled) = its pre-score;
-//  * refinement (params.refinement.enabled): the best params.refinement.max_grasps scored grasps
-//    by rank score are searched for more robust poses (robust_refinement.h, own stream
+//  * refinement (params.refinement.enabled): of the best params.refinement.max_grasps scored
+//    grasps by rank score, those with r below params.refinement.search_below_r are searched for
+//    more robust poses (robust_refinement.h, own stream
 //    grasp_index = 2); a pose found replaces its grasp when it holds in at least as many samples
 //    of a check (own stream, grasp_index = 3, params.robustness.samples) as the grasp, and is then
 //    scored on the scoring samples; its rank score is r x trust[i] of the input grasp (the caller
@@ -92,8 +93,8 @@ struct RobustRankingResult {
 // draws one sequence whatever the grasp_index: there the screening samples are the first scoring
 // ones, and refinement searches and checks on the scoring samples themselves). The result does not
 // depend on the thread count. Grasps without contacts stay unscored. Throws InvalidArgument for
-// samples or screen_samples < 1 (when enabled), a negative or non-finite friction, or a trust
-// vector whose size is not the grasps'.
+// samples or screen_samples < 1 (when enabled), a negative or non-finite friction, a
+// refinement search_below_r outside [0, 1], or a trust vector whose size is not the grasps'.
 RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
                                      const grasping::GraspObject& object,
                                      std::vector<grasping::Grasp> grasps,

@@ -21,6 +21,13 @@ struct RobustRefinementParams {
   // 10, all the grasps the ranking scores by default: over the 58 YCB meshes, searching 10 rather
   // than 5 lifted the median top-10 r by 0.5-3.5 points for 0.2-0.35 s more ranking per object.
   std::size_t max_grasps = 10;
+  // Only grasps whose scored r is below this are searched (1: all but those that held in every
+  // scoring sample; 0: none). At r >= 0.9 a grasp is expected to fail in at most one of the
+  // search's 12 samples, so the one more hold a pose needs to win is mostly luck: over the 58 YCB
+  // meshes at mu = 0.35 such grasps gained -0.003 (ARMAR-III, 187 grasps) and +0.003 (SDH, 96)
+  // of r each, for a fifth (ARMAR-III) and a tenth (SDH) of the samples the search spent
+  // (docs/results.md, "Grasps near r = 1 not searched").
+  double search_below_r = 0.9;
   // Poses closed and judged per grasp besides its own (each costs one retreat search, one closing
   // and `samples` perturbed executions).
   int max_evaluations = 4;
@@ -79,7 +86,8 @@ struct RobustRefinementOutcome {
 // candidate only when its grasp is kept by those rules. The returned grasp keeps the input's
 // type, strategy, segment, vertex and planner refinement record, with the new pose, preshape,
 // joints, contacts and quality. Throws InvalidArgument for a negative budget, bound, halving or
-// mean-shift step count, a step <= 0 or samples < 1.
+// mean-shift step count, a step <= 0 or samples < 1. (search_below_r is the ranking's choice of
+// grasps; this searches whatever grasp it is given.)
 RobustRefinementOutcome refineForRobustness(grasping::GraspSimulator& simulator,
                                             const grasping::Grasp& grasp,
                                             const grasping::HypothesisParams& planner,
