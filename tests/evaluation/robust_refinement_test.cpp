@@ -31,6 +31,17 @@ RobustnessParams judgedAs(const Planned& p, int samples) {
   return rp;
 }
 
+// The ranking's choice of grasps to search (RobustRefinementParams::search_below_r), read from a
+// scored grasp's record: one at or above the bar closed no pose, ran no check and was not moved.
+void expectSearchedOnlyBelow(const grasping::GraspRobustRefinement& record, double bar) {
+  if (record.r_before >= bar) {
+    EXPECT_EQ(record.evaluations, 0);
+    EXPECT_EQ(record.check_samples, 0);
+    EXPECT_FALSE(record.refined);
+  }
+  if (record.evaluations > 0) EXPECT_LT(record.r_before, bar);
+}
+
 // Ranks `p`'s grasps twice with the same seed, with and without refinement for robustness, and
 // checks the refined ranking against the plain one grasp by grasp: a moved grasp holds in at least
 // as many of the check's samples as the planner's pose, and every reported r is the grasp's own on
@@ -70,11 +81,9 @@ void expectNeverLessRobust(const Planned& p, std::size_t top_k) {
         << i;
     EXPECT_LE(record.mean_shift_steps, params.refinement.mean_shift_steps) << i;
     EXPECT_EQ(record.search_samples, params.refinement.samples) << i;
-    // Grasps at or above the r bar are not searched: no pose closed, no check, not moved.
-    if (record.r_before >= params.refinement.search_below_r) {
-      EXPECT_EQ(record.evaluations, 0) << i;
-      EXPECT_EQ(record.check_samples, 0) << i;
-      EXPECT_FALSE(record.refined) << i;
+    {
+      SCOPED_TRACE(i);
+      expectSearchedOnlyBelow(record, params.refinement.search_below_r);
     }
     // A returned grasp is a force-closure grasp whose reported r is its own (same samples).
     EXPECT_TRUE(g.force_closure) << i;
@@ -133,11 +142,7 @@ TEST(RobustRefinement, SearchesOnlyGraspsBelowTheRBar) {
       if (!g.robustness) continue;
       ASSERT_TRUE(g.robustness->refinement);
       const auto& record = *g.robustness->refinement;
-      if (record.r_before >= bar) {
-        EXPECT_EQ(record.evaluations, 0);
-        EXPECT_FALSE(record.refined);
-      }
-      if (record.evaluations > 0) EXPECT_LT(record.r_before, bar);
+      expectSearchedOnlyBelow(record, bar);
       searched += record.evaluations > 0;
     }
     if (bar == 0.0) EXPECT_EQ(ranked.refined, 0u);
