@@ -12,6 +12,7 @@
 #include "robustness_options.h"
 #include "skeleton_options.h"
 #include "skelgrasp/common/json.h"
+#include "skelgrasp/evaluation/plan_record.h"
 #include "skelgrasp/grasping/plan_output.h"
 
 namespace skelgrasp::cli {
@@ -47,16 +48,20 @@ int runPlan(const PlanArgs& args) {
     result = grasping::planSurfaceGrasps(hand, object, args.planner.surfaceParams());
   }
   // Robust ranking: the best grasps scored by r and re-ranked (docs/planning.md).
+  const evaluation::RobustRankingParams ranking = args.robustness.params(args.planner.seed);
   auto ranked = evaluation::rankByRobustness(hand, object, std::move(result.grasps),
-                                             args.planner.hypothesis(),
-                                             args.robustness.params(args.planner.seed));
+                                             args.planner.hypothesis(), ranking);
   result.grasps = std::move(ranked.grasps);
+  const evaluation::PlanTiming timing = evaluation::planTimingOf(
+      skel ? &skel->timing : nullptr, result.summary.planning_s, ranked.time_s);
+  nlohmann::json document = grasping::planToJson(result, hand, name);
+  evaluation::addPlanRecords(document, ranked, ranking.enabled, timing);
   OutputTransaction outputs;
   if (!args.render.empty()) {
     grasping::renderPlanPng(outputs.stage(args.render), mesh, skel ? &skel->skeleton : nullptr,
                             result, hand);
   }
-  writeJsonFile(outputs.stage(args.out), grasping::planToJson(result, hand, name));
+  writeJsonFile(outputs.stage(args.out), document);
   outputs.commit();
   args.exports.write(args.out, hand);
   std::cout << grasping::planSummaryLine(result, hand.name(), name);
@@ -65,7 +70,7 @@ int runPlan(const PlanArgs& args) {
                              result.grasps.front().robustness->r, ranked.scored,
                              result.grasps.size(), ranked.time_s);
   }
-  std::cout << std::endl;
+  std::cout << fmt::format("; {:.2f} s in all", timing.total_s()) << std::endl;
   return kExitOk;
 }
 

@@ -129,8 +129,6 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
   if (!(params.refinement.search_below_r >= 0 && params.refinement.search_below_r <= 1))
     throw InvalidArgument("robust ranking: refinement's search_below_r must be in [0, 1]");
   Stopwatch watch;
-  // Where the ranking's time goes, for the debug log: screening, scoring, refinement.
-  double screen_s = 0, score_s = 0, refine_s = 0;
   RobustRankingResult out;
   const std::size_t n = grasps.size();
   auto trustOf = [&](std::size_t i) { return trust.empty() ? 1.0 : trust[i]; };
@@ -195,7 +193,7 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
       candidates = std::move(contenders);
       std::stable_sort(candidates.begin(), candidates.end(),
                        [&](std::size_t a, std::size_t b) { return rank_score[a] > rank_score[b]; });
-      screen_s = screen_watch.seconds();
+      out.screening_s = screen_watch.seconds();
     }
     if (candidates.size() > top_k) candidates.resize(top_k);
     const Stopwatch score_watch;
@@ -206,7 +204,7 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
       level[i] = 2;
       ++out.scored;
     }
-    score_s = score_watch.seconds();
+    out.scoring_s = score_watch.seconds();
     const Stopwatch refine_watch;
     if (params.refinement.enabled) {
       // The most robust scored grasps are searched for still more robust poses: the grasps a user
@@ -222,7 +220,7 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
         rank_score[i] = grasps[i].robustness->r * trustOf(i);
       }
     }
-    refine_s = refine_watch.seconds();
+    out.refinement_s = refine_watch.seconds();
   }
   out.order = by_pre;
   std::stable_sort(out.order.begin(), out.order.end(), [&](std::size_t a, std::size_t b) {
@@ -239,8 +237,8 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
   log().debug(
       "robust ranking: {} of {} grasps screened ({} pruned), {} scored, {} refined in {:.2f} s "
       "(screening {:.2f} s, scoring {:.2f} s, refinement {:.2f} s)",
-      out.screened, n, out.screen_pruned, out.scored, out.refined, out.time_s, screen_s, score_s,
-      refine_s);
+      out.screened, n, out.screen_pruned, out.scored, out.refined, out.time_s, out.screening_s,
+      out.scoring_s, out.refinement_s);
   return out;
 }
 

@@ -6,6 +6,7 @@
 #include "bindings.h"
 #include "convert.h"
 #include "skelgrasp/common/json.h"
+#include "skelgrasp/evaluation/plan_record.h"
 #include "skelgrasp/evaluation/robust_ranking.h"
 #include "skelgrasp/evaluation/robustness.h"
 #include "skelgrasp/evaluation/score.h"
@@ -55,7 +56,9 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
   const auto ranking =
       robustRankingParams(robustness, robustness_samples, robustness_variant, robustness_top_k,
                           robustness_screen, robustness_mu, seed, robust_refine);
-  Plan out{{}, hand, mesh.name, std::nullopt};
+  Plan out;
+  out.hand = hand;
+  out.object = mesh.name;
   py::gil_scoped_release release;
   const grasping::GraspObject object(mesh.mesh);
   if (planner == "skeleton") {
@@ -84,9 +87,13 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
     out.result = grasping::planSurfaceGrasps(*hand, object, p);
   }
   // As `skelgrasp plan`: the best grasps scored by r and re-ranked (docs/planning.md).
-  out.result.grasps =
-      evaluation::rankByRobustness(*hand, object, std::move(out.result.grasps), hypothesis, ranking)
-          .grasps;
+  out.ranking = evaluation::rankByRobustness(*hand, object, std::move(out.result.grasps),
+                                             hypothesis, ranking);
+  out.result.grasps = std::move(out.ranking.grasps);
+  out.ranking.grasps.clear();
+  out.ranking_enabled = ranking.enabled;
+  out.timing = evaluation::planTimingOf(out.skeleton ? &out.skeleton->result.timing : nullptr,
+                                        out.result.summary.planning_s, out.ranking.time_s);
   return out;
 }
 
@@ -228,8 +235,13 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
           "The object's Skeleton (skeleton planner), else None.")
       .def(
           "to_dict",
-          [](const Plan& p) { return fromJson(grasping::planToJson(p.result, *p.hand, p.object)); },
-          "grasps.json as ``skelgrasp plan`` writes it (schema skelgrasp.grasps/3).")
+          [](const Plan& p) {
+            nlohmann::json document = grasping::planToJson(p.result, *p.hand, p.object);
+            evaluation::addPlanRecords(document, p.ranking, p.ranking_enabled, p.timing);
+            return fromJson(document);
+          },
+          "grasps.json as ``skelgrasp plan`` writes it (schema skelgrasp.grasps/3), with the "
+          "robust ranking's record and the stages' times.")
       .def("__len__", [](const Plan& p) { return p.result.grasps.size(); })
       .def("__repr__", [](const Plan& p) {
         return "<skelgrasp.PlanResult: " +

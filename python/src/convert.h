@@ -15,6 +15,7 @@
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/common/point_cloud.h"
 #include "skelgrasp/common/pose.h"
+#include "skelgrasp/evaluation/plan_record.h"
 #include "skelgrasp/evaluation/robust_ranking.h"
 #include "skelgrasp/grasping/grasp.h"
 #include "skelgrasp/grasping/hand_model.h"
@@ -67,6 +68,11 @@ struct Plan {
   HandPtr hand;
   std::string object;
   std::optional<SkeletonOutput> skeleton;
+  // What the robust ranking did (its grasps moved into result) and the stages' times: to_dict()
+  // writes them as `skelgrasp plan` does (evaluation/plan_record.h).
+  evaluation::RobustRankingResult ranking;
+  bool ranking_enabled = false;
+  evaluation::PlanTiming timing;
 };
 
 // N x 3 float64 (any float or int dtype converts) -> points; throws InvalidArgument naming `what`

@@ -190,7 +190,11 @@ TEST(Cli, PlanWritesTheDocumentedGraspsJson) {
                  dir + "/surface.json",
              dir);
   ASSERT_EQ(surface.exit_code, 0) << surface.err;
-  EXPECT_EQ(readJsonFile(dir + "/surface.json")["summary"]["hypotheses"], 20);
+  const auto surface_doc = readJsonFile(dir + "/surface.json");
+  EXPECT_EQ(surface_doc["summary"]["hypotheses"], 20);
+  // The surface planner needs no skeleton: its stages' times say so.
+  EXPECT_TRUE(surface_doc["timing"]["regularise_s"].is_null());
+  EXPECT_TRUE(surface_doc["timing"]["skeleton_s"].is_null());
 }
 
 // Robust ranking (docs/planning.md): the best K grasps by epsilon get r and come first, by r.
@@ -237,11 +241,34 @@ TEST(Cli, PlanScoresAndRanksByRobustness) {
     }
   }
 
+  // The ranking's record counts what the grasps show, and its parts' times fit in the ranking's.
+  const auto& ranking = robust["ranking"];
+  EXPECT_EQ(ranking["scored"], 4);
+  EXPECT_EQ(ranking["screened"], 0);  // screen 4 = top-k 4: no screening
+  EXPECT_EQ(ranking["refined"], 0);   // --no-robust-refine
+  const auto& timing = robust["timing"];
+  const double ranking_s = timing["ranking_s"];
+  EXPECT_LE(ranking["screening_s"].get<double>() + ranking["scoring_s"].get<double>() +
+                ranking["refinement_s"].get<double>(),
+            ranking_s);
+  EXPECT_GT(ranking["scoring_s"].get<double>(), 0.0);
+  EXPECT_DOUBLE_EQ(timing["planning_s"].get<double>(),
+                   robust["summary"]["planning_s"].get<double>());
+  EXPECT_GT(timing["regularise_s"].get<double>(), 0.0);
+  EXPECT_GT(timing["skeleton_s"].get<double>(), 0.0);
+  EXPECT_NEAR(timing["total_s"].get<double>(),
+              timing["regularise_s"].get<double>() + timing["skeleton_s"].get<double>() +
+                  timing["planning_s"].get<double>() + ranking_s,
+              1e-9);
+  EXPECT_NE(run.out.find(" s in all"), std::string::npos) << run.out;
+
   // --no-robustness: the planner's epsilon order and no robustness field.
   const CliRun plain = runCli(plan + dir + "/plain.json --no-robustness", dir);
   ASSERT_EQ(plain.exit_code, 0) << plain.err;
   EXPECT_EQ(plain.out.find("best r "), std::string::npos);
   const auto doc = readJsonFile(dir + "/plain.json");
+  EXPECT_TRUE(doc["ranking"].is_null());
+  EXPECT_GE(doc["timing"]["ranking_s"].get<double>(), 0.0);
   ASSERT_EQ(doc["grasps"].size(), 6u);
   for (std::size_t i = 0; i < doc["grasps"].size(); ++i) {
     EXPECT_FALSE(doc["grasps"][i].contains("robustness"));

@@ -55,6 +55,11 @@ TEST(RobustRanking, ScoresTheTopKAndRanksThemFirstByR) {
   EXPECT_TRUE(result.status.ok());
   ASSERT_EQ(result.grasps.size(), p.plan.grasps.size());
   EXPECT_EQ(result.scored, 3u);
+  // The parts' times are measured inside the whole (plan_record.h writes them).
+  EXPECT_GT(result.scoring_s, 0.0);
+  EXPECT_GE(result.screening_s, 0.0);
+  EXPECT_GE(result.refinement_s, 0.0);
+  EXPECT_LE(result.screening_s + result.scoring_s + result.refinement_s, result.time_s);
   for (std::size_t i = 0; i < result.grasps.size(); ++i) {
     const auto& g = result.grasps[i];
     EXPECT_EQ(g.id, static_cast<int>(i));

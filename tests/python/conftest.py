@@ -110,9 +110,17 @@ def ycb_mesh_path(name="011_banana"):
     return path
 
 
+RANKING_TIMING_KEYS = ("screening_s", "scoring_s", "refinement_s")
+
+
 def without_timing(document):
-    """A copy of a plan document without its timing members."""
+    """A copy of a plan document without its timing members (the summary's, the ranking record's
+    and the whole "timing" object)."""
     summary = dict(document["summary"])
     for key in TIMING_KEYS:
         summary.pop(key, None)
-    return {**document, "summary": summary}
+    out = {**document, "summary": summary}
+    out.pop("timing", None)
+    if out.get("ranking"):
+        out["ranking"] = {k: v for k, v in out["ranking"].items() if k not in RANKING_TIMING_KEYS}
+    return out

@@ -83,6 +83,14 @@ def test_plan_invariants(capsule, sdh, capsule_plan):
     assert document["object"] == "capsule" and document["summary"] == result.summary
     assert [g["epsilon"] for g in document["grasps"]] == epsilons
     assert result.skeleton is not None and result.skeleton.ok
+    # As `skelgrasp plan` writes them: the ranking's record and the stages' times.
+    ranking, timing = document["ranking"], document["timing"]
+    assert ranking["scored"] == sum(g.robustness is not None for g in result.grasps)
+    parts = ranking["screening_s"] + ranking["scoring_s"] + ranking["refinement_s"]
+    assert 0 < parts <= timing["ranking_s"]
+    assert timing["planning_s"] == result.summary["planning_s"]
+    assert timing["total_s"] == pytest.approx(timing["regularise_s"] + timing["skeleton_s"]
+                                              + timing["planning_s"] + timing["ranking_s"])
 
 
 def test_plan_robustness_keywords(capsule, sdh):
@@ -111,6 +119,7 @@ def test_plan_robustness_keywords(capsule, sdh):
     epsilons = [g.epsilon for g in plain.grasps]
     assert epsilons == sorted(epsilons, reverse=True)
     assert all(g.robustness is None and "robustness" not in g.to_dict() for g in plain.grasps)
+    assert plain.to_dict()["ranking"] is None
     with pytest.raises(ValueError):
         skelgrasp.plan(capsule, sdh, robustness_samples=0)
 
@@ -122,7 +131,9 @@ def test_plan_is_deterministic_for_a_seed(capsule, sdh, capsule_plan):
 
 def test_surface_planner(capsule, sdh):
     result = skelgrasp.plan(capsule, sdh, planner="surface", seed=2, max_hypotheses=40)
-    assert result.to_dict()["planner"] == "surface" and result.skeleton is None
+    document = result.to_dict()
+    assert document["planner"] == "surface" and result.skeleton is None
+    assert document["timing"]["regularise_s"] is None and document["timing"]["skeleton_s"] is None
     assert result.summary["hypotheses"] <= 40
     assert all(g.strategy == "surface" for g in result.grasps)
 

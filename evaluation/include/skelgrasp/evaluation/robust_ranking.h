@@ -65,6 +65,8 @@ struct RobustRankingResult {
   std::size_t scored = 0;               // grasps that got a robustness
   std::size_t refined = 0;              // scored grasps replaced by a more robust pose
   double time_s = 0;
+  // Where time_s went (their sum is at most time_s; the rest is sorting and moving grasps).
+  double screening_s = 0, scoring_s = 0, refinement_s = 0;
 };
 
 // Screens the best `params.screen_k` grasps, scores the best `params.top_k` of them by robustness

@@ -1,0 +1,71 @@
+#include "skelgrasp/evaluation/plan_record.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "skelgrasp/common/error.h"
+
+namespace skelgrasp::evaluation {
+namespace {
+
+// A time written to a document must be one: a stopwatch never gives a negative or NaN reading, so
+// such a value is a caller's arithmetic slip that would otherwise reach users as a number.
+void checkSeconds(double seconds, const char* what) {
+  if (!(std::isfinite(seconds) && seconds >= 0))
+    throw InvalidArgument(std::string("plan record: ") + what + " must be finite and >= 0");
+}
+
+nlohmann::json optionalSeconds(const std::optional<double>& seconds) {
+  return seconds ? nlohmann::json(*seconds) : nlohmann::json(nullptr);
+}
+
+}  // namespace
+
+double PlanTiming::total_s() const {
+  return regularise_s.value_or(0.0) + skeleton_s.value_or(0.0) + planning_s + ranking_s;
+}
+
+PlanTiming planTimingOf(const skeleton::SkeletonTimings* skeleton, double planning_s,
+                        double ranking_s) {
+  PlanTiming timing;
+  if (skeleton) {
+    timing.regularise_s = skeleton->regularise_s;
+    // Both from stopwatches, the total's around the regularisation's: never below it but by
+    // rounding.
+    timing.skeleton_s = std::max(0.0, skeleton->total_s - skeleton->regularise_s);
+  }
+  timing.planning_s = planning_s;
+  timing.ranking_s = ranking_s;
+  return timing;
+}
+
+nlohmann::json rankingRecordJson(const RobustRankingResult& ranking) {
+  return {{"screened", ranking.screened},
+          {"screen_pruned", ranking.screen_pruned},
+          {"scored", ranking.scored},
+          {"refined", ranking.refined},
+          {"screening_s", ranking.screening_s},
+          {"scoring_s", ranking.scoring_s},
+          {"refinement_s", ranking.refinement_s}};
+}
+
+nlohmann::json planTimingJson(const PlanTiming& timing) {
+  if (timing.regularise_s) checkSeconds(*timing.regularise_s, "regularise_s");
+  if (timing.skeleton_s) checkSeconds(*timing.skeleton_s, "skeleton_s");
+  checkSeconds(timing.planning_s, "planning_s");
+  checkSeconds(timing.ranking_s, "ranking_s");
+  return {{"regularise_s", optionalSeconds(timing.regularise_s)},
+          {"skeleton_s", optionalSeconds(timing.skeleton_s)},
+          {"planning_s", timing.planning_s},
+          {"ranking_s", timing.ranking_s},
+          {"total_s", timing.total_s()}};
+}
+
+void addPlanRecords(nlohmann::json& document, const RobustRankingResult& ranking,
+                    bool ranking_enabled, const PlanTiming& timing) {
+  if (!document.is_object()) throw InvalidArgument("plan record: the document must be an object");
+  document["ranking"] = ranking_enabled ? rankingRecordJson(ranking) : nlohmann::json(nullptr);
+  document["timing"] = planTimingJson(timing);
+}
+
+}  // namespace skelgrasp::evaluation
