@@ -92,8 +92,6 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
   out.result.grasps = std::move(out.ranking.grasps);
   out.ranking.grasps.clear();
   out.ranking_enabled = ranking.enabled;
-  out.timing = evaluation::planTimingOf(out.skeleton ? &out.skeleton->result.timing : nullptr,
-                                        out.result.summary.planning_s, out.ranking.time_s);
   return out;
 }
 
@@ -237,7 +235,10 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
           "to_dict",
           [](const Plan& p) {
             nlohmann::json document = grasping::planToJson(p.result, *p.hand, p.object);
-            evaluation::addPlanRecords(document, p.ranking, p.ranking_enabled, p.timing);
+            evaluation::addPlanRecords(
+                document, p.ranking, p.ranking_enabled,
+                evaluation::planTimingOf(p.skeleton ? &p.skeleton->result.timing : nullptr,
+                                         p.result.summary.planning_s, p.ranking.time_s));
             return fromJson(document);
           },
           "grasps.json as ``skelgrasp plan`` writes it (schema skelgrasp.grasps/3), with the "

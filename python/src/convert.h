@@ -68,11 +68,10 @@ struct Plan {
   HandPtr hand;
   std::string object;
   std::optional<SkeletonOutput> skeleton;
-  // What the robust ranking did (its grasps moved into result) and the stages' times: to_dict()
-  // writes them as `skelgrasp plan` does (evaluation/plan_record.h).
+  // What the robust ranking did (its grasps moved into result): to_dict() writes it, with the
+  // stages' times, as `skelgrasp plan` does (evaluation/plan_record.h).
   evaluation::RobustRankingResult ranking;
   bool ranking_enabled = false;
-  evaluation::PlanTiming timing;
 };
 
 // N x 3 float64 (any float or int dtype converts) -> points; throws InvalidArgument naming `what`
