@@ -48,14 +48,14 @@ int runPlan(const PlanArgs& args) {
     result = grasping::planSurfaceGrasps(hand, object, args.planner.surfaceParams());
   }
   // Robust ranking: the best grasps scored by r and re-ranked (docs/planning.md).
-  const evaluation::RobustRankingParams ranking = args.robustness.params(args.planner.seed);
   auto ranked = evaluation::rankByRobustness(hand, object, std::move(result.grasps),
-                                             args.planner.hypothesis(), ranking);
+                                             args.planner.hypothesis(),
+                                             args.robustness.params(args.planner.seed));
   result.grasps = std::move(ranked.grasps);
   const evaluation::PlanTiming timing = evaluation::planTimingOf(
       skel ? &skel->timing : nullptr, result.summary.planning_s, ranked.time_s);
   nlohmann::json document = grasping::planToJson(result, hand, name);
-  evaluation::addPlanRecords(document, ranked, ranking.enabled, timing);
+  evaluation::addPlanRecords(document, ranked, timing);
   OutputTransaction outputs;
   if (!args.render.empty()) {
     grasping::renderPlanPng(outputs.stage(args.render), mesh, skel ? &skel->skeleton : nullptr,

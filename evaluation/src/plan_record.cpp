@@ -62,9 +62,9 @@ nlohmann::json planTimingJson(const PlanTiming& timing) {
 }
 
 void addPlanRecords(nlohmann::json& document, const RobustRankingResult& ranking,
-                    bool ranking_enabled, const PlanTiming& timing) {
+                    const PlanTiming& timing) {
   if (!document.is_object()) throw InvalidArgument("plan record: the document must be an object");
-  document["ranking"] = ranking_enabled ? rankingRecordJson(ranking) : nlohmann::json(nullptr);
+  document["ranking"] = ranking.enabled ? rankingRecordJson(ranking) : nlohmann::json(nullptr);
   document["timing"] = planTimingJson(timing);
 }
 

@@ -130,6 +130,7 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
     throw InvalidArgument("robust ranking: refinement's search_below_r must be in [0, 1]");
   Stopwatch watch;
   RobustRankingResult out;
+  out.enabled = params.enabled;
   const std::size_t n = grasps.size();
   auto trustOf = [&](std::size_t i) { return trust.empty() ? 1.0 : trust[i]; };
   std::vector<double> pre_score(n);

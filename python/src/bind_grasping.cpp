@@ -91,7 +91,6 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
                                              hypothesis, ranking);
   out.result.grasps = std::move(out.ranking.grasps);
   out.ranking.grasps.clear();
-  out.ranking_enabled = ranking.enabled;
   return out;
 }
 
@@ -236,7 +235,7 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
           [](const Plan& p) {
             nlohmann::json document = grasping::planToJson(p.result, *p.hand, p.object);
             evaluation::addPlanRecords(
-                document, p.ranking, p.ranking_enabled,
+                document, p.ranking,
                 evaluation::planTimingOf(p.skeleton ? &p.skeleton->result.timing : nullptr,
                                          p.result.summary.planning_s, p.ranking.time_s));
             return fromJson(document);

@@ -71,7 +71,6 @@ struct Plan {
   // What the robust ranking did (its grasps moved into result): to_dict() writes it, with the
   // stages' times, as `skelgrasp plan` does (evaluation/plan_record.h).
   evaluation::RobustRankingResult ranking;
-  bool ranking_enabled = false;
 };
 
 // N x 3 float64 (any float or int dtype converts) -> points; throws InvalidArgument naming `what`

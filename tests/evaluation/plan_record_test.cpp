@@ -20,6 +20,7 @@ RobustRankingResult someRanking() {
   ranking.screening_s = 0.25;
   ranking.scoring_s = 0.5;
   ranking.refinement_s = 0.125;
+  ranking.enabled = true;
   return ranking;
 }
 
@@ -70,12 +71,14 @@ TEST(PlanRecord, DisabledRankingIsNullAndTheDocumentKeepsItsMembers) {
   nlohmann::json document = {{"schema", "skelgrasp.grasps/3"}, {"grasps", nlohmann::json::array()}};
   PlanTiming timing;
   timing.planning_s = 0.5;
-  addPlanRecords(document, someRanking(), /*ranking_enabled=*/false, timing);
+  RobustRankingResult disabled = someRanking();
+  disabled.enabled = false;
+  addPlanRecords(document, disabled, timing);
   EXPECT_TRUE(document["ranking"].is_null());
   EXPECT_DOUBLE_EQ(document["timing"]["planning_s"].get<double>(), 0.5);
   EXPECT_EQ(document["schema"], "skelgrasp.grasps/3");
 
-  addPlanRecords(document, someRanking(), /*ranking_enabled=*/true, timing);
+  addPlanRecords(document, someRanking(), timing);
   EXPECT_EQ(document["ranking"]["scored"], 5);
 }
 
@@ -87,7 +90,7 @@ TEST(PlanRecord, RejectsTimesThatAreNoTimesAndDocumentsThatAreNoObjects) {
   not_a_number.regularise_s = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(planTimingJson(not_a_number), InvalidArgument);
   nlohmann::json list = nlohmann::json::array();
-  EXPECT_THROW(addPlanRecords(list, someRanking(), true, PlanTiming{}), InvalidArgument);
+  EXPECT_THROW(addPlanRecords(list, someRanking(), PlanTiming{}), InvalidArgument);
 }
 
 }  // namespace

@@ -55,6 +55,7 @@ TEST(RobustRanking, ScoresTheTopKAndRanksThemFirstByR) {
   EXPECT_TRUE(result.status.ok());
   ASSERT_EQ(result.grasps.size(), p.plan.grasps.size());
   EXPECT_EQ(result.scored, 3u);
+  EXPECT_TRUE(result.enabled);
   // The parts' times are measured inside the whole (plan_record.h writes them).
   EXPECT_GT(result.scoring_s, 0.0);
   EXPECT_GE(result.screening_s, 0.0);
@@ -216,6 +217,7 @@ TEST(RobustRanking, DisabledKeepsTheEpsilonOrderWithoutRobustness) {
   const auto result =
       rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params);
   EXPECT_EQ(result.scored, 0u);
+  EXPECT_FALSE(result.enabled);  // what addPlanRecords writes as a null "ranking"
   ASSERT_EQ(result.grasps.size(), p.plan.grasps.size());
   for (std::size_t i = 0; i < result.grasps.size(); ++i) {
     EXPECT_EQ(result.order[i], i);

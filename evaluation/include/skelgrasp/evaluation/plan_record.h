@@ -35,10 +35,10 @@ nlohmann::json rankingRecordJson(const RobustRankingResult& ranking);
 // {"regularise_s", "skeleton_s" (null without a skeleton), "planning_s", "ranking_s", "total_s"}.
 nlohmann::json planTimingJson(const PlanTiming& timing);
 
-// Adds "ranking" (rankingRecordJson, or null when the ranking was disabled) and "timing"
-// (planTimingJson) to a grasps.json document. Throws InvalidArgument when `document` is not a
-// JSON object or a time is negative or not finite.
+// Adds "ranking" (rankingRecordJson, or null when the ranking was disabled: `ranking.enabled`)
+// and "timing" (planTimingJson) to a grasps.json document. Throws InvalidArgument when `document`
+// is not a JSON object or a time is negative or not finite.
 void addPlanRecords(nlohmann::json& document, const RobustRankingResult& ranking,
-                    bool ranking_enabled, const PlanTiming& timing);
+                    const PlanTiming& timing);
 
 }  // namespace skelgrasp::evaluation

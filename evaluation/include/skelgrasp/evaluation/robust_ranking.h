@@ -57,6 +57,7 @@ struct RobustRankingParams {
 
 struct RobustRankingResult {
   Status status;                        // kOk (also when disabled or there is no grasp)
+  bool enabled = false;                 // the params' `enabled`: whether a ranking ran at all
   std::vector<grasping::Grasp> grasps;  // best first, ids renumbered 0..n-1 (id = rank)
   std::vector<double> scores;           // each grasp's rank score (see rankByRobustness)
   std::vector<std::size_t> order;       // grasps[i] was input grasp order[i]
