@@ -1,7 +1,9 @@
-// skelgrasp bench ranking INPUT...: the robust ranking with full screening (every candidate's
-// screening samples all run) and with pruned screening (a candidate stops once it cannot enter
-// the scored top_k), in one process on the same planned grasps, per object and hand: time of
-// each path, their ratio, and whether they return the same scored grasps with the same r.
+// skelgrasp bench ranking INPUT...: the robust ranking with an exact shortcut off (the old path)
+// and on (the new), in one process on the same planned grasps, per object and hand: time of each
+// path, their ratio, and whether they return the same scored grasps with the same r. The
+// shortcuts (--compare): `pruning`, screening a candidate only until it cannot enter the scored
+// top_k; `closure-shortcut`, settling's closure test skipped while the squeeze is unbalanced
+// (grasping/settling.h).
 #include <fmt/format.h>
 #include <tbb/global_control.h>
 
@@ -30,6 +32,7 @@ struct BenchRankingArgs {
   std::string hands = "armar3,sdh,shadow";
   std::size_t limit = 0;
   int repeat = 1;
+  std::string compare = "pruning";
   std::string json_out;
 };
 
@@ -40,9 +43,13 @@ struct PathRun {
 
 PathRun rankOnce(const grasping::HandModel& hand, const grasping::GraspObject& object,
                  const std::vector<grasping::Grasp>& grasps,
-                 const grasping::SkeletonPlannerParams& planner, bool prune) {
+                 const grasping::SkeletonPlannerParams& planner, const std::string& compare,
+                 bool new_path) {
+  // The other shortcut stays at its default, so each comparison is against today's ranking.
   evaluation::RobustRankingParams params;
-  params.prune_screening = prune;
+  if (compare == "pruning") params.prune_screening = new_path;
+  if (compare == "closure-shortcut")
+    params.robustness.settling.skip_closure_test_when_unbalanced = new_path;
   PathRun run;
   const Stopwatch watch;
   run.result = evaluation::rankByRobustness(hand, object, grasps, planner.hypothesis, params);
@@ -73,8 +80,9 @@ int runBenchRanking(const BenchRankingArgs& args) {
   // One core, as the plan-time goal is stated.
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 1);
   const grasping::SkeletonPlannerParams planner;
+  std::cout << fmt::format("comparing {}: old path (off) against new path (on)\n", args.compare);
   std::cout << fmt::format("{:<32} {:<8} {:>6} {:>8} {:>7} {:>7} {:>7} {:>6}\n", "object", "hand",
-                           "cands", "pruned", "full_s", "prune_s", "ratio", "same");
+                           "cands", "pruned", "old_s", "new_s", "ratio", "same");
   std::map<std::string, std::pair<double, double>> totals;  // per hand: full, pruned seconds
   std::map<std::string, std::vector<double>> ratios;
   bool all_same = true;
@@ -89,33 +97,33 @@ int runBenchRanking(const BenchRankingArgs& args) {
       const grasping::GraspObject object(mesh);
       for (const auto& hand : hands) {
         const auto plan = grasping::planSkeletonGrasps(hand, object, skel.skeleton, planner);
-        double full_s = 0, pruned_s = 0;
-        PathRun full, pruned;
+        double old_s = 0, new_s = 0;
+        PathRun old_run, new_run;
         // Alternating which path goes first, so neither always runs on a warmer cache.
         for (int rep = 0; rep < args.repeat; ++rep) {
           for (int k = 0; k < 2; ++k) {
-            const bool prune = (k == 1) != (rep % 2 == 1);
-            PathRun run = rankOnce(hand, object, plan.grasps, planner, prune);
-            (prune ? pruned_s : full_s) += run.seconds;
-            (prune ? pruned : full) = std::move(run);
+            const bool new_path = (k == 1) != (rep % 2 == 1);
+            PathRun run = rankOnce(hand, object, plan.grasps, planner, args.compare, new_path);
+            (new_path ? new_s : old_s) += run.seconds;
+            (new_path ? new_run : old_run) = std::move(run);
           }
         }
-        const bool same = sameScoredGrasps(full.result, pruned.result);
+        const bool same = sameScoredGrasps(old_run.result, new_run.result);
         all_same = all_same && same;
-        const double ratio = pruned_s > 0 ? full_s / pruned_s : 0;
-        totals[hand.name()].first += full_s / args.repeat;
-        totals[hand.name()].second += pruned_s / args.repeat;
+        const double ratio = new_s > 0 ? old_s / new_s : 0;
+        totals[hand.name()].first += old_s / args.repeat;
+        totals[hand.name()].second += new_s / args.repeat;
         ratios[hand.name()].push_back(ratio);
         std::cout << fmt::format("{:<32} {:<8} {:>6} {:>8} {:>7.2f} {:>7.2f} {:>6.2f}x {:>6}\n",
-                                 name.substr(0, 32), hand.name(), full.result.screened,
-                                 pruned.result.screen_pruned, full_s / args.repeat,
-                                 pruned_s / args.repeat, ratio, same ? "yes" : "NO");
+                                 name.substr(0, 32), hand.name(), old_run.result.screened,
+                                 new_run.result.screen_pruned, old_s / args.repeat,
+                                 new_s / args.repeat, ratio, same ? "yes" : "NO");
         rows.push_back({{"object", name},
                         {"hand", hand.name()},
-                        {"candidates", full.result.screened},
-                        {"pruned", pruned.result.screen_pruned},
-                        {"full_s", full_s / args.repeat},
-                        {"pruned_s", pruned_s / args.repeat},
+                        {"candidates", old_run.result.screened},
+                        {"pruned", new_run.result.screen_pruned},
+                        {"old_s", old_s / args.repeat},
+                        {"new_s", new_s / args.repeat},
                         {"same_scored_grasps", same}});
       }
     } catch (const std::exception& e) {
@@ -125,7 +133,7 @@ int runBenchRanking(const BenchRankingArgs& args) {
   }
   for (const auto& [hand, t] : totals) {
     std::cout << fmt::format(
-        "{:<8} ranking time full {:.1f} s, pruned {:.1f} s over the objects: {:.2f}x (median per "
+        "{:<8} ranking time old {:.1f} s, new {:.1f} s over the objects: {:.2f}x (median per "
         "object {:.2f}x)\n",
         hand, t.first, t.second, t.second > 0 ? t.first / t.second : 0.0, median(ratios[hand]));
   }
@@ -141,7 +149,7 @@ void registerBenchRankingCommand(CLI::App& app, Action& action) {
   CLI::App* bench = app.get_subcommand("bench");  // created by registerBenchCommand
   auto* cmd = bench->add_subcommand(
       "ranking",
-      "Robust ranking with full against pruned screening, one process, same grasps (one core)");
+      "Robust ranking without and with an exact shortcut, one process, same grasps (one core)");
   auto args = std::make_shared<BenchRankingArgs>();
   cmd->add_option("inputs", args->inputs, "Mesh files or directories")->required();
   cmd->add_option("--hands", args->hands, "Comma-separated built-in hands")->capture_default_str();
@@ -149,6 +157,11 @@ void registerBenchRankingCommand(CLI::App& app, Action& action) {
       ->capture_default_str();
   cmd->add_option("--repeat", args->repeat, "Runs of each path per object and hand (mean)")
       ->transform(countIn(1, kMaxRepeat))
+      ->capture_default_str();
+  cmd->add_option("--compare", args->compare,
+                  "pruning (screening stops where it cannot choose) or closure-shortcut (settling "
+                  "skips the closure test while the squeeze is unbalanced)")
+      ->check(CLI::IsMember({"pruning", "closure-shortcut"}))
       ->capture_default_str();
   cmd->add_option("--json", args->json_out, "Also write the rows as JSON");
   cmd->callback([=, &action] { action = [=] { return runBenchRanking(*args); }; });

@@ -484,7 +484,7 @@ TEST(Cli, BenchJudgeWritesOldAndNewMediansPerHand) {
       << missing.err;
 }
 
-TEST(Cli, BenchRankingComparesFullAndPrunedScreeningOnTheSameGrasps) {
+TEST(Cli, BenchRankingComparesEachShortcutOffAndOnOnTheSameGrasps) {
   const std::string dir = test::tempDir("bench_ranking");
   // The SDH on the generated box: over 60 kept grasps, so the ranking screens and cuts short.
   saveMesh(dir + "/box.ply", primitives::makeNamedShape("box"));
@@ -497,12 +497,18 @@ TEST(Cli, BenchRankingComparesFullAndPrunedScreeningOnTheSameGrasps) {
   EXPECT_EQ(row["hand"], "sdh");
   // The two paths return the same scored grasps, and the pruned path did cut candidates short.
   EXPECT_TRUE(row["same_scored_grasps"].get<bool>());
-  EXPECT_GT(row["full_s"].get<double>(), 0.0);
-  EXPECT_GT(row["pruned_s"].get<double>(), 0.0);
+  EXPECT_GT(row["old_s"].get<double>(), 0.0);
+  EXPECT_GT(row["new_s"].get<double>(), 0.0);
   EXPECT_GT(row["candidates"].get<std::size_t>(), 10u);
   EXPECT_GT(row["pruned"].get<std::size_t>(), 0u);
   EXPECT_LE(row["pruned"].get<std::size_t>(), row["candidates"].get<std::size_t>());
   EXPECT_NE(run.out.find("the same scored grasps"), std::string::npos) << run.out;
+  // Settling's closure shortcut: the same scored grasps without and with it.
+  const auto shortcut =
+      test::runCli("bench ranking " + dir + "/box.ply --hands sdh --compare closure-shortcut", dir);
+  ASSERT_EQ(shortcut.exit_code, 0) << shortcut.err;
+  EXPECT_NE(shortcut.out.find("comparing closure-shortcut"), std::string::npos) << shortcut.out;
+  EXPECT_NE(shortcut.out.find("the same scored grasps"), std::string::npos) << shortcut.out;
   const auto empty = test::runCli("bench ranking " + dir + "/nothing_here", dir);
   EXPECT_EQ(empty.exit_code, 2);
 }

@@ -197,6 +197,54 @@ TEST(Settling, TheSdhPullsACylinderIntoItsPowerGraspAndHoldingHandsStayPut) {
   EXPECT_GT((settled.hand_pose.translation() - start.translation()).dot(approach), 0.02);
 }
 
+TEST(Settling, SkippingTheClosureTestWhileUnbalancedChangesNoOutcome) {
+  // Force closure implies a balanced squeeze, so the shortcut (squeeze first, no closure LP while
+  // it is unbalanced) must end every settling where the plain order does: same outcome, same
+  // steps, same final pose. Power and precision closings of the three paper hands on a cylinder
+  // and a sphere, the start poses perturbed as robustness samples are (10 mm, 5 degrees).
+  std::mt19937_64 rng(16);
+  std::normal_distribution<double> position(0.0, 0.01), angle(0.0, 5.0 * kPi / 180.0);
+  SettlingParams plain;
+  plain.skip_closure_test_when_unbalanced = false;
+  const SettlingParams shortcut;
+  int settled_with_steps = 0, compared = 0;
+  for (const auto& mesh :
+       {primitives::makeCylinder(0.03, 0.2, 48, 10), primitives::makeSphere(0.035, 48, 24)}) {
+    const GraspObject object(mesh);
+    for (const std::string name : {"armar3", "sdh", "shadow"}) {
+      const HandModel hand = loadBuiltinHand(name);
+      GraspSimulator sim(hand, object);
+      const QualityParams quality = withHandContactModel({}, hand);
+      for (const std::string preshape_name : {"power", "precision"}) {
+        const auto& preshape = hand.preshape(preshape_name);
+        const Pose start = powerPoseBeside(sim, preshape, 0.0);
+        for (int i = 0; i < 12; ++i) {
+          SCOPED_TRACE(name + " " + preshape_name + " sample " + std::to_string(i));
+          Pose perturbed = Pose::Identity();
+          perturbed.linear() = (Eigen::AngleAxisd(angle(rng), Eigen::Vector3d::UnitX()) *
+                                Eigen::AngleAxisd(angle(rng), Eigen::Vector3d::UnitY()) *
+                                Eigen::AngleAxisd(angle(rng), Eigen::Vector3d::UnitZ()))
+                                   .toRotationMatrix();
+          perturbed.translation() = Eigen::Vector3d(position(rng), position(rng), position(rng));
+          const Pose pose = perturbed * start;
+          const SettlingResult a = settleGrasp(sim, pose, preshape, {}, quality, plain);
+          const SettlingResult b = settleGrasp(sim, pose, preshape, {}, quality, shortcut);
+          ++compared;
+          settled_with_steps += a.steps > 0;
+          EXPECT_EQ(a.outcome, b.outcome);
+          EXPECT_EQ(a.steps, b.steps);
+          EXPECT_TRUE(a.hand_pose.isApprox(b.hand_pose, 0.0));
+          EXPECT_EQ(a.closing.contacts.size(), b.closing.contacts.size());
+        }
+      }
+    }
+  }
+  // The comparison covers settlings that moved the object, where the shortcut applies (33 of the
+  // 144 when written).
+  EXPECT_EQ(compared, 144);
+  EXPECT_GE(settled_with_steps, 20);
+}
+
 TEST(Settling, AConeSteeperThanTheFrictionConeSquirtsOutOfParallelJaws) {
   // The gripper's jaws squeeze a frustum (axis z) across its middle. A 9.5 degree side is inside
   // the 19.3 degree friction cone at mu = 0.35: held. A 31 degree side is not: the squeeze pushes
