@@ -128,7 +128,10 @@ SettlingResult settleGrasp(GraspSimulator& simulator, const Pose& hand_pose,
     const bool pushes = anyFingerPushes(contacts, params.pushing_distance_m);
     const bool may_step = pushes && result.steps < params.max_steps;
     std::optional<SqueezeLpResult> squeeze;
-    if (shortcut && may_step && result.closing.status.ok() &&
+    // Only once the object has moved: a first closing is mostly force closure (a returned grasp's
+    // samples mostly hold as they close), where the squeeze first would be an LP more, while a
+    // squeeze that just moved the object mostly moves it again.
+    if (shortcut && result.steps > 0 && may_step && result.closing.status.ok() &&
         allContactsPush(contacts, params.pushing_distance_m)) {
       squeeze = squeezeOf(hand, object, contacts, quality, params.pushing_distance_m);
     }

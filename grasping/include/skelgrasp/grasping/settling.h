@@ -34,9 +34,11 @@ struct SettlingParams {
   double pushing_distance_m = 0.003;
   // Force closure of the contacts implies a balanced squeeze (a strictly positive combination of
   // their wrenches is zero, scaled to any squeeze), so while every contact pushes (all within
-  // pushing_distance_m) the squeeze is solved first and an unbalanced one skips the closure test:
-  // one LP per settling step instead of two. Outcomes are the same either way (tested); off runs
-  // the closure test first on every step, for comparison (`skelgrasp bench ranking`).
+  // pushing_distance_m) after a step the squeeze is solved first and an unbalanced one skips the
+  // closure test: one LP per step that moves the object instead of two. (Before the first step the
+  // closure test goes first: most first closings are force closure.) Outcomes are the same either
+  // way (tested); off runs the closure test first on every step, for comparison (`skelgrasp bench
+  // ranking`).
   bool skip_closure_test_when_unbalanced = true;
 };
 
