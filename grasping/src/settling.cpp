@@ -85,6 +85,8 @@ bool anyFingerPushes(const std::vector<Contact>& contacts, double pushing_distan
   return false;
 }
 
+// The squeeze leaves out contacts beyond the pushing distance, and force closure implies balance
+// only when both see the same contacts.
 bool allContactsPush(const std::vector<Contact>& contacts, double pushing_distance_m) {
   for (const auto& c : contacts) {
     if (c.distance > pushing_distance_m) return false;
