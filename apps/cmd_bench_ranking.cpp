@@ -83,7 +83,7 @@ int runBenchRanking(const BenchRankingArgs& args) {
   std::cout << fmt::format("comparing {}: old path (off) against new path (on)\n", args.compare);
   std::cout << fmt::format("{:<32} {:<8} {:>6} {:>8} {:>7} {:>7} {:>7} {:>6}\n", "object", "hand",
                            "cands", "pruned", "old_s", "new_s", "ratio", "same");
-  std::map<std::string, std::pair<double, double>> totals;  // per hand: full, pruned seconds
+  std::map<std::string, std::pair<double, double>> totals;  // per hand: old, new seconds
   std::map<std::string, std::vector<double>> ratios;
   bool all_same = true;
   nlohmann::json rows = nlohmann::json::array();
