@@ -36,6 +36,9 @@ struct BenchRankingArgs {
   std::string json_out;
 };
 
+// The exact shortcut a run compares off (old path) and on (new path).
+enum class Shortcut { kPruning, kClosureShortcut };
+
 struct PathRun {
   evaluation::RobustRankingResult result;
   double seconds = 0;
@@ -43,13 +46,17 @@ struct PathRun {
 
 PathRun rankOnce(const grasping::HandModel& hand, const grasping::GraspObject& object,
                  const std::vector<grasping::Grasp>& grasps,
-                 const grasping::SkeletonPlannerParams& planner, const std::string& compare,
-                 bool new_path) {
+                 const grasping::SkeletonPlannerParams& planner, Shortcut shortcut, bool new_path) {
   // The other shortcut stays at its default, so each comparison is against today's ranking.
   evaluation::RobustRankingParams params;
-  if (compare == "pruning") params.prune_screening = new_path;
-  if (compare == "closure-shortcut")
-    params.robustness.settling.skip_closure_test_when_unbalanced = new_path;
+  switch (shortcut) {
+    case Shortcut::kPruning:
+      params.prune_screening = new_path;
+      break;
+    case Shortcut::kClosureShortcut:
+      params.robustness.settling.skip_closure_test_when_unbalanced = new_path;
+      break;
+  }
   PathRun run;
   const Stopwatch watch;
   run.result = evaluation::rankByRobustness(hand, object, grasps, planner.hypothesis, params);
@@ -80,6 +87,9 @@ int runBenchRanking(const BenchRankingArgs& args) {
   // One core, as the plan-time goal is stated.
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 1);
   const grasping::SkeletonPlannerParams planner;
+  // --compare admits only these two names (CLI::IsMember).
+  const Shortcut shortcut =
+      args.compare == "closure-shortcut" ? Shortcut::kClosureShortcut : Shortcut::kPruning;
   std::cout << fmt::format("comparing {}: old path (off) against new path (on)\n", args.compare);
   std::cout << fmt::format("{:<32} {:<8} {:>6} {:>8} {:>7} {:>7} {:>7} {:>6}\n", "object", "hand",
                            "cands", "pruned", "old_s", "new_s", "ratio", "same");
@@ -103,7 +113,7 @@ int runBenchRanking(const BenchRankingArgs& args) {
         for (int rep = 0; rep < args.repeat; ++rep) {
           for (int k = 0; k < 2; ++k) {
             const bool new_path = (k == 1) != (rep % 2 == 1);
-            PathRun run = rankOnce(hand, object, plan.grasps, planner, args.compare, new_path);
+            PathRun run = rankOnce(hand, object, plan.grasps, planner, shortcut, new_path);
             (new_path ? new_s : old_s) += run.seconds;
             (new_path ? new_run : old_run) = std::move(run);
           }
