@@ -3,12 +3,15 @@
 // path, their ratio, and whether they return the same scored grasps with the same r. The
 // shortcuts (--compare): `pruning`, screening a candidate only until it cannot enter the scored
 // top_k; `closure-shortcut`, settling's closure test skipped while the squeeze is unbalanced
-// (grasping/settling.h).
+// (grasping/settling.h); `cell-skipping`, the exact box gap skipping empty cells of the triangle
+// grid (DistanceFieldParams::skip_empty_cells).
 #include <fmt/format.h>
 #include <tbb/global_control.h>
 
 #include <filesystem>
 #include <iostream>
+#include <map>
+#include <optional>
 
 #include "cli.h"
 #include "mesh_list.h"
@@ -37,13 +40,14 @@ struct BenchRankingArgs {
 };
 
 // The exact shortcut a run compares off (old path) and on (new path).
-enum class Shortcut { kPruning, kClosureShortcut };
+enum class Shortcut { kPruning, kClosureShortcut, kCellSkipping };
 
 struct PathRun {
   evaluation::RobustRankingResult result;
   double seconds = 0;
 };
 
+// `object` is the one of the path (cell-skipping: built with or without the skip).
 PathRun rankOnce(const grasping::HandModel& hand, const grasping::GraspObject& object,
                  const std::vector<grasping::Grasp>& grasps,
                  const grasping::SkeletonPlannerParams& planner, Shortcut shortcut, bool new_path) {
@@ -55,6 +59,8 @@ PathRun rankOnce(const grasping::HandModel& hand, const grasping::GraspObject& o
       break;
     case Shortcut::kClosureShortcut:
       params.robustness.settling.skip_closure_test_when_unbalanced = new_path;
+      break;
+    case Shortcut::kCellSkipping:  // the caller passes the path's object
       break;
   }
   PathRun run;
@@ -87,9 +93,12 @@ int runBenchRanking(const BenchRankingArgs& args) {
   // One core, as the plan-time goal is stated.
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 1);
   const grasping::SkeletonPlannerParams planner;
-  // --compare admits only these two names (CLI::IsMember).
-  const Shortcut shortcut =
-      args.compare == "closure-shortcut" ? Shortcut::kClosureShortcut : Shortcut::kPruning;
+  // --compare admits only these names (CLI::IsMember).
+  const std::map<std::string, Shortcut> shortcuts = {
+      {"pruning", Shortcut::kPruning},
+      {"closure-shortcut", Shortcut::kClosureShortcut},
+      {"cell-skipping", Shortcut::kCellSkipping}};
+  const Shortcut shortcut = shortcuts.at(args.compare);
   std::cout << fmt::format("comparing {}: old path (off) against new path (on)\n", args.compare);
   std::cout << fmt::format("{:<32} {:<8} {:>6} {:>8} {:>7} {:>7} {:>7} {:>6}\n", "object", "hand",
                            "cands", "pruned", "old_s", "new_s", "ratio", "same");
@@ -105,6 +114,15 @@ int runBenchRanking(const BenchRankingArgs& args) {
       const auto skel = skeleton::extractSkeleton(mesh);
       if (!skel.status.ok()) throw Error(skel.status.message);
       const grasping::GraspObject object(mesh);
+      // The old path's object for cell-skipping, its field built before any timing (the new
+      // one's is built by the planning below).
+      std::optional<grasping::GraspObject> dense_object;
+      if (shortcut == Shortcut::kCellSkipping) {
+        grasping::DistanceFieldParams dense_walk;
+        dense_walk.skip_empty_cells = false;
+        dense_object.emplace(mesh, dense_walk);
+        dense_object->distanceField();
+      }
       for (const auto& hand : hands) {
         const auto plan = grasping::planSkeletonGrasps(hand, object, skel.skeleton, planner);
         double old_s = 0, new_s = 0;
@@ -113,7 +131,9 @@ int runBenchRanking(const BenchRankingArgs& args) {
         for (int rep = 0; rep < args.repeat; ++rep) {
           for (int k = 0; k < 2; ++k) {
             const bool new_path = (k == 1) != (rep % 2 == 1);
-            PathRun run = rankOnce(hand, object, plan.grasps, planner, shortcut, new_path);
+            const bool dense = shortcut == Shortcut::kCellSkipping && !new_path;
+            PathRun run = rankOnce(hand, dense ? *dense_object : object, plan.grasps, planner,
+                                   shortcut, new_path);
             (new_path ? new_s : old_s) += run.seconds;
             (new_path ? new_run : old_run) = std::move(run);
           }
@@ -169,9 +189,10 @@ void registerBenchRankingCommand(CLI::App& app, Action& action) {
       ->transform(countIn(1, kMaxRepeat))
       ->capture_default_str();
   cmd->add_option("--compare", args->compare,
-                  "pruning (screening stops where it cannot choose) or closure-shortcut (settling "
-                  "skips the closure test while the squeeze is unbalanced)")
-      ->check(CLI::IsMember({"pruning", "closure-shortcut"}))
+                  "pruning (screening stops where it cannot choose), closure-shortcut (settling "
+                  "skips the closure test while the squeeze is unbalanced) or cell-skipping (the "
+                  "exact box gap skips empty cells)")
+      ->check(CLI::IsMember({"pruning", "closure-shortcut", "cell-skipping"}))
       ->capture_default_str();
   cmd->add_option("--json", args->json_out, "Also write the rows as JSON");
   cmd->callback([=, &action] { action = [=] { return runBenchRanking(*args); }; });

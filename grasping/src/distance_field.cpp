@@ -76,6 +76,22 @@ struct DistanceField::Impl {
   std::vector<std::uint64_t> cell_occupied;
 
   bool occupied(std::size_t c) const { return (cell_occupied[c >> 6] >> (c & 63)) & 1u; }
+  bool skip_empty_cells = true;  // DistanceFieldParams::skip_empty_cells
+
+  // The first occupied cell in [c, end), or end: a row's empty runs are skipped a word (64 cells)
+  // at a time, so a query's walk costs its occupied cells rather than every cell it reaches.
+  std::size_t nextOccupied(std::size_t c, std::size_t end) const {
+    if (!skip_empty_cells) {
+      while (c < end && !occupied(c)) ++c;
+      return c;
+    }
+    while (c < end) {
+      const std::uint64_t rest = cell_occupied[c >> 6] >> (c & 63);
+      if (rest != 0) return std::min(end, c + static_cast<std::size_t>(__builtin_ctzll(rest)));
+      c = (c | 63) + 1;
+    }
+    return end;
+  }
 
   std::size_t node(int x, int y, int z) const {
     return (static_cast<std::size_t>(z) * dims.y() + y) * dims.x() + x;
@@ -272,6 +288,7 @@ DistanceField::DistanceField(const TriangleMesh& mesh, bool signed_field,
   m.faces = mesh.faces;
   m.bounds = mesh.bounds();
   m.is_signed = signed_field;
+  m.skip_empty_cells = params.skip_empty_cells;
   m.h = params.spacing_m;
   for (;;) {
     m.band = std::max(params.band_m, m.h);  // the flood fill needs a band of at least a cell
@@ -475,11 +492,13 @@ double DistanceField::boxGap(const Pose& box_pose, const Eigen::Vector3d& half, 
   for (int z = a.z(); z <= b.z(); ++z) {
     for (int y = a.y(); y <= b.y(); ++y) {
       const std::size_t row = m.cellIndex({0, y, z});
+      const std::size_t row_end = row + b.x() + 1;
+      std::size_t c = m.nextOccupied(row + a.x(), row_end);
+      if (c == row_end) continue;  // most rows a box reaches are empty (96 of 133 in an SDH plan)
       const Eigen::Vector3d row_start =
           to_box * (m.origin + m.cell * Eigen::Vector3d(0.5, y + 0.5, z + 0.5) - centre);
-      for (int x = a.x(); x <= b.x(); ++x) {
-        const std::size_t c = row + x;
-        if (!m.occupied(c)) continue;
+      for (; c < row_end; c = m.nextOccupied(c + 1, row_end)) {
+        const auto x = static_cast<double>(c - row);
         // A triangle reaching past its cell is also listed in the cells it reaches.
         const double cell_reach = best + cell_radius;
         if (squaredOutside(row_start + x * step_x) > cell_reach * cell_reach) continue;

@@ -18,8 +18,12 @@ constexpr double kNormalSearchShare = 1e-6;
 constexpr double kMinNormalSearchScaleM = 1e-3;
 }  // namespace
 
-GraspObject::GraspObject(TriangleMesh mesh) : mesh_(std::move(mesh)) {
+GraspObject::GraspObject(TriangleMesh mesh, const DistanceFieldParams& field)
+    : mesh_(std::move(mesh)), field_params_(field) {
   if (mesh_.empty()) throw InvalidArgument("GraspObject: empty mesh");
+  // Checked here, not when the field is first built, so that the mistake surfaces at its cause.
+  if (!(field.spacing_m > 0) || !(field.band_m > 0))
+    throw InvalidArgument("GraspObject: distance field spacing and band must be positive");
   bounds_ = mesh_.bounds();
   closed_ = geometry::analyzeTopology(mesh_).closed;
   for (const auto& v : mesh_.vertices) vertex_mean_ += v;
@@ -67,7 +71,9 @@ const geometry::MeshQuery& GraspObject::surfaceQuery() const {
 }
 
 const DistanceField& GraspObject::distanceField() const {
-  std::call_once(field_once_, [this] { field_ = std::make_unique<DistanceField>(mesh_, closed_); });
+  std::call_once(field_once_, [this] {
+    field_ = std::make_unique<DistanceField>(mesh_, closed_, field_params_);
+  });
   return *field_;
 }
 

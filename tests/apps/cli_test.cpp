@@ -503,12 +503,15 @@ TEST(Cli, BenchRankingComparesEachShortcutOffAndOnOnTheSameGrasps) {
   EXPECT_GT(row["pruned"].get<std::size_t>(), 0u);
   EXPECT_LE(row["pruned"].get<std::size_t>(), row["candidates"].get<std::size_t>());
   EXPECT_NE(run.out.find("the same scored grasps"), std::string::npos) << run.out;
-  // Settling's closure shortcut: the same scored grasps without and with it.
-  const auto shortcut =
-      test::runCli("bench ranking " + dir + "/box.ply --hands sdh --compare closure-shortcut", dir);
-  ASSERT_EQ(shortcut.exit_code, 0) << shortcut.err;
-  EXPECT_NE(shortcut.out.find("comparing closure-shortcut"), std::string::npos) << shortcut.out;
-  EXPECT_NE(shortcut.out.find("the same scored grasps"), std::string::npos) << shortcut.out;
+  // Settling's closure shortcut and the box gap's cell skipping: the same scored grasps without
+  // and with each.
+  for (const std::string name : {"closure-shortcut", "cell-skipping"}) {
+    const auto shortcut =
+        test::runCli("bench ranking " + dir + "/box.ply --hands sdh --compare " + name, dir);
+    ASSERT_EQ(shortcut.exit_code, 0) << shortcut.err;
+    EXPECT_NE(shortcut.out.find("comparing " + name), std::string::npos) << shortcut.out;
+    EXPECT_NE(shortcut.out.find("the same scored grasps"), std::string::npos) << shortcut.out;
+  }
   const auto empty = test::runCli("bench ranking " + dir + "/nothing_here", dir);
   EXPECT_EQ(empty.exit_code, 2);
 }

@@ -13,8 +13,9 @@ namespace skelgrasp::grasping {
 
 class GraspObject {
  public:
-  // Throws InvalidArgument for an empty mesh.
-  explicit GraspObject(TriangleMesh mesh);
+  // `field`: the parameters of distanceField(). Throws InvalidArgument for an empty mesh or a
+  // non-positive field spacing or band.
+  explicit GraspObject(TriangleMesh mesh, const DistanceFieldParams& field = {});
   ~GraspObject();
   GraspObject(const GraspObject&) = delete;
   GraspObject& operator=(const GraspObject&) = delete;
@@ -39,7 +40,7 @@ class GraspObject {
   // Closest-point queries on the surface (AABB tree, built on first use, thread-safe).
   const geometry::MeshQuery& surfaceQuery() const;
 
-  // Signed distance field of the surface (unsigned when the mesh is open) with the default
+  // Signed distance field of the surface (unsigned when the mesh is open) with the constructor's
   // DistanceFieldParams, built on first use (tens of milliseconds), thread-safe.
   const DistanceField& distanceField() const;
 
@@ -58,6 +59,7 @@ class GraspObject {
   std::unique_ptr<CollisionData> collision_;
   mutable std::once_flag query_once_;
   mutable std::unique_ptr<geometry::MeshQuery> query_;
+  DistanceFieldParams field_params_;
   mutable std::once_flag field_once_;
   mutable std::unique_ptr<DistanceField> field_;
 };
