@@ -42,6 +42,16 @@ struct BenchRankingArgs {
 // The exact shortcut a run compares off (old path) and on (new path).
 enum class Shortcut { kPruning, kClosureShortcut, kCellSkipping };
 
+// --compare's names: the option admits these (CLI::IsMember on the keys) and the run looks its
+// shortcut up here.
+const std::map<std::string, Shortcut>& shortcutsByName() {
+  static const std::map<std::string, Shortcut> names = {
+      {"pruning", Shortcut::kPruning},
+      {"closure-shortcut", Shortcut::kClosureShortcut},
+      {"cell-skipping", Shortcut::kCellSkipping}};
+  return names;
+}
+
 struct PathRun {
   evaluation::RobustRankingResult result;
   double seconds = 0;
@@ -51,7 +61,7 @@ struct PathRun {
 PathRun rankOnce(const grasping::HandModel& hand, const grasping::GraspObject& object,
                  const std::vector<grasping::Grasp>& grasps,
                  const grasping::SkeletonPlannerParams& planner, Shortcut shortcut, bool new_path) {
-  // The other shortcut stays at its default, so each comparison is against today's ranking.
+  // The other shortcuts stay at their defaults, so each comparison is against today's ranking.
   evaluation::RobustRankingParams params;
   switch (shortcut) {
     case Shortcut::kPruning:
@@ -93,12 +103,7 @@ int runBenchRanking(const BenchRankingArgs& args) {
   // One core, as the plan-time goal is stated.
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 1);
   const grasping::SkeletonPlannerParams planner;
-  // --compare admits only these names (CLI::IsMember).
-  const std::map<std::string, Shortcut> shortcuts = {
-      {"pruning", Shortcut::kPruning},
-      {"closure-shortcut", Shortcut::kClosureShortcut},
-      {"cell-skipping", Shortcut::kCellSkipping}};
-  const Shortcut shortcut = shortcuts.at(args.compare);
+  const Shortcut shortcut = shortcutsByName().at(args.compare);
   std::cout << fmt::format("comparing {}: old path (off) against new path (on)\n", args.compare);
   std::cout << fmt::format("{:<32} {:<8} {:>6} {:>8} {:>7} {:>7} {:>7} {:>6}\n", "object", "hand",
                            "cands", "pruned", "old_s", "new_s", "ratio", "same");
@@ -192,7 +197,7 @@ void registerBenchRankingCommand(CLI::App& app, Action& action) {
                   "pruning (screening stops where it cannot choose), closure-shortcut (settling "
                   "skips the closure test while the squeeze is unbalanced) or cell-skipping (the "
                   "exact box gap skips empty cells)")
-      ->check(CLI::IsMember({"pruning", "closure-shortcut", "cell-skipping"}))
+      ->check(CLI::IsMember(shortcutsByName()))
       ->capture_default_str();
   cmd->add_option("--json", args->json_out, "Also write the rows as JSON");
   cmd->callback([=, &action] { action = [=] { return runBenchRanking(*args); }; });

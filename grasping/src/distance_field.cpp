@@ -180,12 +180,16 @@ void DistanceField::Impl::floodFillSign() {
   }
 }
 
+void checkDistanceFieldParams(const DistanceFieldParams& params) {
+  if (!(params.spacing_m > 0) || !(params.band_m > 0))
+    throw InvalidArgument("distance field: spacing and band must be positive");
+}
+
 DistanceField::DistanceField(const TriangleMesh& mesh, bool signed_field,
                              const DistanceFieldParams& params)
     : impl_(std::make_unique<Impl>()) {
   if (mesh.empty()) throw InvalidArgument("DistanceField: empty mesh");
-  if (!(params.spacing_m > 0) || !(params.band_m > 0))
-    throw InvalidArgument("DistanceField: spacing and band must be positive");
+  checkDistanceFieldParams(params);
   auto& m = *impl_;
   m.vertices = mesh.vertices;
   m.faces = mesh.faces;

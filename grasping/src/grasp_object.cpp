@@ -22,8 +22,7 @@ GraspObject::GraspObject(TriangleMesh mesh, const DistanceFieldParams& field)
     : mesh_(std::move(mesh)), field_params_(field) {
   if (mesh_.empty()) throw InvalidArgument("GraspObject: empty mesh");
   // Checked here, not when the field is first built, so that the mistake surfaces at its cause.
-  if (!(field.spacing_m > 0) || !(field.band_m > 0))
-    throw InvalidArgument("GraspObject: distance field spacing and band must be positive");
+  checkDistanceFieldParams(field);
   bounds_ = mesh_.bounds();
   closed_ = geometry::analyzeTopology(mesh_).closed;
   for (const auto& v : mesh_.vertices) vertex_mean_ += v;

@@ -30,6 +30,10 @@ struct DistanceFieldParams {
   bool skip_empty_cells = true;
 };
 
+// Throws InvalidArgument for a spacing or band that is not positive: the one check of these params,
+// shared by DistanceField and GraspObject (which builds its field on first use, so checks first).
+void checkDistanceFieldParams(const DistanceFieldParams& params);
+
 // A point on the surface with the face it lies on and its distance from the query point.
 struct SurfacePoint {
   Eigen::Vector3d point;
