@@ -271,8 +271,8 @@ struct SceneChecker::Impl {
   std::optional<SupportPlane> plane;
   std::unique_ptr<fcl::CollisionObjectd> octree;
   std::unique_ptr<fcl::CollisionObjectd> halfspace;
-  std::vector<std::vector<std::pair<std::unique_ptr<fcl::CollisionObjectd>, Pose>>>
-      shapes;  // per link
+  // Per link: each shape's geometry and its origin in the link frame.
+  std::vector<std::vector<std::pair<std::shared_ptr<fcl::CollisionGeometryd>, Pose>>> shapes;
 };
 
 SceneChecker::SceneChecker(const HandModel& hand, const SceneOccupancy* occupancy,
@@ -300,8 +300,7 @@ SceneChecker::SceneChecker(const HandModel& hand, const SceneOccupancy* occupanc
   impl_->shapes.resize(hand.links().size());
   for (std::size_t l = 0; l < hand.links().size(); ++l) {
     for (const auto& shape : hand.links()[l].shapes) {
-      impl_->shapes[l].emplace_back(
-          std::make_unique<fcl::CollisionObjectd>(internal::toFclGeometry(shape)), shape.origin);
+      impl_->shapes[l].emplace_back(internal::toFclGeometry(shape), shape.origin);
     }
   }
 }
@@ -333,14 +332,16 @@ SceneCheckResult SceneChecker::checkPath(const Pose& hand_pose, const Eigen::Vec
     const double back = std::min(impl_->params.pregrasp_distance_m, i * impl_->params.path_step_m);
     const Pose pose = Eigen::Translation3d(-back * dir) * hand_pose;
     for (std::size_t l = 0; l < impl_->shapes.size(); ++l) {
-      for (auto& [object, origin] : impl_->shapes[l]) {
-        object->setTransform(internal::toFcl(pose * link_poses[l] * origin));
-        object->computeAABB();
+      for (const auto& [shape, origin] : impl_->shapes[l]) {
+        // A placed copy sharing the shape's geometry: the planners check poses from several
+        // threads at once, so the checker's own objects are never moved.
+        fcl::CollisionObjectd placed(shape, internal::toFcl(pose * link_poses[l] * origin));
+        placed.computeAABB();
         for (const auto* obstacle : {impl_->octree.get(), impl_->halfspace.get()}) {
           if (!obstacle) continue;
           fcl::CollisionRequestd request;
           fcl::CollisionResultd hit;
-          fcl::collide(object.get(), obstacle, request, hit);
+          fcl::collide(&placed, obstacle, request, hit);
           if (hit.isCollision()) {
             result.collision = true;
             result.link = impl_->hand->links()[l].name;

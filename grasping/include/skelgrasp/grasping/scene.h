@@ -104,7 +104,8 @@ struct SceneCheckResult {
 };
 
 // Checks a hand (in the scan frame, at `hand_pose` in configuration `q`) and its straight approach
-// from the pre-grasp distance. Either of occupancy / plane may be absent.
+// from the pre-grasp distance. Either of occupancy / plane may be absent. The checks only read the
+// checker: the planners call them from several threads at once.
 class SceneChecker {
  public:
   SceneChecker(const HandModel& hand, const SceneOccupancy* occupancy,
