@@ -9,6 +9,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "fallback_trigger.h"
+#include "ordered_hypotheses.h"
 #include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/grasping/scene.h"
@@ -263,37 +264,42 @@ PlanResult planFallbackGrasps(const HandModel& hand, const GraspObject& object,
   }
   std::shuffle(trials.begin(), trials.end(), std::mt19937_64(params.seed));
 
-  GraspSimulator simulator(hand, object);
   HypothesisParams hp = params.hypothesis;
   hp.quality = withHandContactModel(hp.quality, hand);
+  HypothesisParams precision_hp = hp, power_hp = hp;
+  precision_hp.extra_retreat_m = 0.0;
+  power_hp.extra_retreat_m = hand.thresholds().power_retreat_m;
 
   ProgressReporter progress("fallback planner", trials.size(), 5.0);
-  for (const Trial& trial : trials) {
-    if (params.timeout_s > 0 && watch.seconds() > params.timeout_s) {
-      summary.timed_out = true;
-      break;
-    }
-    if (params.max_grasps > 0 && result.grasps.size() >= params.max_grasps) {
-      summary.max_grasps_reached = true;
-      break;
-    }
-    const bool precision = trial.type == GraspType::kPrecision;
-    const Preshape& preshape = *trial.preshape;
-    hp.extra_retreat_m = precision ? 0.0 : hand.thresholds().power_retreat_m;
+  internal::OrderedHypotheses run;
+  run.count = trials.size();
+  run.evaluate = [&](GraspSimulator& simulator, std::size_t i) {
+    const Trial& trial = trials[i];
+    return evaluateHypothesis(simulator, poses[trial.pose].gcp, *trial.preshape,
+                              trial.type == GraspType::kPrecision ? precision_hp : power_hp);
+  };
+  run.stop = [&] {
+    if (params.timeout_s > 0 && watch.seconds() > params.timeout_s) return summary.timed_out = true;
+    if (params.max_grasps > 0 && result.grasps.size() >= params.max_grasps)
+      return summary.max_grasps_reached = true;
+    return false;
+  };
+  run.take = [&](std::size_t i, HypothesisOutcome&& outcome) {
+    const Trial& trial = trials[i];
     ++summary.hypotheses;
     ++summary.poses;
     progress.step(summary.hypotheses);
-    const FallbackPose& pose = poses[trial.pose];
-    auto kept = countOutcome(evaluateHypothesis(simulator, pose.gcp, preshape, hp), summary);
-    if (!kept) continue;
+    auto kept = countOutcome(std::move(outcome), summary);
+    if (!kept) return;
     Grasp grasp = std::move(*kept);
     grasp.type = trial.type;
-    grasp.strategy = pose.strategy;
+    grasp.strategy = poses[trial.pose].strategy;
     grasp.segment = -1;
     grasp.skeleton_vertex = -1;
-    (precision ? summary.precision : summary.power) += 1;
+    (trial.type == GraspType::kPrecision ? summary.precision : summary.power) += 1;
     result.grasps.push_back(std::move(grasp));
-  }
+  };
+  internal::evaluateInOrder(hand, object, run);
   finishPlan(result, watch.seconds());
   log().info("fallback planner ({}): {} poses{}{}, {} generated, {} force closure, {:.2f} s",
              hand.name(), summary.poses, disc ? " (disc)" : "", top ? " (top)" : "",

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 
@@ -7,6 +8,7 @@
 #include "skelgrasp/grasping/planners.h"
 
 #include "fallback_trigger.h"
+#include "ordered_hypotheses.h"
 
 namespace skelgrasp::grasping {
 namespace {
@@ -134,7 +136,6 @@ PlanResult planSkeletonGrasps(const HandModel& hand, const GraspObject& object,
   PlanResult result;
   result.planner = "skeleton";
   auto& summary = result.summary;
-  GraspSimulator simulator(hand, object);
   LocalShapeParams shape_params;
   shape_params.curvature_limit_per_m = params.curvature_limit_per_m;
   shape_params.round_ratio = params.round_ratio.value_or(hand.thresholds().round_ratio);
@@ -152,66 +153,110 @@ PlanResult planSkeletonGrasps(const HandModel& hand, const GraspObject& object,
     if (grasp_limit > 0 && result.grasps.size() >= grasp_limit) summary.max_grasps_reached = true;
     return summary.timed_out || summary.max_grasps_reached;
   };
-  ProgressReporter progress("skeleton planner", order.size(), 5.0);
+  // What the strategies make of each visited vertex, in visiting order: a rejection (no pose), or
+  // hand poses to close. Cheap; the closings are the plan's time and run on every core.
+  struct Item {
+    std::size_t visited = 0;  // vertices visited up to this one (progress)
+    const char* rejection = nullptr;
+    int vertex = -1;
+    GraspType type = GraspType::kPrecision;
+    std::string strategy;
+    Pose frame = Pose::Identity();
+    const Preshape* preshape = nullptr;
+    RefinementFrame local;
+  };
+  std::vector<Item> items;
+  // The hypothesis parameters of each grasp type (index 0 precision, 1 power).
+  std::array<HypothesisParams, 2> hypothesis_params;
+  for (GraspType type : {GraspType::kPrecision, GraspType::kPower}) {
+    const bool precision = type == GraspType::kPrecision;
+    HypothesisParams& hp = hypothesis_params[precision ? 0 : 1];
+    hp = params.hypothesis;
+    hp.quality = withHandContactModel(hp.quality, hand);
+    hp.extra_retreat_m = precision ? params.precision_retreat_m : hand.thresholds().power_retreat_m;
+  }
   std::size_t visited = 0;
   for (int vertex : order) {
-    if (stop()) break;
-    progress.step(++visited);
+    ++visited;
     const auto& v = skel.vertices[vertex];
     for (GraspType type : {GraspType::kPrecision, GraspType::kPower}) {
-      if (stop()) break;
       const bool precision = type == GraspType::kPrecision;
       if ((precision && !params.precision) || (!precision && !params.power)) continue;
+      Item item;
+      item.visited = visited;
+      item.vertex = vertex;
+      item.type = type;
       if (v.type == VertexType::kBranch) {
-        reject(reason::kBranchVertex);
+        item.rejection = reason::kBranchVertex;
+        items.push_back(std::move(item));
         continue;
       }
       const auto& limits = hand.thresholds().of(type);
       if (!limits) {
-        reject(reason::kGraspTypeDisabled);
+        item.rejection = reason::kGraspTypeDisabled;
+        items.push_back(std::move(item));
         continue;
       }
       const double half = 0.5 * (precision ? hand.precisionIntervalM() : hand.powerIntervalM());
       const LocalShape shape =
           analyzeLocalShape(skel, object.mesh().vertices, vertex, half, shape_params);
       if (shape.reason) {
-        reject(shape.reason);
+        item.rejection = shape.reason;
+        items.push_back(std::move(item));
         continue;
       }
       const bool endpoint = v.type == VertexType::kEndpoint;
-      std::string strategy;
-      if (const char* why = strategyFor(type, endpoint, shape, *limits, strategy)) {
-        reject(why);
+      if (const char* why = strategyFor(type, endpoint, shape, *limits, item.strategy)) {
+        item.rejection = why;
+        items.push_back(std::move(item));
         continue;
       }
       const std::vector<const Preshape*> preshapes = hand.plannerPreshapes(
           type, params.alternative_preshapes && !params.hypothesis.quality.reference_compat);
-      HypothesisParams hp = params.hypothesis;
-      hp.quality = withHandContactModel(hp.quality, hand);
-      hp.extra_retreat_m =
-          precision ? params.precision_retreat_m : hand.thresholds().power_retreat_m;
-      const RefinementFrame local{shape.tangent, localCentroid(skel, object.mesh(), shape)};
+      item.local = RefinementFrame{shape.tangent, localCentroid(skel, object.mesh(), shape)};
       for (const Pose& frame : hypothesisFrames(v.position, shape, endpoint, params)) {
         // Each preshape closed at the pose is a hand pose of its own.
         for (const Preshape* preshape : preshapes) {
-          if (stop()) break;
-          ++summary.hypotheses;
-          ++summary.poses;
-          auto kept = countOutcome(
-              evaluateRefinedHypothesis(simulator, frame, *preshape, hp, local, params.refinement),
-              summary);
-          if (!kept) continue;
-          Grasp grasp = std::move(*kept);
-          grasp.type = type;
-          grasp.strategy = strategy;
-          grasp.segment = v.segment;
-          grasp.skeleton_vertex = vertex;
-          (precision ? summary.precision : summary.power) += 1;
-          result.grasps.push_back(std::move(grasp));
+          Item pose = item;
+          pose.frame = frame;
+          pose.preshape = preshape;
+          items.push_back(std::move(pose));
         }
       }
     }
   }
+
+  ProgressReporter progress("skeleton planner", order.size(), 5.0);
+  internal::OrderedHypotheses run;
+  run.count = items.size();
+  run.evaluate = [&](GraspSimulator& simulator, std::size_t i) {
+    const Item& item = items[i];
+    if (item.rejection) return HypothesisOutcome{};
+    const HypothesisParams& hp = hypothesis_params[item.type == GraspType::kPrecision ? 0 : 1];
+    return evaluateRefinedHypothesis(simulator, item.frame, *item.preshape, hp, item.local,
+                                     params.refinement);
+  };
+  run.stop = stop;
+  run.take = [&](std::size_t i, HypothesisOutcome&& outcome) {
+    const Item& item = items[i];
+    progress.step(item.visited);
+    if (item.rejection) {
+      reject(item.rejection);
+      return;
+    }
+    ++summary.hypotheses;
+    ++summary.poses;
+    auto kept = countOutcome(std::move(outcome), summary);
+    if (!kept) return;
+    Grasp grasp = std::move(*kept);
+    grasp.type = item.type;
+    grasp.strategy = item.strategy;
+    grasp.segment = skel.vertices[item.vertex].segment;
+    grasp.skeleton_vertex = item.vertex;
+    (item.type == GraspType::kPrecision ? summary.precision : summary.power) += 1;
+    result.grasps.push_back(std::move(grasp));
+  };
+  internal::evaluateInOrder(hand, object, run);
   internal::addFallbackGrasps(hand, object, params, watch.seconds(), result);
   internal::addSurfaceCandidates(hand, object, params, watch.seconds(), result);
   finishPlan(result, watch.seconds());
