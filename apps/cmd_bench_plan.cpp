@@ -1,7 +1,11 @@
 // skelgrasp bench plan INPUT...: planners x hands over meshes; ms per valid grasp and
 // force-closure rate, with the surface planner given as many pose hypotheses as the skeleton
-// planner tried on the same object.
+// planner tried on the same object. One thread (the paper's timing) unless --threads; with more,
+// the skeleton planner also runs on one thread in the same process, and the bench prints the
+// ratio and checks that both plans are the same.
 #include <fmt/format.h>
+#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
 
 #include <filesystem>
 #include <iostream>
@@ -18,10 +22,14 @@
 namespace skelgrasp::cli {
 namespace {
 
+// Exit code when the plans on one thread and on --threads differ: a failed check, not bad input.
+constexpr int kExitPlansDiffer = 1;
+
 struct BenchPlanArgs {
   std::vector<std::string> inputs;
   std::string hands = "armar3,sdh,shadow";
   std::size_t limit = 0;
+  int threads = 1;
   std::string json_out;
   PlannerOptions planner;
   SkeletonOptions skeleton;
@@ -30,6 +38,28 @@ struct BenchPlanArgs {
 struct Totals {
   std::vector<double> ms, rates;
   std::size_t grasps = 0;
+};
+
+// The same plan: counts, and every grasp's pose, joints and epsilon bit for bit, in order.
+bool samePlan(const grasping::PlanResult& a, const grasping::PlanResult& b) {
+  const auto &x = a.summary, &y = b.summary;
+  if (x.hypotheses != y.hypotheses || x.generated != y.generated ||
+      x.force_closure != y.force_closure || x.rejections != y.rejections ||
+      a.grasps.size() != b.grasps.size())
+    return false;
+  for (std::size_t i = 0; i < a.grasps.size(); ++i) {
+    const auto &g = a.grasps[i], &h = b.grasps[i];
+    if (g.hand_pose.matrix() != h.hand_pose.matrix() || g.joints != h.joints ||
+        g.epsilon != h.epsilon)
+      return false;
+  }
+  return true;
+}
+
+// The skeleton planner on one thread and on `threads`, alternating which goes first per object.
+struct ThreadComparison {
+  std::vector<double> one_s, many_s, ratios;
+  std::size_t differing = 0;
 };
 
 int runBenchPlan(const BenchPlanArgs& args) {
@@ -41,8 +71,14 @@ int runBenchPlan(const BenchPlanArgs& args) {
   for (const auto& name : splitList(args.hands)) hands.push_back(grasping::resolveHand(name));
   std::map<std::pair<std::string, std::string>, Totals> totals;
   nlohmann::json rows = nlohmann::json::array();
-  std::cout << fmt::format("{:<36} {:<16} {:<9} {:>6} {:>6} {:>6} {:>7} {:>9}\n", "object", "hand",
-                           "planner", "poses", "gen", "fc", "fc%", "ms/valid");
+  const int threads = args.threads == 0 ? hardwareThreads() : args.threads;
+  const tbb::global_control allow(tbb::global_control::max_allowed_parallelism, threads);
+  tbb::task_arena one_thread(1), many_threads(threads);
+  const bool compare = threads > 1;
+  ThreadComparison comparison;
+  std::cout << fmt::format("{:<36} {:<16} {:<9} {:>6} {:>6} {:>6} {:>7} {:>9}{}\n", "object",
+                           "hand", "planner", "poses", "gen", "fc", "fc%", "ms/valid",
+                           compare ? fmt::format(" {:>8} {:>8} {:>6}", "1t s", "s", "ratio") : "");
   ProgressReporter progress("bench plan", files.size(), 10.0);
   for (std::size_t i = 0; i < files.size(); ++i) {
     const std::string name = std::filesystem::path(files[i]).filename().string();
@@ -52,17 +88,37 @@ int runBenchPlan(const BenchPlanArgs& args) {
       if (!skel.status.ok()) throw Error(skel.status.message);
       const grasping::GraspObject object(mesh);
       for (const auto& hand : hands) {
-        const auto s = grasping::planSkeletonGrasps(hand, object, skel.skeleton,
-                                                    args.planner.skeletonParams());
+        const auto planSkeleton = [&] {
+          return grasping::planSkeletonGrasps(hand, object, skel.skeleton,
+                                              args.planner.skeletonParams());
+        };
+        grasping::PlanResult s, single;
+        if (compare && i % 2 == 1) single = one_thread.execute(planSkeleton);
+        s = many_threads.execute(planSkeleton);
+        if (compare && i % 2 == 0) single = one_thread.execute(planSkeleton);
+        std::string threads_column;
+        if (compare) {
+          const double one_s = single.summary.planning_s, many_s = s.summary.planning_s;
+          comparison.one_s.push_back(one_s);
+          comparison.many_s.push_back(many_s);
+          if (many_s > 0) comparison.ratios.push_back(one_s / many_s);
+          const bool same = samePlan(single, s);
+          comparison.differing += !same;
+          threads_column =
+              fmt::format(" {:>8.3f} {:>8.3f} {:>5.2f}x{}", one_s, many_s,
+                          many_s > 0 ? one_s / many_s : 0.0, same ? "" : "  (plans differ)");
+        }
         auto surface_params = args.planner.surfaceParams();
         surface_params.max_hypotheses = std::max<std::size_t>(1, s.summary.poses);
-        const auto f = grasping::planSurfaceGrasps(hand, object, surface_params);
-        for (const auto* r : {&s, &f}) {
+        const auto f = many_threads.execute(
+            [&] { return grasping::planSurfaceGrasps(hand, object, surface_params); });
+        for (const grasping::PlanResult* r : {static_cast<const grasping::PlanResult*>(&s), &f}) {
           const auto& sum = r->summary;
           std::cout << fmt::format(
-              "{:<36} {:<16} {:<9} {:>6} {:>6} {:>6} {:>6.1f}% {:>9}\n", name, hand.name(),
+              "{:<36} {:<16} {:<9} {:>6} {:>6} {:>6} {:>6.1f}% {:>9}{}\n", name, hand.name(),
               r->planner, sum.poses, sum.generated, sum.force_closure, 100 * sum.forceClosureRate(),
-              sum.force_closure ? fmt::format("{:.1f}", sum.msPerValidGrasp()) : "n/a");
+              sum.force_closure ? fmt::format("{:.1f}", sum.msPerValidGrasp()) : "n/a",
+              r == &s ? threads_column : "");
           auto& t = totals[{hand.name(), r->planner}];
           if (sum.force_closure) t.ms.push_back(sum.msPerValidGrasp());
           if (sum.generated) t.rates.push_back(sum.forceClosureRate());
@@ -93,8 +149,23 @@ int runBenchPlan(const BenchPlanArgs& args) {
     std::cout << fmt::format("{:<16} {:<9} {:>8} {:>14.1f} {:>9.1f}% {:>8}\n", key.first,
                              key.second, t.rates.size(), median(t.ms), 100 * mean_rate, t.grasps);
   }
-  if (!args.json_out.empty()) writeJsonFile(args.json_out, {{"rows", rows}});
-  return kExitOk;
+  nlohmann::json threads_json = {{"threads", threads}};
+  if (compare) {
+    double one_sum = 0, many_sum = 0;
+    for (double x : comparison.one_s) one_sum += x;
+    for (double x : comparison.many_s) many_sum += x;
+    std::cout << fmt::format(
+        "\nskeleton planner, 1 thread -> {} threads: {:.2f} -> {:.2f} s summed, {:.2f}x (median "
+        "per plan {:.2f}x); plans that differ: {} of {}\n",
+        threads, one_sum, many_sum, many_sum > 0 ? one_sum / many_sum : 0.0,
+        median(comparison.ratios), comparison.differing, comparison.one_s.size());
+    threads_json["one_thread_s"] = one_sum;
+    threads_json["threads_s"] = many_sum;
+    threads_json["plans_differing"] = comparison.differing;
+  }
+  if (!args.json_out.empty())
+    writeJsonFile(args.json_out, {{"rows", rows}, {"threads", threads_json}});
+  return comparison.differing > 0 ? kExitPlansDiffer : kExitOk;
 }
 
 }  // namespace
@@ -107,6 +178,11 @@ void registerBenchPlanCommand(CLI::App& bench, Action& action) {
   cmd->add_option("--hands", args->hands, "Comma-separated hands")->capture_default_str();
   cmd->add_option("--limit", args->limit, "Only the first N meshes (0 = all)")
       ->transform(countIn(0, kMaxCount))
+      ->capture_default_str();
+  cmd->add_option("--threads", args->threads,
+                  "Threads the planners use (0 = all cores); above 1 the skeleton planner also "
+                  "runs on one thread, and the ratio is printed")
+      ->transform(threadCount(0))
       ->capture_default_str();
   cmd->add_option("--json", args->json_out, "Also write the rows as JSON");
   args->planner.addTo(*cmd);

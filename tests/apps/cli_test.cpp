@@ -8,6 +8,7 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <thread>
 #include <vector>
 
 #include "cli_support.h"
@@ -482,6 +483,28 @@ TEST(Cli, BenchJudgeWritesOldAndNewMediansPerHand) {
   EXPECT_EQ(missing.exit_code, 2);
   EXPECT_NE(missing.err.find("skelgrasp: error: " + dir + "/nowhere"), std::string::npos)
       << missing.err;
+}
+
+// bench plan --threads 2: the skeleton planner on one thread and on two in one process, the same
+// plan both ways; without --threads one thread only (the paper's one-core timing).
+TEST(Cli, BenchPlanComparesOneThreadWithMoreOnTheSamePlans) {
+  const std::string dir = test::tempDir("bench_plan_threads");
+  saveMesh(dir + "/box.ply", primitives::makeNamedShape("box"));
+  const auto one =
+      test::runCli("bench plan " + dir + "/box.ply --hands sdh --json " + dir + "/one.json", dir);
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  EXPECT_EQ(readJsonFile(dir + "/one.json")["threads"]["threads"], 1);
+  EXPECT_EQ(one.out.find("1 thread ->"), std::string::npos) << one.out;
+  if (std::thread::hardware_concurrency() < 2)
+    GTEST_SKIP() << "one core: --threads 2 is lowered to 1";
+  const auto two = test::runCli(
+      "bench plan " + dir + "/box.ply --hands sdh --threads 2 --json " + dir + "/two.json", dir);
+  ASSERT_EQ(two.exit_code, 0) << two.err;
+  const auto j = readJsonFile(dir + "/two.json");
+  EXPECT_EQ(j["threads"]["threads"], 2);
+  EXPECT_EQ(j["threads"]["plans_differing"], 0);
+  EXPECT_GT(j["threads"]["one_thread_s"].get<double>(), 0.0);
+  EXPECT_NE(two.out.find("plans that differ: 0 of 1"), std::string::npos) << two.out;
 }
 
 TEST(Cli, BenchRankingComparesEachShortcutOffAndOnOnTheSameGrasps) {
