@@ -26,6 +26,9 @@ constexpr double kMinHorizontalComponent = 0.1;
 // A top pose centred across its closing axis by less than this is the pose at the centre of mass
 // again: no second pose.
 constexpr double kMinCentringShiftM = 0.001;
+// Poses this close (metres, and in rotation matrix entries) are the same pose: two strategies that
+// propose one pose compute it by the same arithmetic, so they agree to rounding.
+constexpr double kSamePoseTolerance = 1e-9;
 
 struct FallbackPose {
   Pose gcp;
@@ -165,6 +168,26 @@ void addCentredTwins(const TriangleMesh& mesh, double band, std::size_t first,
   }
 }
 
+// Drops every pose that repeats an earlier one (the first strategy's name stays). On a disc the
+// rim's in-plane approaches at quarter turns are also principal-axis approaches with the same roll:
+// closed twice, such a pose is the same grasp twice in the plan, screened and scored twice by the
+// robust ranking and returned twice among the best. Returns how many were dropped.
+std::size_t dropRepeatedPoses(std::vector<FallbackPose>& poses) {
+  std::vector<FallbackPose> distinct;
+  distinct.reserve(poses.size());
+  for (auto& pose : poses) {
+    const bool repeated = std::any_of(distinct.begin(), distinct.end(), [&](const FallbackPose& d) {
+      return (d.gcp.translation() - pose.gcp.translation()).cwiseAbs().maxCoeff() <=
+                 kSamePoseTolerance &&
+             (d.gcp.linear() - pose.gcp.linear()).cwiseAbs().maxCoeff() <= kSamePoseTolerance;
+    });
+    if (!repeated) distinct.push_back(std::move(pose));
+  }
+  const std::size_t dropped = poses.size() - distinct.size();
+  poses = std::move(distinct);
+  return dropped;
+}
+
 void validate(const FallbackStrategyParams& p) {
   if (p.sphere_directions < 1 || p.sphere_rolls < 1 || p.rim_directions < 1 ||
       p.rim_across_rolls < 1 || p.top_rolls < 1 || p.top_tilted_azimuths < 0 ||
@@ -242,6 +265,7 @@ PlanResult planFallbackGrasps(const HandModel& hand, const GraspObject& object,
     if (sp.top_centring_band_m > 0)
       addCentredTwins(object.mesh(), sp.top_centring_band_m, first_top, poses);
   }
+  const std::size_t repeated = dropRepeatedPoses(poses);
 
   struct Trial {
     std::size_t pose;
@@ -301,8 +325,9 @@ PlanResult planFallbackGrasps(const HandModel& hand, const GraspObject& object,
   };
   internal::evaluateInOrder(hand, object, run);
   finishPlan(result, watch.seconds());
-  log().info("fallback planner ({}): {} poses{}{}, {} generated, {} force closure, {:.2f} s",
+  log().info("fallback planner ({}): {} poses{}{}{}, {} generated, {} force closure, {:.2f} s",
              hand.name(), summary.poses, disc ? " (disc)" : "", top ? " (top)" : "",
+             repeated ? " (" + std::to_string(repeated) + " repeated poses dropped)" : "",
              summary.generated, summary.force_closure, summary.planning_s);
   return result;
 }

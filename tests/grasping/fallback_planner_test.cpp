@@ -303,6 +303,31 @@ TEST(FallbackPlanner, DiscIsRecognisedAndPinchedAtTheRim) {
   EXPECT_TRUE(strategies.count("rim")) << "no rim grasp among " << r.grasps.size();
 }
 
+// On a disc the rim's in-plane approaches at quarter turns are also principal-axis approaches:
+// each such pose is tried once, so no grasp of the plan repeats another.
+TEST(FallbackPlanner, NoPoseIsTriedTwice) {
+  const GraspObject object(disc());
+  for (const char* hand_name : {"armar3", "sdh"}) {
+    const HandModel hand = loadBuiltinHand(hand_name);
+    const PlanResult r = planFallbackGrasps(hand, object, {});
+    ASSERT_GE(r.grasps.size(), kWantedGrasps) << hand_name;
+    std::set<std::string> strategies;
+    for (std::size_t i = 0; i < r.grasps.size(); ++i) {
+      strategies.insert(r.grasps[i].strategy);
+      for (std::size_t j = 0; j < i; ++j) {
+        const Grasp &a = r.grasps[i], &b = r.grasps[j];
+        if (a.preshape != b.preshape) continue;
+        EXPECT_FALSE(a.gcp_pose.isApprox(b.gcp_pose, 1e-6))
+            << hand_name << ": grasps " << j << " (" << b.strategy << ") and " << i << " ("
+            << a.strategy << ") are tried from the same pose";
+      }
+    }
+    // Both strategies still contribute where their poses differ.
+    EXPECT_TRUE(strategies.count("rim")) << hand_name;
+    EXPECT_TRUE(strategies.count("axes")) << hand_name;
+  }
+}
+
 TEST(FallbackPlanner, BallIsNoDiscAndResultsAreDeterministicForASeed) {
   const TriangleMesh mesh = ball();
   const PrincipalAxes pa = surfacePrincipalAxes(mesh);
