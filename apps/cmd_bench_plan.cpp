@@ -58,8 +58,9 @@ bool samePlan(const grasping::PlanResult& a, const grasping::PlanResult& b) {
 
 // The skeleton planner on one thread and on `threads`, alternating which goes first per object.
 struct ThreadComparison {
-  std::vector<double> one_s, many_s, ratios;
-  std::size_t differing = 0;
+  double one_s = 0, many_s = 0;  // summed over the plans
+  std::vector<double> ratios;    // one-thread time / many-thread time, per plan
+  std::size_t plans = 0, differing = 0;
 };
 
 int runBenchPlan(const BenchPlanArgs& args) {
@@ -99,8 +100,9 @@ int runBenchPlan(const BenchPlanArgs& args) {
         std::string threads_column;
         if (compare) {
           const double one_s = single.summary.planning_s, many_s = s.summary.planning_s;
-          comparison.one_s.push_back(one_s);
-          comparison.many_s.push_back(many_s);
+          comparison.one_s += one_s;
+          comparison.many_s += many_s;
+          ++comparison.plans;
           if (many_s > 0) comparison.ratios.push_back(one_s / many_s);
           const bool same = samePlan(single, s);
           comparison.differing += !same;
@@ -151,16 +153,14 @@ int runBenchPlan(const BenchPlanArgs& args) {
   }
   nlohmann::json threads_json = {{"threads", threads}};
   if (compare) {
-    double one_sum = 0, many_sum = 0;
-    for (double x : comparison.one_s) one_sum += x;
-    for (double x : comparison.many_s) many_sum += x;
     std::cout << fmt::format(
         "\nskeleton planner, 1 thread -> {} threads: {:.2f} -> {:.2f} s summed, {:.2f}x (median "
         "per plan {:.2f}x); plans that differ: {} of {}\n",
-        threads, one_sum, many_sum, many_sum > 0 ? one_sum / many_sum : 0.0,
-        median(comparison.ratios), comparison.differing, comparison.one_s.size());
-    threads_json["one_thread_s"] = one_sum;
-    threads_json["threads_s"] = many_sum;
+        threads, comparison.one_s, comparison.many_s,
+        comparison.many_s > 0 ? comparison.one_s / comparison.many_s : 0.0,
+        median(comparison.ratios), comparison.differing, comparison.plans);
+    threads_json["one_thread_s"] = comparison.one_s;
+    threads_json["threads_s"] = comparison.many_s;
     threads_json["plans_differing"] = comparison.differing;
   }
   if (!args.json_out.empty())

@@ -14,6 +14,7 @@
 #include "skelgrasp/grasping/planners.h"
 #include "skelgrasp/grasping/scene.h"
 #include "skelgrasp/skeleton/extraction.h"
+#include "table_scene.h"
 
 namespace skelgrasp::grasping {
 namespace {
@@ -355,11 +356,8 @@ TEST(FallbackPlanner, BallIsNoDiscAndResultsAreDeterministicForASeed) {
 // long side on the straight-down poses at quarter turns.
 TEST(FallbackPlanner, TopStrategyComesFromAboveWhenThereIsASupportPlane) {
   const HandModel hand = loadBuiltinHand("sdh");
-  constexpr double kBoxHeightM = 0.10;
-  TriangleMesh box = primitives::makeBox(Eigen::Vector3d(0.12, 0.05, kBoxHeightM), 4);
-  box.transform(Pose(Eigen::Translation3d(0, 0, kBoxHeightM / 2)));  // standing on z = 0
-  const GraspObject object(box);
-  const SceneChecker table(hand, nullptr, SupportPlane{Eigen::Vector4d(0, 0, 1, 0)});
+  const GraspObject object(test::boxStandingOnTable());
+  const SceneChecker table(hand, nullptr, test::table());
   FallbackPlannerParams params;
   params.strategies.sphere = params.strategies.rim = params.strategies.axes = false;
   const PlanResult free_space = planFallbackGrasps(hand, object, params);

@@ -11,6 +11,7 @@
 #include "skelgrasp/grasping/fallback_planner.h"
 #include "skelgrasp/grasping/planners.h"
 #include "skelgrasp/skeleton/extraction.h"
+#include "table_scene.h"
 #include "test_support.h"
 
 namespace skelgrasp::grasping {
@@ -104,11 +105,8 @@ TEST(PlannerThreads, SurfacePlanDrawsTheSamePosesOnOneAndManyThreads) {
 // strategy's poses are checked against it and the plan is still the one thread's.
 TEST(PlannerThreads, FallbackPlanWithASceneIsTheSameOnOneAndManyThreads) {
   const HandModel hand = loadBuiltinHand("sdh");
-  constexpr double kBoxHeightM = 0.10;
-  TriangleMesh box = primitives::makeBox(Eigen::Vector3d(0.12, 0.05, kBoxHeightM), 4);
-  box.transform(Pose(Eigen::Translation3d(0, 0, kBoxHeightM / 2)));  // standing on z = 0
-  const GraspObject object(box);
-  const SceneChecker table(hand, nullptr, SupportPlane{Eigen::Vector4d(0, 0, 1, 0)});
+  const GraspObject object(test::boxStandingOnTable());
+  const SceneChecker table(hand, nullptr, test::table());
   FallbackPlannerParams params;
   params.hypothesis.scene = &table;
   const auto plan = [&] { return planFallbackGrasps(hand, object, params); };
