@@ -23,8 +23,9 @@ constexpr int kMaxRefineEvaluations = 1000;
 // --centre-candidates / --no-centre-candidates, the same on every command that plans.
 inline CLI::Option* addCentreCandidatesFlag(CLI::App& cmd, bool& centre_candidates) {
   return cmd.add_flag("--centre-candidates,!--no-centre-candidates", centre_candidates,
-                      "Skeleton planner: also try power grasps about the object's centre on every "
-                      "object, the robust ones the ranking chooses from (docs/planning.md)");
+                      "Skeleton planner: also try power and precision grasps about the object's "
+                      "centre on every object, the robust ones the ranking chooses from "
+                      "(docs/planning.md)");
 }
 
 // --alternative-preshapes / --no-alternative-preshapes, the same on every command that plans.

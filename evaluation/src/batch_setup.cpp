@@ -148,6 +148,10 @@ nlohmann::json resultOptions(const BatchParams& p, const std::vector<grasping::H
        {{"units", unitName(p.load.units)},
         {"auto_millimetre_diagonal", p.load.auto_millimetre_diagonal}}},
   };
+  // Since 2026-11-28 the centre candidates close the precision preshapes too (and the SDH has a
+  // fingertip tripod); a batch from before planned power ones only, so it does not resume into
+  // this one.
+  if (p.centre_candidates) options["centre_candidate_types"] = "power_and_precision";
   if (p.ranking.enabled) options["ranking"] = rankingOptions(p.ranking);
   // Batches from before the option judged by patch centres and recorded nothing: only corners are
   // recorded, so those resume with --contact-patch centre and not with the default.
@@ -155,20 +159,21 @@ nlohmann::json resultOptions(const BatchParams& p, const std::vector<grasping::H
     options["contact_patch"] = grasping::toString(c.contact_patch);
   // Only when on, so batches from before the option resume.
   if (p.surface_candidates > 0) options["surface_candidates"] = p.surface_candidates;
-  // The hands whose planners close alternative preshapes (the SDH's tripod since 2026-11-27): only
-  // those, so batches of the other hands resume, and older ones with --no-alternative-preshapes.
-  std::vector<std::string> with_alternatives;
+  // The hands whose planners close alternative preshapes, with their names (the SDH's tripod since
+  // 2026-11-27, its fingertip tripod since 2026-11-28): only those, so batches of the other hands
+  // resume, and older ones with --no-alternative-preshapes.
+  nlohmann::json with_alternatives = nlohmann::json::object();
   const bool skeleton_planner =
       std::find(p.planners.begin(), p.planners.end(), Planner::kSkeleton) != p.planners.end();
   if (p.alternative_preshapes && !q.reference_compat && skeleton_planner) {
     for (const auto& hand : hands) {
       // A preshape with a grasp type that is not named after it is an alternative.
-      const auto& preshapes = hand.preshapes();
-      if (std::any_of(preshapes.begin(), preshapes.end(), [](const auto& named) {
-            const auto& [name, preshape] = named;
-            return preshape.grasp_type && name != grasping::toString(*preshape.grasp_type);
-          }))
-        with_alternatives.push_back(hand.name());
+      std::vector<std::string> names;
+      for (const auto& [name, preshape] : hand.preshapes()) {
+        if (preshape.grasp_type && name != grasping::toString(*preshape.grasp_type))
+          names.push_back(name);
+      }
+      if (!names.empty()) with_alternatives[hand.name()] = names;
     }
   }
   if (!with_alternatives.empty()) options["alternative_preshapes"] = with_alternatives;

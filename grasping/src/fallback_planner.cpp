@@ -399,13 +399,15 @@ void addFallbackGrasps(const HandModel& hand, const GraspObject& object,
     log().info("skeleton planner ({}): {} grasps from the skeleton, running the fallback ({})",
                hand.name(), result.grasps.size(), why);
   } else {
-    // Centre candidates: the power grasps about the centre (the precision ones where the hand has
-    // no power grasps); the rim poses are for discs, which the skeleton serves poorly anyway and
-    // then get the whole fallback.
+    // Centre candidates: the poses about the centre, closed with every preshape the hand plans
+    // with (a type the hand does not do is skipped by the fallback). Since the settled judge the
+    // precision ones add grasps the ranking picks: fingertip grasps that the object settles into,
+    // on handles, small parts and round fruit (docs/results.md, "Centre candidates with their
+    // precision grasps"). The rim poses are for discs, which the skeleton serves poorly anyway
+    // and then get the whole fallback.
     fp.strategies.rim = false;
-    const bool power = hand.thresholds().power.has_value();
-    fp.strategies.power = power;
-    fp.strategies.precision = !power;
+    fp.strategies.power = true;
+    fp.strategies.precision = true;
     log().info("skeleton planner ({}): {} grasps from the skeleton, adding the centre candidates",
                hand.name(), result.grasps.size());
   }

@@ -15,7 +15,7 @@ std::size_t skeletonGraspLimit(const SkeletonPlannerParams& params);
 //    records that reason as one rejected hypothesis and appends the fallback strategies' grasps
 //    and counts to `result`;
 //  * otherwise, with params.centre_candidates: appends the centre candidates (sphere and axis
-//    poses with the power preshape).
+//    poses with every preshape the hand plans with).
 // Both within the time left and up to params.max_grasps grasps in all. `elapsed_s`: planning time
 // used so far.
 void addFallbackGrasps(const HandModel& hand, const GraspObject& object,

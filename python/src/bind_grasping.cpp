@@ -291,8 +291,8 @@ cheap r, and the best ``robustness_top_k`` of them (0: all) get a robustness r f
 friction ``robustness_mu`` or ``mu``, samples seeded by ``seed``) and are ranked first by r;
 ``robustness=False`` keeps the epsilon order. ``robust_refine`` searches near the most robust
 scored grasps for more robust poses (docs/planning.md, "Refinement for robustness"). ``centre_candidates`` (skeleton planner) also tries
-power grasps about the object's centre on every object, the robust grasps the ranking chooses
-from; ``surface_candidates`` (skeleton planner) adds that many surface-normal hypotheses to the
+power and precision grasps about the object's centre on every object, the robust grasps the
+ranking chooses from; ``surface_candidates`` (skeleton planner) adds that many surface-normal hypotheses to the
 same pool (0: none; docs/planning.md, "Surface candidates"). ``wrench_volume`` also computes each
 grasp's wrench space volume (the whole 6D hull, slower; else ``Grasp.volume`` is None).
 ``torsional_friction`` (metres) judges contacts as soft fingers (docs/hands.md; None: the hand's

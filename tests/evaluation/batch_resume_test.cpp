@@ -129,9 +129,10 @@ TEST_F(BatchTest, AResumeWithOtherOptionsRefusesUnlessRestarted) {
   EXPECT_EQ(runBatch(p).objects_skipped, 3u);  // the new options are now the batch's
 }
 
-// A hand with alternative preshapes (the SDH's tripod) plans differently with them: batch.json
-// names the hands that closed them, so a resume without them is refused, and batches of hands
-// without any (all those from before the option) record nothing and resume as before.
+// A hand with alternative preshapes (the SDH's tripods) plans differently with them: batch.json
+// names the hands that closed them and the preshapes, so a resume without them is refused, and
+// batches of hands without any (all those from before the option) record nothing and resume as
+// before.
 TEST_F(BatchTest, HandsClosingAlternativePreshapesAreRecorded) {
   const std::string out = test::tempDir("batch_alternative_preshapes");
   auto p = params(out);
@@ -139,7 +140,7 @@ TEST_F(BatchTest, HandsClosingAlternativePreshapesAreRecorded) {
   p.max_objects = 1;
   runBatch(p);
   EXPECT_EQ(readJsonFile(out + "/batch.json")["options"]["alternative_preshapes"],
-            nlohmann::json::array({"sdh"}));
+            (nlohmann::json{{"sdh", {"precision_tripod", "spherical"}}}));
   p.alternative_preshapes = false;
   try {
     runBatch(p);

@@ -138,10 +138,10 @@ std::vector<std::string> skeletonGraspKeys(const PlanResult& r) {
   return keys;
 }
 
-// Centre candidates: on an object the skeleton serves, the power grasps about the centre are
-// added to the skeleton's grasps (which stay exactly as without them), judged as the others, and
-// recorded as nobody's rejection.
-TEST(FallbackPlanner, CentreCandidatesAddPowerGraspsAboutTheCentre) {
+// Centre candidates: on an object the skeleton serves, the power and precision grasps about the
+// centre are added to the skeleton's grasps (which stay exactly as without them), judged as the
+// others, and recorded as nobody's rejection.
+TEST(FallbackPlanner, CentreCandidatesAddPowerAndPrecisionGraspsAboutTheCentre) {
   const HandModel hand = loadBuiltinHand("armar3");
   const TriangleMesh capsule = primitives::makeCapsule(0.03, 0.14, 48);
   SkeletonPlannerParams with_centre;  // the centre candidates alone join the pool here
@@ -153,23 +153,25 @@ TEST(FallbackPlanner, CentreCandidatesAddPowerGraspsAboutTheCentre) {
   expectSound(with.result, hand, *with.object);
   EXPECT_EQ(fallbackReasons(with.result.summary), 0u);
   EXPECT_EQ(skeletonGraspKeys(with.result), skeletonGraspKeys(without.result));
-  std::size_t centre = 0;
+  std::size_t power = 0, precision = 0;
   for (const auto& g : with.result.grasps) {
     if (!isFallbackStrategy(g.strategy)) continue;
-    ++centre;
     EXPECT_NE(g.strategy, "rim");  // a capsule is no disc, and rim poses are not centre ones
-    EXPECT_EQ(g.preshape, "power");
-    EXPECT_EQ(g.type, GraspType::kPower);
+    // ARMAR-III has no alternative preshapes: each type closes its own.
+    EXPECT_EQ(g.preshape, toString(g.type));
+    ++(g.type == GraspType::kPower ? power : precision);
   }
-  EXPECT_GE(centre, kWantedGrasps);
-  EXPECT_EQ(with.result.grasps.size(), without.result.grasps.size() + centre);
+  EXPECT_GE(power, kWantedGrasps);
+  EXPECT_GE(precision, kWantedGrasps);
+  EXPECT_EQ(with.result.grasps.size(), without.result.grasps.size() + power + precision);
   EXPECT_GT(with.result.summary.hypotheses, without.result.summary.hypotheses);
 }
 
-// Alternative preshapes (the SDH's tripod "spherical"): every pose closed with a hand's power
-// preshape is also closed with its power alternatives, by the skeleton strategies and the centre
-// candidates alike; the grasps of the main preshapes stay exactly as without them, and switching
-// them off or asking for the reference's quality leaves only those.
+// Alternative preshapes (the SDH's tripods "spherical" and "precision_tripod"): every pose closed
+// with a hand's power or precision preshape is also closed with that type's alternatives, by the
+// skeleton strategies and the centre candidates alike; the grasps of the main preshapes stay
+// exactly as without them, and switching them off or asking for the reference's quality leaves
+// only those.
 TEST(FallbackPlanner, AlternativePreshapesOnlyAddGraspsOfTheirOwnPreshape) {
   const HandModel sdh = loadBuiltinHand("sdh");
   const TriangleMesh capsule = primitives::makeCapsule(0.03, 0.14, 48);
@@ -184,10 +186,12 @@ TEST(FallbackPlanner, AlternativePreshapesOnlyAddGraspsOfTheirOwnPreshape) {
   const auto ref = planOn(capsule, sdh, reference);
   expectSound(with.result, sdh, *with.object);
   ASSERT_EQ(fallbackReasons(with.result.summary), fallbackReasons(main_only.result.summary));
-  const auto keys = [](const PlanResult& r, bool spherical) {
+  // An alternative's name is not its type's.
+  const auto alternative = [](const Grasp& g) { return g.preshape != toString(g.type); };
+  const auto keys = [&](const PlanResult& r, bool alternatives) {
     std::set<std::string> out;
     for (const auto& g : r.grasps) {
-      if ((g.preshape == "spherical") != spherical) continue;
+      if (alternative(g) != alternatives) continue;
       const Eigen::Vector3d t = g.hand_pose.translation();
       out.insert(g.strategy + "/" + std::to_string(g.skeleton_vertex) + "/" + g.preshape + "/" +
                  std::to_string(std::lround(t.x() * 1e6)) + "," +
@@ -199,18 +203,19 @@ TEST(FallbackPlanner, AlternativePreshapesOnlyAddGraspsOfTheirOwnPreshape) {
   EXPECT_EQ(keys(with.result, false), keys(main_only.result, false));
   EXPECT_TRUE(keys(main_only.result, true).empty());
   EXPECT_TRUE(keys(ref.result, true).empty());
-  std::set<std::string> strategies;
+  std::map<std::string, std::set<std::string>> strategies;  // by alternative preshape
   for (const auto& g : with.result.grasps) {
-    if (g.preshape != "spherical") continue;
-    EXPECT_EQ(g.type, GraspType::kPower);
-    strategies.insert(isFallbackStrategy(g.strategy) ? "centre" : "skeleton");
+    if (!alternative(g)) continue;
+    EXPECT_EQ(g.type, g.preshape == "spherical" ? GraspType::kPower : GraspType::kPrecision)
+        << g.preshape;
+    strategies[g.preshape].insert(isFallbackStrategy(g.strategy) ? "centre" : "skeleton");
   }
-  EXPECT_EQ(strategies, (std::set<std::string>{"centre", "skeleton"}));
-  const auto spherical_grasps =
-      std::count_if(with.result.grasps.begin(), with.result.grasps.end(),
-                    [](const Grasp& g) { return g.preshape == "spherical"; });
+  EXPECT_EQ(strategies["spherical"], (std::set<std::string>{"centre", "skeleton"}));
+  EXPECT_EQ(strategies["precision_tripod"].count("centre"), 1u);
+  const auto alternative_grasps =
+      std::count_if(with.result.grasps.begin(), with.result.grasps.end(), alternative);
   EXPECT_EQ(with.result.grasps.size(),
-            main_only.result.grasps.size() + static_cast<std::size_t>(spherical_grasps));
+            main_only.result.grasps.size() + static_cast<std::size_t>(alternative_grasps));
   EXPECT_GT(with.result.summary.hypotheses, main_only.result.summary.hypotheses);
 }
 
@@ -367,8 +372,8 @@ TEST(FallbackPlanner, TopStrategyComesFromAboveWhenThereIsASupportPlane) {
   const PlanResult r = planFallbackGrasps(hand, object, params);
   const FallbackStrategyParams& sp = params.strategies;
   const std::size_t poses = sp.top_rolls + sp.top_tilted_azimuths * sp.top_tilted_rolls;
-  // Precision, power and the SDH's power alternative (its tripod).
-  EXPECT_EQ(r.summary.poses, 3 * poses);
+  // Precision, power and the SDH's alternatives of each (its tripods).
+  EXPECT_EQ(r.summary.poses, 4 * poses);
   EXPECT_GE(r.grasps.size(), kWantedGrasps);
   expectSound(r, hand, object);
   const double steepest = std::cos(sp.top_tilt_rad) - 1e-9;

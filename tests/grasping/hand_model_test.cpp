@@ -104,9 +104,12 @@ TEST(HandModel, PlannersCloseEachTypesPreshapeThenItsAlternatives) {
   using Names = std::vector<std::string>;
   EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPower)), (Names{"power", "spherical"}));
   EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPower, false)), (Names{"power"}));
-  EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPrecision)), (Names{"precision"}));
+  EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPrecision)),
+            (Names{"precision", "precision_tripod"}));
+  EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPrecision, false)), (Names{"precision"}));
   EXPECT_EQ(sdh.preshape("spherical").grasp_type, GraspType::kPower);
   EXPECT_EQ(sdh.preshape("precision").grasp_type, GraspType::kPrecision);
+  EXPECT_EQ(sdh.preshape("precision_tripod").grasp_type, GraspType::kPrecision);
   // The paper's hands keep their two preshapes.
   for (const char* name : {"armar3", "shadow", "parallel_gripper"}) {
     const HandModel hand = loadBuiltinHand(name);
@@ -115,11 +118,11 @@ TEST(HandModel, PlannersCloseEachTypesPreshapeThenItsAlternatives) {
   }
 }
 
-// The SDH's spherical preshape turns fingers 1 and 2 by 60 degrees about their bases. The three
-// finger bases lie on a circle about the palm axis (the fact sheet's 38.1 mm), so then every
-// finger closes towards that axis (a tripod, 120 degrees apart); in the power preshape fingers 1
-// and 2 close side by side towards the thumb's side.
-TEST(HandModel, SdhSphericalPreshapeClosesEveryFingerTowardsThePalmAxis) {
+// The SDH's tripods (spherical, precision_tripod) turn fingers 1 and 2 by 60 degrees about their
+// bases. The three finger bases lie on a circle about the palm axis (the fact sheet's 38.1 mm), so
+// then every finger closes towards that axis (a tripod, 120 degrees apart); in the power preshape
+// fingers 1 and 2 close side by side towards the thumb's side.
+TEST(HandModel, SdhTripodPreshapesCloseEveryFingerTowardsThePalmAxis) {
   const HandModel sdh = loadBuiltinHand("sdh");
   const auto closingDirections = [&](const Preshape& preshape) {
     std::vector<Eigen::Vector2d> out;
@@ -138,9 +141,12 @@ TEST(HandModel, SdhSphericalPreshapeClosesEveryFingerTowardsThePalmAxis) {
     }
     return out;
   };
-  const auto spherical = closingDirections(sdh.preshape("spherical"));
-  for (std::size_t f = 0; f < 3; ++f)
-    EXPECT_GT(spherical[2 * f].dot(spherical[2 * f + 1]), std::cos(2 * kPi / 180)) << f;
+  for (const char* tripod : {"spherical", "precision_tripod"}) {
+    const auto directions = closingDirections(sdh.preshape(tripod));
+    for (std::size_t f = 0; f < 3; ++f)
+      EXPECT_GT(directions[2 * f].dot(directions[2 * f + 1]), std::cos(2 * kPi / 180))
+          << tripod << " " << f;
+  }
   const auto power = closingDirections(sdh.preshape("power"));
   EXPECT_GT(power[0].dot(power[2]), std::cos(2 * kPi / 180));   // fingers 1 and 2 parallel
   EXPECT_LT(power[0].dot(power[4]), -std::cos(2 * kPi / 180));  // against the thumb

@@ -41,14 +41,14 @@ struct SkeletonPlannerParams {
   std::size_t fallback_min_grasps = 5;
   FallbackStrategyParams fallback_strategies;
   // Centre candidates: when the skeleton strategies keep enough grasps (no fallback), the
-  // fallback's sphere and axis poses about the centre of mass are still tried with the power
-  // preshape (precision for a hand without power grasps) and their grasps added. At mu = 0.35
-  // under the paper's pose errors these power grasps hold far more often than the skeleton
-  // strategies' fingertip grasps (docs/planning.md, "Centre candidates"), so the robust ranking
-  // gets robust grasps to choose from on every object. They run after the skeleton strategies
-  // within the time left; with a grasp limit the skeleton strategies stop at its larger half and
-  // the centre candidates fill up to max_grasps (so that the limit does not shut them out). Off
-  // with `fallback` (the skeleton strategies only, as the paper) or here.
+  // fallback's sphere and axis poses about the centre of mass are still tried with the power and
+  // precision preshapes (and their alternatives) and their grasps added. At mu = 0.35 under the
+  // paper's pose errors these grasps hold far more often than the skeleton strategies' fingertip
+  // grasps (docs/planning.md, "Centre candidates"), so the robust ranking gets robust grasps to
+  // choose from on every object. They run after the skeleton strategies within the time left;
+  // with a grasp limit the skeleton strategies stop at its larger half and the centre candidates
+  // fill up to max_grasps (so that the limit does not shut them out). Off with `fallback` (the
+  // skeleton strategies only, as the paper) or here.
   bool centre_candidates = true;
   // Surface candidates: this many surface-normal hypotheses (planSurfaceGrasps: random surface
   // points, approach along the normal, power preshape) are tried after the other strategies,
