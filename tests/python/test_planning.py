@@ -153,14 +153,18 @@ def test_surface_candidates_join_the_skeleton_planners_pool(capsule):
 
 
 def test_alternative_preshapes_is_a_keyword_of_plan(capsule, sdh, capsule_plan):
-    # The SDH's tripod ("spherical", a power preshape) is closed wherever its power preshape is.
+    # The SDH's tripods ("spherical", a power preshape, and "precision_tripod") are closed
+    # wherever the main preshape of their type is.
     assert "alternative_preshapes: bool = True" in skelgrasp.plan.__doc__
     with_alternatives = skelgrasp.plan(capsule, sdh, seed=1, robustness=False)
     plain = skelgrasp.plan(capsule, sdh, seed=1, robustness=False, alternative_preshapes=False)
     reference = skelgrasp.plan(capsule, sdh, seed=1, robustness=False, reference_compat=True)
-    spherical = [g for g in with_alternatives.to_dict()["grasps"] if g["preshape"] == "spherical"]
+    grasps = with_alternatives.to_dict()["grasps"]
+    spherical = [g for g in grasps if g["preshape"] == "spherical"]
+    tripod = [g for g in grasps if g["preshape"] == "precision_tripod"]
     assert spherical and all(g["type"] == "power" for g in spherical)
-    assert len(with_alternatives.grasps) == len(plain.grasps) + len(spherical)
+    assert tripod and all(g["type"] == "precision" for g in tripod)
+    assert len(with_alternatives.grasps) == len(plain.grasps) + len(spherical) + len(tripod)
     for result in (plain, reference):
         assert {g["preshape"] for g in result.to_dict()["grasps"]} <= {"power", "precision"}
 
