@@ -303,10 +303,7 @@ PlanResult planFallbackGrasps(const HandModel& hand, const GraspObject& object,
                               trial.type == GraspType::kPrecision ? precision_hp : power_hp);
   };
   run.stop = [&] {
-    if (params.timeout_s > 0 && watch.seconds() > params.timeout_s) return summary.timed_out = true;
-    if (params.max_grasps > 0 && result.grasps.size() >= params.max_grasps)
-      return summary.max_grasps_reached = true;
-    return false;
+    return internal::planLimitReached(watch, params.timeout_s, params.max_grasps, result);
   };
   run.take = [&](std::size_t i, HypothesisOutcome&& outcome) {
     const Trial& trial = trials[i];

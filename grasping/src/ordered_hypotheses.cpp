@@ -19,6 +19,14 @@ constexpr std::size_t kHypothesesPerThread = 8;
 
 }  // namespace
 
+bool planLimitReached(const Stopwatch& watch, double timeout_s, std::size_t max_grasps,
+                      PlanResult& result) {
+  PlanSummary& summary = result.summary;
+  if (timeout_s > 0 && watch.seconds() > timeout_s) summary.timed_out = true;
+  if (max_grasps > 0 && result.grasps.size() >= max_grasps) summary.max_grasps_reached = true;
+  return summary.timed_out || summary.max_grasps_reached;
+}
+
 void evaluateInOrder(const HandModel& hand, const GraspObject& object,
                      const OrderedHypotheses& run) {
   const int threads = tbb::this_task_arena::max_concurrency();

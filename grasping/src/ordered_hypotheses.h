@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <functional>
 
+#include "skelgrasp/common/logging.h"
 #include "skelgrasp/grasping/hypothesis.h"
 
 namespace skelgrasp::grasping::internal {
@@ -24,6 +25,12 @@ struct OrderedHypotheses {
   // Counts and keeps hypothesis i's outcome, on the calling thread, in index order.
   std::function<void(std::size_t i, HypothesisOutcome&& outcome)> take;
 };
+
+// A plan's limits, as every planner asks them before each hypothesis: true once `timeout_s` has
+// passed on `watch` or `result` holds `max_grasps` grasps (0 = no limit), each recorded in the
+// summary (timed_out, max_grasps_reached).
+bool planLimitReached(const Stopwatch& watch, double timeout_s, std::size_t max_grasps,
+                      PlanResult& result);
 
 // Runs `run` over its hypotheses. With more than one thread in the current task arena they are
 // evaluated a chunk at a time (kHypothesesPerThread per thread) by one GraspSimulator per thread,

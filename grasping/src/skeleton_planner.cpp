@@ -148,11 +148,6 @@ PlanResult planSkeletonGrasps(const HandModel& hand, const GraspObject& object,
     ++summary.rejections[why];
   };
   const std::size_t grasp_limit = internal::skeletonGraspLimit(params);
-  auto stop = [&] {
-    if (params.timeout_s > 0 && watch.seconds() > params.timeout_s) summary.timed_out = true;
-    if (grasp_limit > 0 && result.grasps.size() >= grasp_limit) summary.max_grasps_reached = true;
-    return summary.timed_out || summary.max_grasps_reached;
-  };
   // What the strategies make of each visited vertex, in visiting order: a rejection (no pose), or
   // hand poses to close. Cheap; the closings are the plan's time and run on every core.
   struct Item {
@@ -236,7 +231,9 @@ PlanResult planSkeletonGrasps(const HandModel& hand, const GraspObject& object,
     return evaluateRefinedHypothesis(simulator, item.frame, *item.preshape, hp, item.local,
                                      params.refinement);
   };
-  run.stop = stop;
+  run.stop = [&] {
+    return internal::planLimitReached(watch, params.timeout_s, grasp_limit, result);
+  };
   run.take = [&](std::size_t i, HypothesisOutcome&& outcome) {
     const Item& item = items[i];
     progress.step(item.visited);

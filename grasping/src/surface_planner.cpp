@@ -81,10 +81,7 @@ PlanResult planSurfaceGrasps(const HandModel& hand, const GraspObject& object,
     return evaluateHypothesis(simulator, pose.gcp, preshape, hp);
   };
   run.stop = [&] {
-    if (params.timeout_s > 0 && watch.seconds() > params.timeout_s) return summary.timed_out = true;
-    if (params.max_grasps > 0 && result.grasps.size() >= params.max_grasps)
-      return summary.max_grasps_reached = true;
-    return false;
+    return internal::planLimitReached(watch, params.timeout_s, params.max_grasps, result);
   };
   run.take = [&](std::size_t, HypothesisOutcome&& outcome) {
     ++summary.hypotheses;
