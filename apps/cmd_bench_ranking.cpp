@@ -2,7 +2,8 @@
 // and on (the new), in one process on the same planned grasps, per object and hand: time of each
 // path, their ratio, and whether they return the same scored grasps with the same r. The
 // shortcuts (--compare): `pruning`, screening a candidate only until it cannot enter the scored
-// top_k; `closure-shortcut`, settling's closure test skipped while the squeeze is unbalanced
+// top_k (in pre-score order); `best-first`, screening best-first against pruning in pre-score
+// order; `closure-shortcut`, settling's closure test skipped while the squeeze is unbalanced
 // (grasping/settling.h); `cell-skipping`, the exact box gap skipping empty cells of the triangle
 // grid (DistanceFieldParams::skip_empty_cells).
 #include <fmt/format.h>
@@ -40,13 +41,14 @@ struct BenchRankingArgs {
 };
 
 // The exact shortcut a run compares off (old path) and on (new path).
-enum class Shortcut { kPruning, kClosureShortcut, kCellSkipping };
+enum class Shortcut { kPruning, kBestFirst, kClosureShortcut, kCellSkipping };
 
 // --compare's names: the option admits these (CLI::IsMember on the keys) and the run looks its
 // shortcut up here.
 const std::map<std::string, Shortcut>& shortcutsByName() {
   static const std::map<std::string, Shortcut> names = {
       {"pruning", Shortcut::kPruning},
+      {"best-first", Shortcut::kBestFirst},
       {"closure-shortcut", Shortcut::kClosureShortcut},
       {"cell-skipping", Shortcut::kCellSkipping}};
   return names;
@@ -65,7 +67,12 @@ PathRun rankOnce(const grasping::HandModel& hand, const grasping::GraspObject& o
   evaluation::RobustRankingParams params;
   switch (shortcut) {
     case Shortcut::kPruning:
-      params.prune_screening = new_path;
+      params.screening_pruning =
+          new_path ? evaluation::ScreeningPruning::kInOrder : evaluation::ScreeningPruning::kNone;
+      break;
+    case Shortcut::kBestFirst:
+      params.screening_pruning = new_path ? evaluation::ScreeningPruning::kBestFirst
+                                          : evaluation::ScreeningPruning::kInOrder;
       break;
     case Shortcut::kClosureShortcut:
       params.robustness.settling.skip_closure_test_when_unbalanced = new_path;
@@ -194,7 +201,8 @@ void registerBenchRankingCommand(CLI::App& app, Action& action) {
       ->transform(countIn(1, kMaxRepeat))
       ->capture_default_str();
   cmd->add_option("--compare", args->compare,
-                  "pruning (screening stops where it cannot choose), closure-shortcut (settling "
+                  "pruning (screening stops where it cannot choose), best-first (screening "
+                  "best-first against pruning in pre-score order), closure-shortcut (settling "
                   "skips the closure test while the squeeze is unbalanced) or cell-skipping (the "
                   "exact box gap skips empty cells)")
       ->check(CLI::IsMember(shortcutsByName()))

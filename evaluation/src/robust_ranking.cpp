@@ -2,9 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <numeric>
 #include <optional>
 #include <queue>
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include "skelgrasp/common/logging.h"
 
@@ -90,6 +94,78 @@ std::optional<int> holdsToBeat(double bar, double trust, int samples) {
   return std::nullopt;
 }
 
+// Best-first screening (ScreeningPruning::kBestFirst) of `candidates` (pre-score order): runs the
+// next sample of the candidate whose screening score could still be highest, its bound (holds so
+// far plus the samples left, x trust; ties to the earlier candidate), until top_k candidates have
+// run every sample with a score at least every other's bound. Those are the top_k of full
+// screening, in its order: a score is its bound once every sample has run, computed as full
+// screening computes it. Returns the chosen candidates (indices into `candidates`) and sets
+// `finished` for every candidate that ran all its samples. With several threads, the next sample
+// of each of the (at most) that many best candidates runs at once; the choice does not change.
+// It runs fewer samples than screening in pre-score order, which must run a later candidate until
+// it falls short of the best so far, however many better ones follow.
+std::vector<std::size_t> screenBestFirst(const grasping::GraspSimulator& simulator,
+                                         const std::vector<grasping::Grasp>& grasps,
+                                         const std::vector<std::size_t>& candidates,
+                                         const std::vector<double>& trust,
+                                         const RobustnessParams& screen, std::size_t top_k,
+                                         std::vector<int>& holds, std::vector<bool>& finished) {
+  const int samples = screen.samples;
+  const std::size_t m = candidates.size();
+  std::vector<int> run(m, 0);
+  holds.assign(m, 0);
+  const auto bound = [&](std::size_t c) {
+    return static_cast<double>(holds[c] + samples - run[c]) / samples * trust[c];
+  };
+  struct Entry {
+    double bound;
+    std::size_t candidate;
+  };
+  // The top is the highest bound, the earliest candidate on ties.
+  const auto lower_priority = [](const Entry& a, const Entry& b) {
+    return a.bound != b.bound ? a.bound < b.bound : a.candidate > b.candidate;
+  };
+  std::priority_queue<Entry, std::vector<Entry>, decltype(lower_priority)> queue(lower_priority);
+  for (std::size_t c = 0; c < m; ++c) queue.push({bound(c), c});
+  // One simulator per sample run at once: a simulator moves its hand's collision objects.
+  const std::size_t batch =
+      static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
+  std::vector<std::unique_ptr<grasping::GraspSimulator>> simulators;
+  for (std::size_t b = 0; b < batch; ++b)
+    simulators.push_back(
+        std::make_unique<grasping::GraspSimulator>(simulator.hand(), simulator.object()));
+  std::vector<std::size_t> chosen, running;
+  while (!queue.empty() && chosen.size() < top_k) {
+    // A finished candidate on top scores at least every other's bound: chosen.
+    if (run[queue.top().candidate] == samples) {
+      chosen.push_back(queue.top().candidate);
+      queue.pop();
+      continue;
+    }
+    running.clear();
+    while (running.size() < batch && !queue.empty() && run[queue.top().candidate] < samples) {
+      running.push_back(queue.top().candidate);
+      queue.pop();
+    }
+    std::vector<int> held(running.size());
+    tbb::parallel_for(std::size_t{0}, running.size(), [&](std::size_t k) {
+      const std::size_t c = running[k];
+      held[k] = evaluateRobustnessSamples(*simulators[k], grasps[candidates[c]], screen,
+                                          kScreenStream, run[c], run[c] + 1)
+                    .force_closure;
+    });
+    for (std::size_t k = 0; k < running.size(); ++k) {
+      const std::size_t c = running[k];
+      holds[c] += held[k];
+      ++run[c];
+      queue.push({bound(c), c});
+    }
+  }
+  finished.assign(m, false);
+  for (std::size_t c = 0; c < m; ++c) finished[c] = run[c] == samples;
+  return chosen;
+}
+
 }  // namespace
 
 grasping::GraspRobustness graspRobustness(const RobustnessResult& result,
@@ -163,32 +239,51 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
       const Stopwatch screen_watch;
       RobustnessParams screen = rp;
       screen.samples = params.screen_samples;
-      // The top_k screening scores so far, lowest first: the bar a later candidate must beat.
-      std::priority_queue<double, std::vector<double>, std::greater<>> best_scores;
       std::vector<std::size_t> contenders;
-      for (std::size_t i : candidates) {
-        std::optional<int> max_failures;
-        if (params.prune_screening && best_scores.size() == top_k) {
-          const std::optional<int> needed =
-              holdsToBeat(best_scores.top(), trustOf(i), params.screen_samples);
-          if (!needed) {
+      if (params.screening_pruning == ScreeningPruning::kBestFirst) {
+        std::vector<double> trusts;
+        for (std::size_t i : candidates) trusts.push_back(trustOf(i));
+        std::vector<int> holds;
+        std::vector<bool> finished;
+        // Only the chosen get a screening score: which others ran all their samples depends on
+        // the thread count, and the order returned must not. The others rank by pre-score.
+        for (std::size_t c : screenBestFirst(simulator, grasps, candidates, trusts, screen, top_k,
+                                             holds, finished)) {
+          const std::size_t i = candidates[c];
+          // As evaluateRobustness computes a score, so that it equals the bound it was chosen by.
+          rank_score[i] = static_cast<double>(holds[c]) / screen.samples * trustOf(i);
+          level[i] = 1;
+          contenders.push_back(i);
+        }
+        for (bool f : finished) ++(f ? out.screened : out.screen_pruned);
+      } else {
+        // The top_k screening scores so far, lowest first: the bar a later candidate must beat.
+        std::priority_queue<double, std::vector<double>, std::greater<>> best_scores;
+        for (std::size_t i : candidates) {
+          std::optional<int> max_failures;
+          if (params.screening_pruning == ScreeningPruning::kInOrder &&
+              best_scores.size() == top_k) {
+            const std::optional<int> needed =
+                holdsToBeat(best_scores.top(), trustOf(i), params.screen_samples);
+            if (!needed) {
+              ++out.screen_pruned;
+              continue;
+            }
+            max_failures = params.screen_samples - *needed;
+          }
+          const RobustnessResult r =
+              evaluateRobustness(simulator, grasps[i], screen, kScreenStream, max_failures);
+          if (r.gave_up) {
             ++out.screen_pruned;
             continue;
           }
-          max_failures = params.screen_samples - *needed;
+          rank_score[i] = r.score * trustOf(i);
+          level[i] = 1;
+          ++out.screened;
+          contenders.push_back(i);
+          best_scores.push(rank_score[i]);
+          if (best_scores.size() > top_k) best_scores.pop();
         }
-        const RobustnessResult r =
-            evaluateRobustness(simulator, grasps[i], screen, kScreenStream, max_failures);
-        if (r.gave_up) {
-          ++out.screen_pruned;
-          continue;
-        }
-        rank_score[i] = r.score * trustOf(i);
-        level[i] = 1;
-        ++out.screened;
-        contenders.push_back(i);
-        best_scores.push(rank_score[i]);
-        if (best_scores.size() > top_k) best_scores.pop();
       }
       // Candidates in pre-score order, so a stable sort breaks ties of screening score by it.
       candidates = std::move(contenders);

@@ -149,10 +149,13 @@ Pose perturbedPose(const Pose& pose, const PoseError& error, const Eigen::Vector
   return variant == RobustnessVariant::kReference ? about.inverse() * pose : about * pose;
 }
 
-RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
-                                    const grasping::Grasp& grasp, const RobustnessParams& params,
-                                    std::uint64_t grasp_index, std::optional<int> max_failures) {
-  if (params.samples < 1) throw InvalidArgument("robustness: need at least one sample");
+namespace {
+
+// Samples [begin, end) of evaluateRobustness: the counts, held and score cover these only.
+RobustnessResult evaluateSampleRange(grasping::GraspSimulator& simulator,
+                                     const grasping::Grasp& grasp, const RobustnessParams& params,
+                                     std::uint64_t grasp_index, int begin, int end,
+                                     std::optional<int> max_failures) {
   if (grasp.contacts.empty()) throw InvalidArgument("robustness: the grasp has no contacts");
   Stopwatch watch;
   // The guarded variant draws and applies the paper's samples; only their execution differs.
@@ -188,7 +191,7 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
     return outcome == kForceClosure || outcome == kGuardedForceClosure ||
            outcome == kSettledForceClosure || outcome == kGuardedSettledForceClosure;
   };
-  std::vector<char> outcomes(params.samples, kSkipped);
+  std::vector<char> outcomes(end - begin, kSkipped);
   std::atomic<int> failures{0};
   const auto missedBar = [&] { return max_failures && failures.load() > *max_failures; };
   // A simulator moves its hand's collision objects: one per thread, sharing hand and object.
@@ -216,10 +219,9 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
                                                                           : kNoForceClosure;
   };
   // One perturbed execution.
-  const auto execute = [&](int i) -> Outcome {
+  const auto execute = [&](grasping::GraspSimulator& local, int i) -> Outcome {
     const Pose hand_pose = perturbedPose(grasp.hand_pose, samplePoseError(params, grasp_index, i),
                                          centre, params.variant);
-    auto& local = *simulators.local();
     if (settled) return executeSettled(local, hand_pose, approach_in_hand);
     // close() starts with the collision test of the open hand: one test per sample, not two.
     auto closed = local.close(hand_pose, preshape, closing);
@@ -237,17 +239,24 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
       return collides ? kGuardedForceClosure : kForceClosure;
     return collides ? kCollision : kNoForceClosure;
   };
-  tbb::parallel_for(0, params.samples, [&](int i) {
-    if (missedBar()) {
-      outcomes[i] = kSkipped;
-      return;
-    }
-    outcomes[i] = execute(i);
-    if (!heldOutcome(outcomes[i])) ++failures;
-  });
+  if (end - begin == 1) {
+    // One sample (best-first screening runs them one at a time): on the caller's simulator, not
+    // on a new one per call.
+    outcomes[0] = execute(simulator, begin);
+    if (!heldOutcome(outcomes[0])) ++failures;
+  } else {
+    tbb::parallel_for(begin, end, [&](int i) {
+      if (missedBar()) {
+        outcomes[i - begin] = kSkipped;
+        return;
+      }
+      outcomes[i - begin] = execute(*simulators.local(), i);
+      if (!heldOutcome(outcomes[i - begin])) ++failures;
+    });
+  }
 
   RobustnessResult result;
-  result.samples = params.samples;
+  result.samples = end - begin;
   result.gave_up = missedBar();
   result.held.resize(outcomes.size());
   for (std::size_t i = 0; i < outcomes.size(); ++i) result.held[i] = heldOutcome(outcomes[i]);
@@ -267,6 +276,25 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
       wilsonInterval(result.force_closure, result.samples);
   result.time_s = watch.seconds();
   return result;
+}
+
+}  // namespace
+
+RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
+                                    const grasping::Grasp& grasp, const RobustnessParams& params,
+                                    std::uint64_t grasp_index, std::optional<int> max_failures) {
+  if (params.samples < 1) throw InvalidArgument("robustness: need at least one sample");
+  return evaluateSampleRange(simulator, grasp, params, grasp_index, 0, params.samples,
+                             max_failures);
+}
+
+RobustnessResult evaluateRobustnessSamples(grasping::GraspSimulator& simulator,
+                                           const grasping::Grasp& grasp,
+                                           const RobustnessParams& params,
+                                           std::uint64_t grasp_index, int begin, int end) {
+  if (!(begin >= 0 && begin < end && end <= params.samples))
+    throw InvalidArgument("robustness: need 0 <= begin < end <= samples");
+  return evaluateSampleRange(simulator, grasp, params, grasp_index, begin, end, std::nullopt);
 }
 
 }  // namespace skelgrasp::evaluation

@@ -526,9 +526,9 @@ TEST(Cli, BenchRankingComparesEachShortcutOffAndOnOnTheSameGrasps) {
   EXPECT_GT(row["pruned"].get<std::size_t>(), 0u);
   EXPECT_LE(row["pruned"].get<std::size_t>(), row["candidates"].get<std::size_t>());
   EXPECT_NE(run.out.find("the same scored grasps"), std::string::npos) << run.out;
-  // Settling's closure shortcut and the box gap's cell skipping: the same scored grasps without
-  // and with each.
-  for (const std::string name : {"closure-shortcut", "cell-skipping"}) {
+  // Best-first screening against screening in order, settling's closure shortcut and the box
+  // gap's cell skipping: the same scored grasps without and with each.
+  for (const std::string name : {"best-first", "closure-shortcut", "cell-skipping"}) {
     const auto shortcut =
         test::runCli("bench ranking " + dir + "/box.ply --hands sdh --compare " + name, dir);
     ASSERT_EQ(shortcut.exit_code, 0) << shortcut.err;

@@ -106,7 +106,7 @@ TEST(RobustRanking, ScreeningChoosesTheScoredGraspsByAScreeningROnItsOwnSamples)
   // The screening r below is of the chosen grasps as planned: no search may move them. Every
   // candidate gets its full screening r (pruning is checked below).
   params.refinement.enabled = false;
-  params.prune_screening = false;
+  params.screening_pruning = ScreeningPruning::kNone;
   const auto result =
       rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params);
   EXPECT_EQ(result.screened, 6u);
@@ -150,31 +150,41 @@ TEST(RobustRanking, ScreeningChoosesTheScoredGraspsByAScreeningROnItsOwnSamples)
                InvalidArgument);
 }
 
-// Pruned screening chooses the grasps full screening chooses: the same scored grasps in the same
-// order with the same r, with and without trust factors; only screening samples are saved.
+// Pruned screening, in pre-score order or best-first, chooses the grasps full screening chooses:
+// the same scored grasps in the same order with the same r, with and without trust factors; only
+// screening samples are saved. Best-first gives a screening score to the chosen only.
 void expectPruningChoosesAsFullScreening(const Planned& p, const std::vector<double>& trust,
                                          const std::string& what) {
   auto params = fewSamples(12, 3);
   params.screen_k = 0;  // every grasp is a candidate
   params.screen_samples = 10;
   params.refinement.enabled = false;
-  params.prune_screening = false;
+  params.screening_pruning = ScreeningPruning::kNone;
   const auto full =
       rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params, trust);
-  params.prune_screening = true;
-  const auto pruned =
-      rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params, trust);
   ASSERT_EQ(full.scored, 3u) << what;
-  ASSERT_EQ(pruned.scored, 3u) << what;
   EXPECT_EQ(full.screen_pruned, 0u) << what;
-  EXPECT_EQ(pruned.screened + pruned.screen_pruned, full.screened) << what;
-  for (std::size_t i = 0; i < 3; ++i) {
-    EXPECT_EQ(pruned.order[i], full.order[i]) << what << " rank " << i;
-    EXPECT_EQ(pruned.grasps[i].robustness->r, full.grasps[i].robustness->r) << what;
-    EXPECT_EQ(pruned.scores[i], full.scores[i]) << what;
+  for (const ScreeningPruning pruning :
+       {ScreeningPruning::kInOrder, ScreeningPruning::kBestFirst}) {
+    params.screening_pruning = pruning;
+    const std::string how =
+        what + (pruning == ScreeningPruning::kInOrder ? " in order" : " best-first");
+    const auto pruned =
+        rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params, trust);
+    ASSERT_EQ(pruned.scored, 3u) << how;
+    EXPECT_EQ(pruned.screened + pruned.screen_pruned, full.screened) << how;
+    for (std::size_t i = 0; i < 3; ++i) {
+      EXPECT_EQ(pruned.order[i], full.order[i]) << how << " rank " << i;
+      EXPECT_EQ(pruned.grasps[i].robustness->r, full.grasps[i].robustness->r) << how;
+      EXPECT_EQ(pruned.scores[i], full.scores[i]) << how;
+    }
+    // Every grasp is still returned; best-first ranks the rest by pre-score (epsilon x trust).
+    ASSERT_EQ(pruned.grasps.size(), full.grasps.size()) << how;
+    if (pruning == ScreeningPruning::kBestFirst) {
+      for (std::size_t i = 4; i < pruned.grasps.size(); ++i)
+        EXPECT_GE(pruned.scores[i - 1], pruned.scores[i]) << how << " rank " << i;
+    }
   }
-  // Every grasp is still returned.
-  EXPECT_EQ(pruned.grasps.size(), full.grasps.size()) << what;
 }
 
 TEST(RobustRanking, PrunedScreeningChoosesTheGraspsFullScreeningChooses) {
@@ -202,8 +212,13 @@ TEST(RobustRanking, PrunedScreeningChoosesTheGraspsFullScreeningChooses) {
       auto params = fewSamples(4, 3);
       params.screen_k = 0;
       params.refinement.enabled = false;
-      pruned_any += rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params)
-                        .screen_pruned;
+      for (const ScreeningPruning pruning :
+           {ScreeningPruning::kInOrder, ScreeningPruning::kBestFirst}) {
+        params.screening_pruning = pruning;
+        pruned_any +=
+            rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params)
+                .screen_pruned;
+      }
     }
   }
   // Pruning happens at all on these objects (else the comparison above says nothing).
@@ -249,23 +264,32 @@ TEST(RobustRanking, UsesCommonRandomNumbersAndTheGivenFriction) {
   }
 }
 
+// The same order, scores and r at one, two and three threads, with and without screening (which
+// runs best-first, as many candidates' next samples at once as there are threads).
 TEST(RobustRanking, SameSeedSameRAtOneAndTwoThreads) {
   const Planned& p = cylinder();
-  const auto params = fewSamples(20, 3);
-  std::vector<double> one, two;
-  {
-    tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 1);
-    for (const auto& g :
-         rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params).grasps)
-      one.push_back(g.robustness ? g.robustness->r : -1);
+  auto screened = fewSamples(20, 3);
+  screened.screen_k = 0;  // all 8 planned grasps are candidates
+  screened.screen_samples = 6;
+  for (const RobustRankingParams& params : {fewSamples(20, 3), screened}) {
+    std::vector<std::vector<double>> r_by_threads, score_by_threads;
+    std::vector<std::vector<std::size_t>> order_by_threads;
+    for (int threads : {1, 2, 3}) {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+      const auto result =
+          rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params);
+      std::vector<double> r;
+      for (const auto& g : result.grasps) r.push_back(g.robustness ? g.robustness->r : -1);
+      r_by_threads.push_back(r);
+      score_by_threads.push_back(result.scores);
+      order_by_threads.push_back(result.order);
+    }
+    for (std::size_t t = 1; t < r_by_threads.size(); ++t) {
+      EXPECT_EQ(r_by_threads[t], r_by_threads[0]) << t + 1 << " threads";
+      EXPECT_EQ(score_by_threads[t], score_by_threads[0]) << t + 1 << " threads";
+      EXPECT_EQ(order_by_threads[t], order_by_threads[0]) << t + 1 << " threads";
+    }
   }
-  {
-    tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 2);
-    for (const auto& g :
-         rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params).grasps)
-      two.push_back(g.robustness ? g.robustness->r : -1);
-  }
-  EXPECT_EQ(one, two);
 }
 
 TEST(RobustRanking, TrustScalesTheScoreAndMustMatchTheGrasps) {

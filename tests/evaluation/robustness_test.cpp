@@ -238,6 +238,39 @@ TEST(Robustness, GivesUpExactlyWhenTheBarIsMissed) {
   }
 }
 
+// A grasp's samples run a few at a time (best-first screening) hold exactly where the same
+// samples of one full run hold, in every variant, one at a time and in ranges.
+TEST(Robustness, SampleRangesHoldWhereTheFullRunHolds) {
+  CapsuleGrasp capsule;
+  ASSERT_FALSE(capsule.grasps.empty());
+  auto& sim = capsule.sim;
+  const Grasp& g = capsule.grasps.front();
+  RobustnessParams rp;
+  rp.samples = 24;
+  rp.seed = 5;
+  rp.position_sigma_m = 0.02;  // twice the paper's error: some samples fail
+  for (const auto variant :
+       {RobustnessVariant::kPaper, RobustnessVariant::kSettled, RobustnessVariant::kReference}) {
+    rp.variant = variant;
+    const auto full = evaluateRobustness(sim, g, rp, 1);
+    int holds = 0;
+    for (int i = 0; i < rp.samples; ++i) {
+      const auto one = evaluateRobustnessSamples(sim, g, rp, 1, i, i + 1);
+      ASSERT_EQ(one.samples, 1);
+      EXPECT_EQ(one.force_closure == 1, static_cast<bool>(full.held[i])) << toString(variant) << i;
+      holds += one.force_closure;
+    }
+    EXPECT_EQ(holds, full.force_closure) << toString(variant);
+    const auto tail = evaluateRobustnessSamples(sim, g, rp, 1, 10, rp.samples);
+    ASSERT_EQ(tail.held.size(), static_cast<std::size_t>(rp.samples - 10));
+    for (int i = 10; i < rp.samples; ++i)
+      EXPECT_EQ(tail.held[i - 10], full.held[i]) << toString(variant) << i;
+  }
+  EXPECT_THROW(evaluateRobustnessSamples(sim, g, rp, 1, 3, 3), InvalidArgument);
+  EXPECT_THROW(evaluateRobustnessSamples(sim, g, rp, 1, -1, 2), InvalidArgument);
+  EXPECT_THROW(evaluateRobustnessSamples(sim, g, rp, 1, 0, rp.samples + 1), InvalidArgument);
+}
+
 // held names the samples that held, and samplePoseError is the error each of them faced: closing
 // the hand at the grasp moved by that error (about the contacts' centre) agrees sample by sample.
 TEST(Robustness, HeldNamesTheSamplesThatHeldUnderTheirPoseErrors) {

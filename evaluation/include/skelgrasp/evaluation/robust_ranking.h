@@ -26,6 +26,18 @@ inline RobustnessParams defaultRankingRobustness() {
   return params;
 }
 
+enum class ScreeningPruning {
+  kNone,  // every candidate gets its full screening r
+  // Candidates in pre-score order; once top_k are screened, a later one must hold in more samples
+  // than the lowest of the best top_k so far (ties go to the earlier candidate), and its samples
+  // stop when too many have failed for that (the default until 2026-11-28).
+  kInOrder,
+  // One sample at a time, always of the candidate whose score could still be highest (holds so
+  // far plus samples left; ties to the earlier candidate); a candidate whose samples are all run
+  // and whose score is at least every other's bound is chosen. Stops when top_k are chosen.
+  kBestFirst,
+};
+
 struct RobustRankingParams {
   bool enabled = true;  // false: the grasps keep the pre-score order and get no robustness
   // The grasps scored: the best top_k by the screening (below); 0 scores all of them.
@@ -37,13 +49,11 @@ struct RobustRankingParams {
   // the returned grasps. No screening when screen_k (0 read as all) is at most top_k.
   std::size_t screen_k = kDefaultScreenK;
   int screen_samples = kDefaultScreenSamples;
-  // Stop screening a candidate once it cannot enter the top_k any more: once top_k candidates
-  // are screened, a later one must hold in more samples than the lowest of the best top_k so far
-  // (ties go to the earlier candidate), and its samples stop when too many have failed for that.
-  // The top_k chosen are the same as without pruning (tested); only the order of the pruned
-  // candidates changes (they rank by pre-score, as unscreened grasps do). False: every
-  // candidate gets its full screening r (for comparing, `skelgrasp bench ranking`).
-  bool prune_screening = true;
+  // How screening saves samples without changing its choice: the top_k chosen, their order and
+  // their screening r are those of full screening (kNone) under every setting (tested); only
+  // which of the other candidates get a full screening r differs (the rest rank by pre-score, as
+  // unscreened grasps do). `skelgrasp bench ranking` compares them.
+  ScreeningPruning screening_pruning = ScreeningPruning::kBestFirst;
   // Samples, variant, pose error sigmas and seed of r. Its `quality` and `closing` are NOT used:
   // r is judged as the planner judged the grasp (rankByRobustness's `planner` argument), with the
   // friction replaced by `friction` when that is set.
@@ -62,9 +72,9 @@ struct RobustRankingResult {
   std::vector<double> scores;           // each grasp's rank score (see rankByRobustness)
   std::vector<std::size_t> order;       // grasps[i] was input grasp order[i]
   std::size_t screened = 0;             // grasps given a screening r (0 without screening)
-  std::size_t screen_pruned = 0;        // candidates whose screening stopped (prune_screening)
-  std::size_t scored = 0;               // grasps that got a robustness
-  std::size_t refined = 0;              // scored grasps replaced by a more robust pose
+  std::size_t screen_pruned = 0;  // candidates whose screening stopped short (screening_pruning)
+  std::size_t scored = 0;         // grasps that got a robustness
+  std::size_t refined = 0;        // scored grasps replaced by a more robust pose
   double time_s = 0;
   // Where time_s went (their sum is at most time_s; the rest is sorting and moving grasps).
   double screening_s = 0, scoring_s = 0, refinement_s = 0;
@@ -74,8 +84,9 @@ struct RobustRankingResult {
 // and re-ranks all grasps:
 //  * pre-score = epsilon x trust[i] (trust empty: 1; scans: 1 - w + w x observed contact ratio);
 //  * screening score = screening r x trust[i]; the top_k by it (ties: pre-score) are scored;
-//  * rank score of a scored grasp = r x trust[i]; of a screened one = its screening score; of
-//    the others (beyond screen_k, screening pruned, or ranking disabled) = its pre-score;
+//  * rank score of a scored grasp = r x trust[i]; of a screened one = its screening score (with
+//    kInOrder or kNone; best-first gives only the chosen a screening score); of the others
+//    (beyond screen_k, screening pruned, or ranking disabled) = its pre-score;
 //  * refinement (params.refinement.enabled): of the best params.refinement.max_grasps scored
 //    grasps by rank score, those with r below params.refinement.search_below_r are searched for
 //    more robust poses (robust_refinement.h, own stream

@@ -99,7 +99,9 @@ Pose perturbedPose(const Pose& pose, const PoseError& error, const Eigen::Vector
 std::pair<double, double> wilsonInterval(int successes, int trials, double z = 1.959964);
 
 // The samples run in parallel (TBB, one simulator per thread built from `simulator`'s hand and
-// object); the result for a seed does not depend on the thread count.
+// object; a single sample runs on `simulator` itself, so concurrent callers need a simulator
+// each, as for any other use of a simulator); the result for a seed does not depend on the thread
+// count.
 // The perturbations are applied about the centre of the grasp's contacts (their mean point),
 // rotation axes along the object frame. `grasp_index` decorrelates the paper variant's samples
 // between grasps while keeping them a function of (seed, grasp_index). Throws InvalidArgument for
@@ -112,5 +114,15 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
                                     const grasping::Grasp& grasp, const RobustnessParams& params,
                                     std::uint64_t grasp_index = 0,
                                     std::optional<int> max_failures = std::nullopt);
+
+// Samples [begin, end) of evaluateRobustness(simulator, grasp, params, grasp_index): the same
+// executions with the same outcomes, for a caller that runs a grasp's samples a few at a time
+// (best-first screening, robust_ranking.h). `samples`, the counts, `held`, `score` and the
+// interval cover these samples only. A single sample runs on `simulator` itself. Throws
+// InvalidArgument unless 0 <= begin < end <= params.samples, or for a grasp without contacts.
+RobustnessResult evaluateRobustnessSamples(grasping::GraspSimulator& simulator,
+                                           const grasping::Grasp& grasp,
+                                           const RobustnessParams& params,
+                                           std::uint64_t grasp_index, int begin, int end);
 
 }  // namespace skelgrasp::evaluation
