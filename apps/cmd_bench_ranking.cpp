@@ -157,12 +157,13 @@ int runBenchRanking(const BenchRankingArgs& args) {
         totals[hand.name()].second += new_s / args.repeat;
         ratios[hand.name()].push_back(ratio);
         std::cout << fmt::format("{:<32} {:<8} {:>6} {:>8} {:>7.2f} {:>7.2f} {:>6.2f}x {:>6}\n",
-                                 name.substr(0, 32), hand.name(), old_run.result.screened,
+                                 name.substr(0, 32), hand.name(),
+                                 old_run.result.screened + old_run.result.screen_pruned,
                                  new_run.result.screen_pruned, old_s / args.repeat,
                                  new_s / args.repeat, ratio, same ? "yes" : "NO");
         rows.push_back({{"object", name},
                         {"hand", hand.name()},
-                        {"candidates", old_run.result.screened},
+                        {"candidates", old_run.result.screened + old_run.result.screen_pruned},
                         {"pruned", new_run.result.screen_pruned},
                         {"old_s", old_s / args.repeat},
                         {"new_s", new_s / args.repeat},

@@ -104,7 +104,7 @@ std::optional<int> holdsToBeat(double bar, double trust, int samples) {
 // of each of the (at most) that many best candidates runs at once; the choice does not change.
 // It runs fewer samples than screening in pre-score order, which must run a later candidate until
 // it falls short of the best so far, however many better ones follow.
-std::vector<std::size_t> screenBestFirst(const grasping::GraspSimulator& simulator,
+std::vector<std::size_t> screenBestFirst(grasping::GraspSimulator& simulator,
                                          const std::vector<grasping::Grasp>& grasps,
                                          const std::vector<std::size_t>& candidates,
                                          const std::vector<double>& trust,
@@ -127,13 +127,17 @@ std::vector<std::size_t> screenBestFirst(const grasping::GraspSimulator& simulat
   };
   std::priority_queue<Entry, std::vector<Entry>, decltype(lower_priority)> queue(lower_priority);
   for (std::size_t c = 0; c < m; ++c) queue.push({bound(c), c});
-  // One simulator per sample run at once: a simulator moves its hand's collision objects.
+  // One simulator per sample run at once (a simulator moves its hand's collision objects): the
+  // caller's, and one more per further thread.
   const std::size_t batch =
       static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
-  std::vector<std::unique_ptr<grasping::GraspSimulator>> simulators;
-  for (std::size_t b = 0; b < batch; ++b)
-    simulators.push_back(
+  std::vector<std::unique_ptr<grasping::GraspSimulator>> more_simulators;
+  std::vector<grasping::GraspSimulator*> simulators = {&simulator};
+  for (std::size_t b = 1; b < batch; ++b) {
+    more_simulators.push_back(
         std::make_unique<grasping::GraspSimulator>(simulator.hand(), simulator.object()));
+    simulators.push_back(more_simulators.back().get());
+  }
   std::vector<std::size_t> chosen, running;
   while (!queue.empty() && chosen.size() < top_k) {
     // A finished candidate on top scores at least every other's bound: chosen.
@@ -196,6 +200,11 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
                                      const std::vector<double>& trust) {
   if (!trust.empty() && trust.size() != grasps.size())
     throw InvalidArgument("robust ranking: one trust factor per grasp needed");
+  // Screening's bounds rely on scores growing with holds: a factor below zero would turn them.
+  for (double t : trust) {
+    if (!(std::isfinite(t) && t >= 0))
+      throw InvalidArgument("robust ranking: trust factors must be finite and >= 0");
+  }
   if (params.enabled && params.robustness.samples < 1)
     throw InvalidArgument("robust ranking: need at least one robustness sample");
   if (params.enabled && params.screen_samples < 1)

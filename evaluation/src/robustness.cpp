@@ -242,8 +242,10 @@ RobustnessResult evaluateSampleRange(grasping::GraspSimulator& simulator,
   if (end - begin == 1) {
     // One sample (best-first screening runs them one at a time): on the caller's simulator, not
     // on a new one per call.
-    outcomes[0] = execute(simulator, begin);
-    if (!heldOutcome(outcomes[0])) ++failures;
+    if (!missedBar()) {  // a bar below zero is missed before any sample, as in parallel
+      outcomes[0] = execute(simulator, begin);
+      if (!heldOutcome(outcomes[0])) ++failures;
+    }
   } else {
     tbb::parallel_for(begin, end, [&](int i) {
       if (missedBar()) {

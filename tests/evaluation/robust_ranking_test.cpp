@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <numeric>
 #include <random>
 #include <utility>
@@ -181,8 +182,18 @@ void expectPruningChoosesAsFullScreening(const Planned& p, const std::vector<dou
     // Every grasp is still returned; best-first ranks the rest by pre-score (epsilon x trust).
     ASSERT_EQ(pruned.grasps.size(), full.grasps.size()) << how;
     if (pruning == ScreeningPruning::kBestFirst) {
-      for (std::size_t i = 4; i < pruned.grasps.size(); ++i)
-        EXPECT_GE(pruned.scores[i - 1], pruned.scores[i]) << how << " rank " << i;
+      // The rest by pre-score, epsilon x trust, the planner's order on ties.
+      for (std::size_t i = 3; i < pruned.grasps.size(); ++i) {
+        const std::size_t input = pruned.order[i];
+        EXPECT_EQ(pruned.scores[i],
+                  p.plan.grasps[input].epsilon * (trust.empty() ? 1.0 : trust[input]))
+            << how << " rank " << i;
+        if (i > 3) {
+          EXPECT_GE(pruned.scores[i - 1], pruned.scores[i]) << how << " rank " << i;
+          if (pruned.scores[i - 1] == pruned.scores[i])
+            EXPECT_LT(pruned.order[i - 1], input) << how << " rank " << i;
+        }
+      }
     }
   }
 }
@@ -196,7 +207,7 @@ TEST(RobustRanking, PrunedScreeningChoosesTheGraspsFullScreeningChooses) {
       meshes.emplace_back(name, loadMesh(path));
   }
   if (meshes.size() == 1) GTEST_SKIP() << "no YCB meshes in ../shared/data: cylinder only";
-  std::size_t pruned_any = 0;
+  std::size_t pruned_any = 0, best_first_pruned_any = 0;
   for (const auto& [name, mesh] : meshes) {
     for (const char* hand : {"armar3", "sdh"}) {
       const Planned p = planOn(hand, mesh, 16);
@@ -212,17 +223,18 @@ TEST(RobustRanking, PrunedScreeningChoosesTheGraspsFullScreeningChooses) {
       auto params = fewSamples(4, 3);
       params.screen_k = 0;
       params.refinement.enabled = false;
-      for (const ScreeningPruning pruning :
-           {ScreeningPruning::kInOrder, ScreeningPruning::kBestFirst}) {
-        params.screening_pruning = pruning;
-        pruned_any +=
-            rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params)
-                .screen_pruned;
-      }
+      params.screening_pruning = ScreeningPruning::kInOrder;
+      pruned_any += rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params)
+                        .screen_pruned;
+      params.screening_pruning = ScreeningPruning::kBestFirst;
+      best_first_pruned_any +=
+          rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params)
+              .screen_pruned;
     }
   }
-  // Pruning happens at all on these objects (else the comparison above says nothing).
+  // Each pruning happens at all on these objects (else the comparison above says nothing).
   EXPECT_GT(pruned_any, 0u);
+  EXPECT_GT(best_first_pruned_any, 0u);
 }
 
 TEST(RobustRanking, DisabledKeepsTheEpsilonOrderWithoutRobustness) {
@@ -305,6 +317,14 @@ TEST(RobustRanking, TrustScalesTheScoreAndMustMatchTheGrasps) {
     if (i > 0) {
       EXPECT_GE(result.scores[i - 1], result.scores[i]);
     }
+  }
+  // A factor below zero or not finite would turn screening's bounds: refused.
+  for (double bad : {-0.5, std::numeric_limits<double>::quiet_NaN()}) {
+    std::vector<double> wrong = trust;
+    wrong[1] = bad;
+    EXPECT_THROW(rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis,
+                                  fewSamples(8, n), wrong),
+                 InvalidArgument);
   }
   trust.pop_back();
   EXPECT_THROW(rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis,

@@ -249,8 +249,8 @@ TEST(Robustness, SampleRangesHoldWhereTheFullRunHolds) {
   rp.samples = 24;
   rp.seed = 5;
   rp.position_sigma_m = 0.02;  // twice the paper's error: some samples fail
-  for (const auto variant :
-       {RobustnessVariant::kPaper, RobustnessVariant::kSettled, RobustnessVariant::kReference}) {
+  for (const auto variant : {RobustnessVariant::kPaper, RobustnessVariant::kGuarded,
+                             RobustnessVariant::kSettled, RobustnessVariant::kReference}) {
     rp.variant = variant;
     const auto full = evaluateRobustness(sim, g, rp, 1);
     int holds = 0;
@@ -266,6 +266,12 @@ TEST(Robustness, SampleRangesHoldWhereTheFullRunHolds) {
     for (int i = 10; i < rp.samples; ++i)
       EXPECT_EQ(tail.held[i - 10], full.held[i]) << toString(variant) << i;
   }
+  // One sample against a bar already missed (below zero failures): skipped, as in a longer run.
+  rp.samples = 1;
+  const auto skipped = evaluateRobustness(sim, g, rp, 1, -1);
+  EXPECT_TRUE(skipped.gave_up);
+  EXPECT_EQ(skipped.force_closure, 0);
+  rp.samples = 24;
   EXPECT_THROW(evaluateRobustnessSamples(sim, g, rp, 1, 3, 3), InvalidArgument);
   EXPECT_THROW(evaluateRobustnessSamples(sim, g, rp, 1, -1, 2), InvalidArgument);
   EXPECT_THROW(evaluateRobustnessSamples(sim, g, rp, 1, 0, rp.samples + 1), InvalidArgument);

@@ -71,7 +71,9 @@ struct RobustRankingResult {
   std::vector<grasping::Grasp> grasps;  // best first, ids renumbered 0..n-1 (id = rank)
   std::vector<double> scores;           // each grasp's rank score (see rankByRobustness)
   std::vector<std::size_t> order;       // grasps[i] was input grasp order[i]
-  std::size_t screened = 0;             // grasps given a screening r (0 without screening)
+  // Candidates that ran every screening sample (0 without screening); with best-first screening
+  // this count, and screen_pruned, may depend on the thread count (the grasps returned do not).
+  std::size_t screened = 0;
   std::size_t screen_pruned = 0;  // candidates whose screening stopped short (screening_pruning)
   std::size_t scored = 0;         // grasps that got a robustness
   std::size_t refined = 0;        // scored grasps replaced by a more robust pose
@@ -84,9 +86,10 @@ struct RobustRankingResult {
 // and re-ranks all grasps:
 //  * pre-score = epsilon x trust[i] (trust empty: 1; scans: 1 - w + w x observed contact ratio);
 //  * screening score = screening r x trust[i]; the top_k by it (ties: pre-score) are scored;
-//  * rank score of a scored grasp = r x trust[i]; of a screened one = its screening score (with
-//    kInOrder or kNone; best-first gives only the chosen a screening score); of the others
-//    (beyond screen_k, screening pruned, or ranking disabled) = its pre-score;
+//  * rank score of a scored grasp = r x trust[i]; of a screened one that is not scored = its
+//    screening score (kInOrder or kNone; best-first screening gives none, so those rank by
+//    pre-score); of the others (beyond screen_k, screening pruned, or ranking disabled) = its
+//    pre-score;
 //  * refinement (params.refinement.enabled): of the best params.refinement.max_grasps scored
 //    grasps by rank score, those with r below params.refinement.search_below_r are searched for
 //    more robust poses (robust_refinement.h, own stream
@@ -95,8 +98,9 @@ struct RobustRankingResult {
 //    scored on the scoring samples; its rank score is r x trust[i] of the input grasp (the caller
 //    may recompute the trust of a moved grasp's contacts). Every searched grasp's robustness
 //    records the search and the check (GraspRobustness::refinement);
-//  * order: scored grasps first by rank score, ties by pre-score; then the screened ones, then
-//    the rest, each by rank score (the planner's order when trust is empty). The sort is stable.
+//  * order: scored grasps first by rank score, ties by pre-score; then the screened ones (not with
+//    best-first screening), then the rest, each by rank score (the planner's order when trust is
+//    empty). The sort is stable.
 // Only scored grasps carry a robustness (Grasp::robustness): the screening r, from a handful of
 // samples, is used for choosing and not reported.
 // Common random numbers: every grasp is scored with evaluateRobustness(..., grasp_index = 0) and
@@ -105,9 +109,10 @@ struct RobustRankingResult {
 // plan's numbers). Screening draws its own stream (grasp_index = 1), so the reported r of a grasp
 // chosen for a lucky screening is not biased by that luck (except in the reference variant, which
 // draws one sequence whatever the grasp_index: there the screening samples are the first scoring
-// ones, and refinement searches and checks on the scoring samples themselves). The result does not
-// depend on the thread count. Grasps without contacts stay unscored. Throws InvalidArgument for
-// samples or screen_samples < 1 (when enabled), a negative or non-finite friction, a
+// ones, and refinement searches and checks on the scoring samples themselves). The grasps, their
+// order, scores and r do not depend on the thread count (the counts screened and screen_pruned
+// may). Grasps without contacts stay unscored. Throws InvalidArgument for samples or
+// screen_samples < 1 (when enabled), a negative or non-finite friction or trust factor, a
 // refinement search_below_r outside [0, 1], or a trust vector whose size is not the grasps'.
 RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
                                      const grasping::GraspObject& object,
