@@ -156,14 +156,15 @@ int runBenchRanking(const BenchRankingArgs& args) {
         totals[hand.name()].first += old_s / args.repeat;
         totals[hand.name()].second += new_s / args.repeat;
         ratios[hand.name()].push_back(ratio);
+        // Every path screens the same candidates, fully or cut short.
+        const std::size_t candidates = old_run.result.screened + old_run.result.screen_pruned;
         std::cout << fmt::format("{:<32} {:<8} {:>6} {:>8} {:>7.2f} {:>7.2f} {:>6.2f}x {:>6}\n",
-                                 name.substr(0, 32), hand.name(),
-                                 old_run.result.screened + old_run.result.screen_pruned,
+                                 name.substr(0, 32), hand.name(), candidates,
                                  new_run.result.screen_pruned, old_s / args.repeat,
                                  new_s / args.repeat, ratio, same ? "yes" : "NO");
         rows.push_back({{"object", name},
                         {"hand", hand.name()},
-                        {"candidates", old_run.result.screened + old_run.result.screen_pruned},
+                        {"candidates", candidates},
                         {"pruned", new_run.result.screen_pruned},
                         {"old_s", old_s / args.repeat},
                         {"new_s", new_s / args.repeat},

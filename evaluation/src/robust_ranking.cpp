@@ -99,21 +99,23 @@ std::optional<int> holdsToBeat(double bar, double trust, int samples) {
 // far plus the samples left, x trust; ties to the earlier candidate), until top_k candidates have
 // run every sample with a score at least every other's bound. Those are the top_k of full
 // screening, in its order: a score is its bound once every sample has run, computed as full
-// screening computes it. Returns the chosen candidates (indices into `candidates`) and sets
-// `finished` for every candidate that ran all its samples. With several threads, the next sample
-// of each of the (at most) that many best candidates runs at once; the choice does not change.
-// It runs fewer samples than screening in pre-score order, which must run a later candidate until
-// it falls short of the best so far, however many better ones follow.
-std::vector<std::size_t> screenBestFirst(grasping::GraspSimulator& simulator,
-                                         const std::vector<grasping::Grasp>& grasps,
-                                         const std::vector<std::size_t>& candidates,
-                                         const std::vector<double>& trust,
-                                         const RobustnessParams& screen, std::size_t top_k,
-                                         std::vector<int>& holds, std::vector<bool>& finished) {
+// screening computes it. With several threads, the next sample of each of the (at most) that many
+// best candidates runs at once; the choice does not change. It runs fewer samples than screening
+// in pre-score order, which must run a later candidate until it falls short of the best so far,
+// however many better ones follow.
+struct BestFirstScreening {
+  std::vector<std::size_t> chosen;  // indices into `candidates`, best first
+  std::vector<double> scores;       // their screening scores (r x trust)
+  std::size_t finished = 0;         // candidates that ran every sample, the chosen included
+};
+BestFirstScreening screenBestFirst(grasping::GraspSimulator& simulator,
+                                   const std::vector<grasping::Grasp>& grasps,
+                                   const std::vector<std::size_t>& candidates,
+                                   const std::vector<double>& trust, const RobustnessParams& screen,
+                                   std::size_t top_k) {
   const int samples = screen.samples;
   const std::size_t m = candidates.size();
-  std::vector<int> run(m, 0);
-  holds.assign(m, 0);
+  std::vector<int> run(m, 0), holds(m, 0);
   const auto bound = [&](std::size_t c) {
     return static_cast<double>(holds[c] + samples - run[c]) / samples * trust[c];
   };
@@ -138,11 +140,13 @@ std::vector<std::size_t> screenBestFirst(grasping::GraspSimulator& simulator,
         std::make_unique<grasping::GraspSimulator>(simulator.hand(), simulator.object()));
     simulators.push_back(more_simulators.back().get());
   }
-  std::vector<std::size_t> chosen, running;
-  while (!queue.empty() && chosen.size() < top_k) {
-    // A finished candidate on top scores at least every other's bound: chosen.
+  BestFirstScreening out;
+  std::vector<std::size_t> running;
+  while (!queue.empty() && out.chosen.size() < top_k) {
+    // A finished candidate on top scores at least every other's bound, its own score: chosen.
     if (run[queue.top().candidate] == samples) {
-      chosen.push_back(queue.top().candidate);
+      out.chosen.push_back(queue.top().candidate);
+      out.scores.push_back(queue.top().bound);
       queue.pop();
       continue;
     }
@@ -165,9 +169,8 @@ std::vector<std::size_t> screenBestFirst(grasping::GraspSimulator& simulator,
       queue.push({bound(c), c});
     }
   }
-  finished.assign(m, false);
-  for (std::size_t c = 0; c < m; ++c) finished[c] = run[c] == samples;
-  return chosen;
+  out.finished = static_cast<std::size_t>(std::count(run.begin(), run.end(), samples));
+  return out;
 }
 
 }  // namespace
@@ -252,19 +255,18 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
       if (params.screening_pruning == ScreeningPruning::kBestFirst) {
         std::vector<double> trusts;
         for (std::size_t i : candidates) trusts.push_back(trustOf(i));
-        std::vector<int> holds;
-        std::vector<bool> finished;
         // Only the chosen get a screening score: which others ran all their samples depends on
         // the thread count, and the order returned must not. The others rank by pre-score.
-        for (std::size_t c : screenBestFirst(simulator, grasps, candidates, trusts, screen, top_k,
-                                             holds, finished)) {
-          const std::size_t i = candidates[c];
-          // As evaluateRobustness computes a score, so that it equals the bound it was chosen by.
-          rank_score[i] = static_cast<double>(holds[c]) / screen.samples * trustOf(i);
+        const BestFirstScreening screening =
+            screenBestFirst(simulator, grasps, candidates, trusts, screen, top_k);
+        for (std::size_t k = 0; k < screening.chosen.size(); ++k) {
+          const std::size_t i = candidates[screening.chosen[k]];
+          rank_score[i] = screening.scores[k];
           level[i] = 1;
           contenders.push_back(i);
         }
-        for (bool f : finished) ++(f ? out.screened : out.screen_pruned);
+        out.screened = screening.finished;
+        out.screen_pruned = candidates.size() - screening.finished;
       } else {
         // The top_k screening scores so far, lowest first: the bar a later candidate must beat.
         std::priority_queue<double, std::vector<double>, std::greater<>> best_scores;

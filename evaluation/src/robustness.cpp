@@ -2,6 +2,7 @@
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <atomic>
@@ -239,22 +240,17 @@ RobustnessResult evaluateSampleRange(grasping::GraspSimulator& simulator,
       return collides ? kGuardedForceClosure : kForceClosure;
     return collides ? kCollision : kNoForceClosure;
   };
-  if (end - begin == 1) {
-    // One sample (best-first screening runs them one at a time): on the caller's simulator, not
-    // on a new one per call.
-    if (!missedBar()) {  // a bar below zero is missed before any sample, as in parallel
-      outcomes[0] = execute(simulator, begin);
-      if (!heldOutcome(outcomes[0])) ++failures;
-    }
+  const auto runSample = [&](grasping::GraspSimulator& local, int i) {
+    if (missedBar()) return;  // stays kSkipped
+    outcomes[i - begin] = execute(local, i);
+    if (!heldOutcome(outcomes[i - begin])) ++failures;
+  };
+  if (end - begin == 1 || tbb::this_task_arena::max_concurrency() == 1) {
+    // Nothing to share out (best-first screening runs one sample at a time): on the caller's
+    // simulator, not on a new one per call.
+    for (int i = begin; i < end; ++i) runSample(simulator, i);
   } else {
-    tbb::parallel_for(begin, end, [&](int i) {
-      if (missedBar()) {
-        outcomes[i - begin] = kSkipped;
-        return;
-      }
-      outcomes[i - begin] = execute(*simulators.local(), i);
-      if (!heldOutcome(outcomes[i - begin])) ++failures;
-    });
+    tbb::parallel_for(begin, end, [&](int i) { runSample(*simulators.local(), i); });
   }
 
   RobustnessResult result;

@@ -162,6 +162,15 @@ struct CapsuleGrasp {
   grasping::GraspSimulator sim{hand, object};
 };
 
+// Seeded samples at twice the paper's position error, so that some of them fail on the capsule.
+RobustnessParams samplesThatSometimesFail(int samples) {
+  RobustnessParams params;
+  params.samples = samples;
+  params.seed = 5;
+  params.position_sigma_m = 0.02;
+  return params;
+}
+
 TEST(Robustness, IsIdenticalForTheSameSeed) {
   CapsuleGrasp capsule;
   ASSERT_FALSE(capsule.grasps.empty());
@@ -211,10 +220,7 @@ TEST(Robustness, GivesUpExactlyWhenTheBarIsMissed) {
   ASSERT_FALSE(capsule.grasps.empty());
   auto& sim = capsule.sim;
   const auto& grasps = capsule.grasps;
-  RobustnessParams rp;
-  rp.samples = 40;
-  rp.seed = 5;
-  rp.position_sigma_m = 0.02;  // twice the paper's error: some samples fail
+  RobustnessParams rp = samplesThatSometimesFail(40);
   for (const auto variant : {RobustnessVariant::kPaper, RobustnessVariant::kGuarded}) {
     rp.variant = variant;
     const auto full = evaluateRobustness(sim, grasps.front(), rp, 2);
@@ -245,10 +251,7 @@ TEST(Robustness, SampleRangesHoldWhereTheFullRunHolds) {
   ASSERT_FALSE(capsule.grasps.empty());
   auto& sim = capsule.sim;
   const Grasp& g = capsule.grasps.front();
-  RobustnessParams rp;
-  rp.samples = 24;
-  rp.seed = 5;
-  rp.position_sigma_m = 0.02;  // twice the paper's error: some samples fail
+  RobustnessParams rp = samplesThatSometimesFail(24);
   for (const auto variant : {RobustnessVariant::kPaper, RobustnessVariant::kGuarded,
                              RobustnessVariant::kSettled, RobustnessVariant::kReference}) {
     rp.variant = variant;
@@ -284,10 +287,7 @@ TEST(Robustness, HeldNamesTheSamplesThatHeldUnderTheirPoseErrors) {
   ASSERT_FALSE(capsule.grasps.empty());
   auto& sim = capsule.sim;
   const Grasp& g = capsule.grasps.front();
-  RobustnessParams rp;
-  rp.samples = 40;
-  rp.seed = 5;
-  rp.position_sigma_m = 0.02;              // twice the paper's error: some samples fail
+  RobustnessParams rp = samplesThatSometimesFail(40);
   rp.variant = RobustnessVariant::kPaper;  // each sample is one closing at the perturbed pose
   constexpr std::uint64_t kStream = 2;
   const auto full = evaluateRobustness(sim, g, rp, kStream);

@@ -99,9 +99,9 @@ Pose perturbedPose(const Pose& pose, const PoseError& error, const Eigen::Vector
 std::pair<double, double> wilsonInterval(int successes, int trials, double z = 1.959964);
 
 // The samples run in parallel (TBB, one simulator per thread built from `simulator`'s hand and
-// object; a single sample runs on `simulator` itself, so concurrent callers need a simulator
-// each, as for any other use of a simulator); the result for a seed does not depend on the thread
-// count.
+// object; a single sample, or every sample when only one thread may run, runs on `simulator`
+// itself, so concurrent callers need a simulator each, as for any other use of a simulator); the
+// result for a seed does not depend on the thread count.
 // The perturbations are applied about the centre of the grasp's contacts (their mean point),
 // rotation axes along the object frame. `grasp_index` decorrelates the paper variant's samples
 // between grasps while keeping them a function of (seed, grasp_index). Throws InvalidArgument for
@@ -118,7 +118,7 @@ RobustnessResult evaluateRobustness(grasping::GraspSimulator& simulator,
 // Samples [begin, end) of evaluateRobustness(simulator, grasp, params, grasp_index): the same
 // executions with the same outcomes, for a caller that runs a grasp's samples a few at a time
 // (best-first screening, robust_ranking.h). `samples`, the counts, `held`, `score` and the
-// interval cover these samples only. A single sample runs on `simulator` itself. Throws
+// interval cover these samples only. Throws
 // InvalidArgument unless 0 <= begin < end <= params.samples, or for a grasp without contacts.
 RobustnessResult evaluateRobustnessSamples(grasping::GraspSimulator& simulator,
                                            const grasping::Grasp& grasp,
