@@ -153,13 +153,17 @@ TEST(Robustness, IsZeroWhenEveryPerturbedPoseCollides) {
   EXPECT_EQ(r.score, 0.0);
 }
 
-// ARMAR-III's best planned grasp on a capsule, with a simulator over it: the subject of the
-// tests that compare evaluations of one grasp.
-struct CapsuleGrasp {
-  grasping::HandModel hand = grasping::loadBuiltinHand("armar3");
-  grasping::GraspObject object{primitives::makeCapsule(0.025, 0.12)};
-  std::vector<Grasp> grasps = plannedGrasps(hand, object, object.mesh(), 1);
-  grasping::GraspSimulator sim{hand, object};
+// ARMAR-III's best planned grasp on a capsule (`g`), with a simulator over it (`sim`): the subject
+// of the tests that compare evaluations of one grasp.
+class CapsuleGrasp : public ::testing::Test {
+ protected:
+  void SetUp() override { ASSERT_FALSE(grasps_.empty()); }
+  const grasping::HandModel hand_ = grasping::loadBuiltinHand("armar3");
+  const grasping::GraspObject object_{primitives::makeCapsule(0.025, 0.12)};
+  const std::vector<Grasp> grasps_ = plannedGrasps(hand_, object_, object_.mesh(), 1);
+  grasping::GraspSimulator sim{hand_, object_};
+  // Empty only until SetUp's assertion stops the test.
+  const Grasp g = grasps_.empty() ? Grasp{} : grasps_.front();
 };
 
 // Seeded samples at twice the paper's position error, so that some of them fail on the capsule.
@@ -171,12 +175,7 @@ RobustnessParams samplesThatSometimesFail(int samples) {
   return params;
 }
 
-TEST(Robustness, IsIdenticalForTheSameSeed) {
-  CapsuleGrasp capsule;
-  ASSERT_FALSE(capsule.grasps.empty());
-  auto& sim = capsule.sim;
-  const auto& grasps = capsule.grasps;
-  const Grasp& g = grasps.front();
+TEST_F(CapsuleGrasp, RobustnessIsIdenticalForTheSameSeed) {
   RobustnessParams rp;
   rp.samples = 30;
   rp.seed = 11;
@@ -190,17 +189,13 @@ TEST(Robustness, IsIdenticalForTheSameSeed) {
             evaluateRobustness(sim, g, rp, 4).force_closure);  // same samples per grasp
 }
 
-TEST(Robustness, IsIdenticalAtOneAndTwoThreadsAndTheClosingsAgree) {
-  CapsuleGrasp capsule;
-  ASSERT_FALSE(capsule.grasps.empty());
-  auto& sim = capsule.sim;
-  const auto& grasps = capsule.grasps;
+TEST_F(CapsuleGrasp, RobustnessIsIdenticalAtOneAndTwoThreadsAndTheClosingsAgree) {
   RobustnessParams rp;
   rp.samples = 40;
   rp.seed = 5;
   const auto run = [&](int threads) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-    return evaluateRobustness(sim, grasps.front(), rp, 2);
+    return evaluateRobustness(sim, g, rp, 2);
   };
   const auto one = run(1), two = run(2);
   EXPECT_EQ(one.force_closure, two.force_closure);
@@ -208,36 +203,32 @@ TEST(Robustness, IsIdenticalAtOneAndTwoThreadsAndTheClosingsAgree) {
   EXPECT_EQ(one.score, two.score);
   // The stepwise closing (the old path) gives r within the fast closing's Wilson interval.
   rp.closing.method = grasping::ClosingMethod::kStepwise;
-  const auto stepwise = evaluateRobustness(sim, grasps.front(), rp, 2);
+  const auto stepwise = evaluateRobustness(sim, g, rp, 2);
   EXPECT_GE(stepwise.score, one.wilson_low);
   EXPECT_LE(stepwise.score, one.wilson_high);
 }
 
 // A caller asking only whether r reaches a bar (max_failures) gets the full result when it does,
 // and gave_up exactly when the full run fails more often, at one thread and at two.
-TEST(Robustness, GivesUpExactlyWhenTheBarIsMissed) {
-  CapsuleGrasp capsule;
-  ASSERT_FALSE(capsule.grasps.empty());
-  auto& sim = capsule.sim;
-  const auto& grasps = capsule.grasps;
+TEST_F(CapsuleGrasp, RobustnessGivesUpExactlyWhenTheBarIsMissed) {
   RobustnessParams rp = samplesThatSometimesFail(40);
   for (const auto variant : {RobustnessVariant::kPaper, RobustnessVariant::kGuarded}) {
     rp.variant = variant;
-    const auto full = evaluateRobustness(sim, grasps.front(), rp, 2);
+    const auto full = evaluateRobustness(sim, g, rp, 2);
     const int failures = full.samples - full.force_closure;
     ASSERT_GT(failures, 0) << toString(variant);
     ASSERT_LT(failures, full.samples) << toString(variant);
     EXPECT_FALSE(full.gave_up);
     for (int threads : {1, 2}) {
       tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-      const auto met = evaluateRobustness(sim, grasps.front(), rp, 2, failures);
+      const auto met = evaluateRobustness(sim, g, rp, 2, failures);
       EXPECT_FALSE(met.gave_up) << toString(variant) << threads;
       EXPECT_EQ(met.force_closure, full.force_closure) << toString(variant) << threads;
       EXPECT_EQ(met.collisions, full.collisions) << toString(variant) << threads;
-      const auto missed = evaluateRobustness(sim, grasps.front(), rp, 2, failures - 1);
+      const auto missed = evaluateRobustness(sim, g, rp, 2, failures - 1);
       EXPECT_TRUE(missed.gave_up) << toString(variant) << threads;
       EXPECT_LE(missed.force_closure, full.force_closure) << toString(variant) << threads;
-      const auto unreachable = evaluateRobustness(sim, grasps.front(), rp, 2, -1);
+      const auto unreachable = evaluateRobustness(sim, g, rp, 2, -1);
       EXPECT_TRUE(unreachable.gave_up);
       EXPECT_EQ(unreachable.force_closure, 0);
     }
@@ -246,11 +237,7 @@ TEST(Robustness, GivesUpExactlyWhenTheBarIsMissed) {
 
 // A grasp's samples run a few at a time (best-first screening) hold exactly where the same
 // samples of one full run hold, in every variant, one at a time and in ranges.
-TEST(Robustness, SampleRangesHoldWhereTheFullRunHolds) {
-  CapsuleGrasp capsule;
-  ASSERT_FALSE(capsule.grasps.empty());
-  auto& sim = capsule.sim;
-  const Grasp& g = capsule.grasps.front();
+TEST_F(CapsuleGrasp, RobustnessSampleRangesHoldWhereTheFullRunHolds) {
   RobustnessParams rp = samplesThatSometimesFail(24);
   for (const auto variant : {RobustnessVariant::kPaper, RobustnessVariant::kGuarded,
                              RobustnessVariant::kSettled, RobustnessVariant::kReference}) {
@@ -282,11 +269,7 @@ TEST(Robustness, SampleRangesHoldWhereTheFullRunHolds) {
 
 // held names the samples that held, and samplePoseError is the error each of them faced: closing
 // the hand at the grasp moved by that error (about the contacts' centre) agrees sample by sample.
-TEST(Robustness, HeldNamesTheSamplesThatHeldUnderTheirPoseErrors) {
-  CapsuleGrasp capsule;
-  ASSERT_FALSE(capsule.grasps.empty());
-  auto& sim = capsule.sim;
-  const Grasp& g = capsule.grasps.front();
+TEST_F(CapsuleGrasp, RobustnessHeldNamesTheSamplesThatHeldUnderTheirPoseErrors) {
   RobustnessParams rp = samplesThatSometimesFail(40);
   rp.variant = RobustnessVariant::kPaper;  // each sample is one closing at the perturbed pose
   constexpr std::uint64_t kStream = 2;
