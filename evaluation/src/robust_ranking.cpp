@@ -103,16 +103,18 @@ std::optional<int> holdsToBeat(double bar, double trust, int samples) {
 // best candidates runs at once; the choice does not change. It runs fewer samples than screening
 // in pre-score order, which must run a later candidate until it falls short of the best so far,
 // however many better ones follow.
-struct BestFirstScreening {
-  std::vector<std::size_t> chosen;  // indices into `candidates`, best first
+// What a screening of `candidates` gives the ranking: the candidates that get a screening score.
+// Every other candidate was pruned (stopped short or never run).
+struct Screening {
+  std::vector<std::size_t> chosen;  // indices into `candidates`
   std::vector<double> scores;       // their screening scores (r x trust)
   std::size_t finished = 0;         // candidates that ran every sample, the chosen included
 };
-BestFirstScreening screenBestFirst(grasping::GraspSimulator& simulator,
-                                   const std::vector<grasping::Grasp>& grasps,
-                                   const std::vector<std::size_t>& candidates,
-                                   const std::vector<double>& trust, const RobustnessParams& screen,
-                                   std::size_t top_k) {
+Screening screenBestFirst(grasping::GraspSimulator& simulator,
+                          const std::vector<grasping::Grasp>& grasps,
+                          const std::vector<std::size_t>& candidates,
+                          const std::vector<double>& trust, const RobustnessParams& screen,
+                          std::size_t top_k) {
   const int samples = screen.samples;
   const std::size_t m = candidates.size();
   std::vector<int> run(m, 0), holds(m, 0);
@@ -140,7 +142,7 @@ BestFirstScreening screenBestFirst(grasping::GraspSimulator& simulator,
         std::make_unique<grasping::GraspSimulator>(simulator.hand(), simulator.object()));
     simulators.push_back(more_simulators.back().get());
   }
-  BestFirstScreening out;
+  Screening out;
   std::vector<std::size_t> running;
   while (!queue.empty() && out.chosen.size() < top_k) {
     // A finished candidate on top scores at least every other's bound, its own score: chosen.
@@ -170,6 +172,37 @@ BestFirstScreening screenBestFirst(grasping::GraspSimulator& simulator,
     }
   }
   out.finished = static_cast<std::size_t>(std::count(run.begin(), run.end(), samples));
+  return out;
+}
+
+// Screening in pre-score order (ScreeningPruning::kNone and kInOrder): every candidate that runs
+// all its samples is chosen, best first or not. With `prune`, once top_k are screened a later
+// candidate must hold in more samples than the lowest of the best top_k so far (ties go to the
+// earlier candidate), and its samples stop when too many have failed for that.
+Screening screenInOrder(grasping::GraspSimulator& simulator,
+                        const std::vector<grasping::Grasp>& grasps,
+                        const std::vector<std::size_t>& candidates,
+                        const std::vector<double>& trust, const RobustnessParams& screen,
+                        std::size_t top_k, bool prune) {
+  Screening out;
+  // The top_k screening scores so far, lowest first: the bar a later candidate must beat.
+  std::priority_queue<double, std::vector<double>, std::greater<>> best_scores;
+  for (std::size_t c = 0; c < candidates.size(); ++c) {
+    std::optional<int> max_failures;
+    if (prune && best_scores.size() == top_k) {
+      const std::optional<int> needed = holdsToBeat(best_scores.top(), trust[c], screen.samples);
+      if (!needed) continue;
+      max_failures = screen.samples - *needed;
+    }
+    const RobustnessResult r =
+        evaluateRobustness(simulator, grasps[candidates[c]], screen, kScreenStream, max_failures);
+    if (r.gave_up) continue;
+    out.chosen.push_back(c);
+    out.scores.push_back(r.score * trust[c]);
+    best_scores.push(out.scores.back());
+    if (best_scores.size() > top_k) best_scores.pop();
+  }
+  out.finished = out.chosen.size();
   return out;
 }
 
@@ -251,52 +284,27 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
       const Stopwatch screen_watch;
       RobustnessParams screen = rp;
       screen.samples = params.screen_samples;
+      std::vector<double> trusts;
+      for (std::size_t i : candidates) trusts.push_back(trustOf(i));
+      // Best-first gives only the chosen a screening score: which others ran all their samples
+      // depends on the thread count, and the order returned must not. The others rank by
+      // pre-score.
+      const Screening screening =
+          params.screening_pruning == ScreeningPruning::kBestFirst
+              ? screenBestFirst(simulator, grasps, candidates, trusts, screen, top_k)
+              : screenInOrder(simulator, grasps, candidates, trusts, screen, top_k,
+                              params.screening_pruning == ScreeningPruning::kInOrder);
       std::vector<std::size_t> contenders;
-      if (params.screening_pruning == ScreeningPruning::kBestFirst) {
-        std::vector<double> trusts;
-        for (std::size_t i : candidates) trusts.push_back(trustOf(i));
-        // Only the chosen get a screening score: which others ran all their samples depends on
-        // the thread count, and the order returned must not. The others rank by pre-score.
-        const BestFirstScreening screening =
-            screenBestFirst(simulator, grasps, candidates, trusts, screen, top_k);
-        for (std::size_t k = 0; k < screening.chosen.size(); ++k) {
-          const std::size_t i = candidates[screening.chosen[k]];
-          rank_score[i] = screening.scores[k];
-          level[i] = 1;
-          contenders.push_back(i);
-        }
-        out.screened = screening.finished;
-        out.screen_pruned = candidates.size() - screening.finished;
-      } else {
-        // The top_k screening scores so far, lowest first: the bar a later candidate must beat.
-        std::priority_queue<double, std::vector<double>, std::greater<>> best_scores;
-        for (std::size_t i : candidates) {
-          std::optional<int> max_failures;
-          if (params.screening_pruning == ScreeningPruning::kInOrder &&
-              best_scores.size() == top_k) {
-            const std::optional<int> needed =
-                holdsToBeat(best_scores.top(), trustOf(i), params.screen_samples);
-            if (!needed) {
-              ++out.screen_pruned;
-              continue;
-            }
-            max_failures = params.screen_samples - *needed;
-          }
-          const RobustnessResult r =
-              evaluateRobustness(simulator, grasps[i], screen, kScreenStream, max_failures);
-          if (r.gave_up) {
-            ++out.screen_pruned;
-            continue;
-          }
-          rank_score[i] = r.score * trustOf(i);
-          level[i] = 1;
-          ++out.screened;
-          contenders.push_back(i);
-          best_scores.push(rank_score[i]);
-          if (best_scores.size() > top_k) best_scores.pop();
-        }
+      for (std::size_t k = 0; k < screening.chosen.size(); ++k) {
+        const std::size_t i = candidates[screening.chosen[k]];
+        rank_score[i] = screening.scores[k];
+        level[i] = 1;
+        contenders.push_back(i);
       }
-      // Candidates in pre-score order, so a stable sort breaks ties of screening score by it.
+      out.screened = screening.finished;
+      out.screen_pruned = candidates.size() - screening.finished;
+      // Chosen best first, or in pre-score order: a stable sort breaks ties of screening score
+      // by pre-score either way.
       candidates = std::move(contenders);
       std::stable_sort(candidates.begin(), candidates.end(),
                        [&](std::size_t a, std::size_t b) { return rank_score[a] > rank_score[b]; });
