@@ -5,7 +5,8 @@
 // top_k (in pre-score order); `best-first`, screening best-first against pruning in pre-score
 // order; `closure-shortcut`, settling's closure test skipped while the squeeze is unbalanced
 // (grasping/settling.h); `cell-skipping`, the exact box gap skipping empty cells of the triangle
-// grid (DistanceFieldParams::skip_empty_cells).
+// grid (DistanceFieldParams::skip_empty_cells); `jump-order`, the fast closing's jump attempts
+// stopping at the first link that allows no step (ClosingParams::jump_stops_at_blocking_link).
 #include <fmt/format.h>
 #include <tbb/global_control.h>
 
@@ -41,7 +42,7 @@ struct BenchRankingArgs {
 };
 
 // The exact shortcut a run compares off (old path) and on (new path).
-enum class Shortcut { kPruning, kBestFirst, kClosureShortcut, kCellSkipping };
+enum class Shortcut { kPruning, kBestFirst, kClosureShortcut, kCellSkipping, kJumpOrder };
 
 // --compare's names: the option admits these (CLI::IsMember on the keys) and the run looks its
 // shortcut up here.
@@ -50,7 +51,8 @@ const std::map<std::string, Shortcut>& shortcutsByName() {
       {"pruning", Shortcut::kPruning},
       {"best-first", Shortcut::kBestFirst},
       {"closure-shortcut", Shortcut::kClosureShortcut},
-      {"cell-skipping", Shortcut::kCellSkipping}};
+      {"cell-skipping", Shortcut::kCellSkipping},
+      {"jump-order", Shortcut::kJumpOrder}};
   return names;
 }
 
@@ -65,6 +67,7 @@ PathRun rankOnce(const grasping::HandModel& hand, const grasping::GraspObject& o
                  const grasping::SkeletonPlannerParams& planner, Shortcut shortcut, bool new_path) {
   // The other shortcuts stay at their defaults, so each comparison is against today's ranking.
   evaluation::RobustRankingParams params;
+  grasping::HypothesisParams hypothesis = planner.hypothesis;
   switch (shortcut) {
     case Shortcut::kPruning:
       params.screening_pruning =
@@ -79,10 +82,13 @@ PathRun rankOnce(const grasping::HandModel& hand, const grasping::GraspObject& o
       break;
     case Shortcut::kCellSkipping:  // the caller passes the path's object
       break;
+    case Shortcut::kJumpOrder:
+      hypothesis.closing.jump_stops_at_blocking_link = new_path;
+      break;
   }
   PathRun run;
   const Stopwatch watch;
-  run.result = evaluation::rankByRobustness(hand, object, grasps, planner.hypothesis, params);
+  run.result = evaluation::rankByRobustness(hand, object, grasps, hypothesis, params);
   run.seconds = watch.seconds();
   return run;
 }
@@ -205,8 +211,9 @@ void registerBenchRankingCommand(CLI::App& app, Action& action) {
   cmd->add_option("--compare", args->compare,
                   "pruning (screening stops where it cannot choose), best-first (screening "
                   "best-first against pruning in pre-score order), closure-shortcut (settling "
-                  "skips the closure test while the squeeze is unbalanced) or cell-skipping (the "
-                  "exact box gap skips empty cells)")
+                  "skips the closure test while the squeeze is unbalanced), cell-skipping (the "
+                  "exact box gap skips empty cells) or jump-order (the fast closing's jump "
+                  "attempts stop at the first link that allows no step)")
       ->check(CLI::IsMember(shortcutsByName()))
       ->capture_default_str();
   cmd->add_option("--json", args->json_out, "Also write the rows as JSON");

@@ -232,6 +232,7 @@ class FingerAdvance {
   std::vector<double> moved_;  // per link: summed displacement bounds of its moves so far
   std::map<std::pair<int, int>, GapBound> pair_gaps_;
   std::map<int, GapBound> object_gaps_;
+  bool stop_at_blocking_link_ = true;  // AdvanceSettings::jump_stops_at_blocking_link
 };
 
 }  // namespace skelgrasp::grasping::internal

@@ -24,6 +24,7 @@ constexpr int kMaxBackoffIterations = 16;
 // travel form a group that moves in lockstep, as in the stepwise closing, so the finger that
 // blocks the other is the same; groups that cannot meet move independently.
 AdvanceResult FingerAdvance::runFast(const AdvanceSettings& settings) {
+  stop_at_blocking_link_ = settings.jump_stops_at_blocking_link;
   AdvanceResult result;
   const auto& fingers = hand_.fingers();
   for (int pass = 0; pass < settings.max_passes; ++pass) {
@@ -220,8 +221,23 @@ int FingerAdvance::jumpGroup(std::vector<Drive*>& members, int max_steps, double
   const auto limit = [&](double gap, double rate) {
     if (rate > 0) steps = std::min(steps, std::floor((gap - kClearanceMarginM) / rate));
   };
+  // AdvanceSettings::jump_stops_at_blocking_link: the links nearest the object first (by their
+  // kept gap bounds, in steps), and none after one that allows no step: the others' gaps, exact
+  // queries near the object, could not allow one. That changes nothing but the work: no step is
+  // taken and the object budget is the same (none).
+  std::vector<std::pair<double, int>> order;
   for (const auto& [l, rate] : per_step) {
-    if (rate > 0) limit(objectGap(l, rate * steps + kClearanceMarginM), rate);
+    if (!(rate > 0)) continue;
+    const auto kept = object_gaps_.find(l);
+    const bool by_bound = stop_at_blocking_link_ && kept != object_gaps_.end();
+    order.emplace_back(by_bound ? kept->second.current(moved_[l], 0.0) / rate
+                                : std::numeric_limits<double>::infinity(),
+                       l);
+  }
+  if (stop_at_blocking_link_) std::stable_sort(order.begin(), order.end());
+  for (const auto& [bound_steps, l] : order) {
+    limit(objectGap(l, per_step[l] * steps + kClearanceMarginM), per_step[l]);
+    if (stop_at_blocking_link_ && steps <= 0) break;
   }
   object_safe = steps;
   if (steps < 2) return 0;

@@ -127,6 +127,8 @@ struct AdvanceSettings {
   double step_m = 0.0005;
   int max_passes = 10;
   int max_iterations_per_pass = 5000;
+  // ClosingParams::jump_stops_at_blocking_link (fast closing only).
+  bool jump_stops_at_blocking_link = true;
 };
 
 struct AdvanceResult {

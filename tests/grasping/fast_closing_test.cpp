@@ -147,6 +147,42 @@ TEST(FastClosing, AgreesWithStepwiseOnRealGraspsOfTheFourHands) {
   EXPECT_GT(total.closures, 50);
 }
 
+// A jump attempt that stops at the first link allowing no step (the default) takes the same steps
+// as one that measures every link: the same joints and contacts, exactly, on surface poses of a
+// Lego brick (where the Shadow hand's thumb refuses most attempts).
+TEST(FastClosing, StoppingAJumpAttemptAtTheBlockingLinkChangesNoClosing) {
+  SKELGRASP_REQUIRE_SHARED_DATA();
+  setLogLevel(spdlog::level::warn);
+  const std::string path = test::sharedDataDir() + "/objects/ycb/073-c_lego_duplo.ply";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not found";
+  const GraspObject object(loadMesh(path));
+  constexpr int kPosesPerPreshape = 12;
+  for (const std::string name : {"armar3", "sdh", "shadow"}) {
+    const HandModel hand = loadBuiltinHand(name);
+    GraspSimulator every_link_sim(hand, object), stopping_sim(hand, object);
+    ClosingParams every_link, stopping;
+    every_link.jump_stops_at_blocking_link = false;
+    ASSERT_TRUE(stopping.jump_stops_at_blocking_link);  // the default
+    std::mt19937_64 rng(7);
+    int closed = 0;
+    for (const auto& [preshape_name, preshape] : hand.preshapes()) {
+      for (int k = 0; k < kPosesPerPreshape; ++k) {
+        const auto placed = test::freeSurfaceHandPose(every_link_sim, object, preshape, rng);
+        if (!placed) continue;
+        const auto a = every_link_sim.close(*placed, preshape, every_link);
+        const auto b = stopping_sim.close(*placed, preshape, stopping);
+        EXPECT_EQ(a.joints, b.joints) << name << " " << preshape_name << " pose " << k;
+        EXPECT_EQ(sortedLinks(a), sortedLinks(b)) << name << " " << preshape_name << " pose " << k;
+        ASSERT_EQ(a.contacts.size(), b.contacts.size());
+        for (std::size_t c = 0; c < a.contacts.size(); ++c)
+          EXPECT_EQ(a.contacts[c].point, b.contacts[c].point) << name << " pose " << k;
+        ++closed;
+      }
+    }
+    EXPECT_GE(closed, kPosesPerPreshape) << name;
+  }
+}
+
 TEST(FastClosing, StaysStepwiseNearObstaclesOnGeneratedShapes) {
   // A closing on nothing (fingers meet each other and the palm) and on a cylinder: the same
   // configuration as the stepwise closing.
