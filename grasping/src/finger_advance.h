@@ -198,7 +198,9 @@ class FingerAdvance {
   // Moves every drive of a lockstep group by the same number of steps, as many as provably keep
   // each link clear of the object, the palm and the group's other fingers. Returns the steps
   // taken, or 0 when fewer than two are safe (stepDrive then takes one checked step per drive).
-  int jumpGroup(std::vector<Drive*>& members, int max_steps, double& object_safe);
+  // `settings`: the steps' limit per pass and whether an attempt stops at the first link that
+  // allows no step (AdvanceSettings::jump_stops_at_blocking_link).
+  int jumpGroup(std::vector<Drive*>& members, const AdvanceSettings& settings, double& object_safe);
 
   double stepOf(int joint, const AdvanceSettings& settings) const {
     return hand_.joints()[joint].type == JointType::kPrismatic ? settings.step_m
@@ -232,7 +234,6 @@ class FingerAdvance {
   std::vector<double> moved_;  // per link: summed displacement bounds of its moves so far
   std::map<std::pair<int, int>, GapBound> pair_gaps_;
   std::map<int, GapBound> object_gaps_;
-  bool stop_at_blocking_link_ = true;  // AdvanceSettings::jump_stops_at_blocking_link
 };
 
 }  // namespace skelgrasp::grasping::internal

@@ -24,7 +24,6 @@ constexpr int kMaxBackoffIterations = 16;
 // travel form a group that moves in lockstep, as in the stepwise closing, so the finger that
 // blocks the other is the same; groups that cannot meet move independently.
 AdvanceResult FingerAdvance::runFast(const AdvanceSettings& settings) {
-  stop_at_blocking_link_ = settings.jump_stops_at_blocking_link;
   AdvanceResult result;
   const auto& fingers = hand_.fingers();
   for (int pass = 0; pass < settings.max_passes; ++pass) {
@@ -57,7 +56,7 @@ AdvanceResult FingerAdvance::runFast(const AdvanceSettings& settings) {
         int moved = 0;
         if (object_budget[g] <= 0 && --retry_in[g] <= 0) {
           double object_safe = 0;
-          moved = jumpGroup(members, settings.max_iterations_per_pass, object_safe);
+          moved = jumpGroup(members, settings, object_safe);
           // Blocked only by the hand itself: steps without object tests while provably clear.
           if (moved == 0) object_budget[g] = static_cast<int>(object_safe);
           // Near contact the bounds rarely allow a jump: retry after growing pauses, so the
@@ -202,7 +201,10 @@ std::vector<int> FingerAdvance::lockstepGroups(const std::vector<Drive>& drives)
   return group;
 }
 
-int FingerAdvance::jumpGroup(std::vector<Drive*>& members, int max_steps, double& object_safe) {
+int FingerAdvance::jumpGroup(std::vector<Drive*>& members, const AdvanceSettings& settings,
+                             double& object_safe) {
+  const int max_steps = settings.max_iterations_per_pass;
+  const bool stop_at_blocking_link = settings.jump_stops_at_blocking_link;
   object_safe = 0;
   std::vector<Eigen::VectorXd> changes;
   double cap = 0;
@@ -225,19 +227,26 @@ int FingerAdvance::jumpGroup(std::vector<Drive*>& members, int max_steps, double
   // kept gap bounds, in steps), and none after one that allows no step: the others' gaps, exact
   // queries near the object, could not allow one. That changes nothing but the work: no step is
   // taken and the object budget is the same (none).
-  std::vector<std::pair<double, int>> order;
+  struct Moving {
+    double kept_steps;  // the link's kept gap bound in steps (infinite when none is kept)
+    int link;
+    double rate;
+  };
+  std::vector<Moving> moving;
   for (const auto& [l, rate] : per_step) {
     if (!(rate > 0)) continue;
     const auto kept = object_gaps_.find(l);
-    const bool by_bound = stop_at_blocking_link_ && kept != object_gaps_.end();
-    order.emplace_back(by_bound ? kept->second.current(moved_[l], 0.0) / rate
-                                : std::numeric_limits<double>::infinity(),
-                       l);
+    moving.push_back({kept == object_gaps_.end() ? std::numeric_limits<double>::infinity()
+                                                 : kept->second.current(moved_[l], 0.0) / rate,
+                      l, rate});
   }
-  if (stop_at_blocking_link_) std::stable_sort(order.begin(), order.end());
-  for (const auto& [bound_steps, l] : order) {
-    limit(objectGap(l, per_step[l] * steps + kClearanceMarginM), per_step[l]);
-    if (stop_at_blocking_link_ && steps <= 0) break;
+  if (stop_at_blocking_link) {
+    std::stable_sort(moving.begin(), moving.end(),
+                     [](const Moving& a, const Moving& b) { return a.kept_steps < b.kept_steps; });
+  }
+  for (const Moving& m : moving) {
+    limit(objectGap(m.link, m.rate * steps + kClearanceMarginM), m.rate);
+    if (stop_at_blocking_link && steps <= 0) break;
   }
   object_safe = steps;
   if (steps < 2) return 0;
