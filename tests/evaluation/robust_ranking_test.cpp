@@ -190,8 +190,9 @@ void expectPruningChoosesAsFullScreening(const Planned& p, const std::vector<dou
             << how << " rank " << i;
         if (i > 3) {
           EXPECT_GE(pruned.scores[i - 1], pruned.scores[i]) << how << " rank " << i;
-          if (pruned.scores[i - 1] == pruned.scores[i])
+          if (pruned.scores[i - 1] == pruned.scores[i]) {
             EXPECT_LT(pruned.order[i - 1], input) << how << " rank " << i;
+          }
         }
       }
     }

@@ -39,7 +39,9 @@ void expectSearchedOnlyBelow(const grasping::GraspRobustRefinement& record, doub
     EXPECT_EQ(record.check_samples, 0);
     EXPECT_FALSE(record.refined);
   }
-  if (record.evaluations > 0) EXPECT_LT(record.r_before, bar);
+  if (record.evaluations > 0) {
+    EXPECT_LT(record.r_before, bar);
+  }
 }
 
 // Ranks `p`'s grasps twice with the same seed, with and without refinement for robustness, and
@@ -150,9 +152,13 @@ TEST(RobustRefinement, SearchesOnlyGraspsBelowTheRBar) {
       expectSearchedOnlyBelow(record, bar);
       searched += record.evaluations > 0;
     }
-    if (bar == 0.0) EXPECT_EQ(ranked.refined, 0u);
+    if (bar == 0.0) {
+      EXPECT_EQ(ranked.refined, 0u);
+    }
     // The three scored grasps hold in 21-23 of 24 samples: all are searched at 1.
-    if (bar == 1.0) EXPECT_GT(searched, 0);
+    if (bar == 1.0) {
+      EXPECT_GT(searched, 0);
+    }
   }
   for (double bad : {-0.1, 1.1}) {
     params.refinement.search_below_r = bad;
