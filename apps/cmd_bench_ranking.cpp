@@ -6,7 +6,9 @@
 // order; `closure-shortcut`, settling's closure test skipped while the squeeze is unbalanced
 // (grasping/settling.h); `cell-skipping`, the exact box gap skipping empty cells of the triangle
 // grid (DistanceFieldParams::skip_empty_cells); `jump-order`, the fast closing's jump attempts
-// stopping at the first link that allows no step (ClosingParams::jump_stops_at_blocking_link).
+// stopping at the first link that allows no step (ClosingParams::jump_stops_at_blocking_link);
+// `refusals`, the fast closing's later passes not testing again a step the object, the palm or the
+// limits refused where the finger still stands (ClosingParams::skip_repeated_refusals).
 #include <fmt/format.h>
 #include <tbb/global_control.h>
 
@@ -42,7 +44,14 @@ struct BenchRankingArgs {
 };
 
 // The exact shortcut a run compares off (old path) and on (new path).
-enum class Shortcut { kPruning, kBestFirst, kClosureShortcut, kCellSkipping, kJumpOrder };
+enum class Shortcut {
+  kPruning,
+  kBestFirst,
+  kClosureShortcut,
+  kCellSkipping,
+  kJumpOrder,
+  kRefusals
+};
 
 // --compare's names: the option admits these (CLI::IsMember on the keys) and the run looks its
 // shortcut up here.
@@ -52,7 +61,8 @@ const std::map<std::string, Shortcut>& shortcutsByName() {
       {"best-first", Shortcut::kBestFirst},
       {"closure-shortcut", Shortcut::kClosureShortcut},
       {"cell-skipping", Shortcut::kCellSkipping},
-      {"jump-order", Shortcut::kJumpOrder}};
+      {"jump-order", Shortcut::kJumpOrder},
+      {"refusals", Shortcut::kRefusals}};
   return names;
 }
 
@@ -84,6 +94,9 @@ PathRun rankOnce(const grasping::HandModel& hand, const grasping::GraspObject& o
       break;
     case Shortcut::kJumpOrder:
       hypothesis.closing.jump_stops_at_blocking_link = new_path;
+      break;
+    case Shortcut::kRefusals:
+      hypothesis.closing.skip_repeated_refusals = new_path;
       break;
   }
   PathRun run;
@@ -212,8 +225,10 @@ void registerBenchRankingCommand(CLI::App& app, Action& action) {
                   "pruning (screening stops where it cannot choose), best-first (screening "
                   "best-first against pruning in pre-score order), closure-shortcut (settling "
                   "skips the closure test while the squeeze is unbalanced), cell-skipping (the "
-                  "exact box gap skips empty cells) or jump-order (the fast closing's jump "
-                  "attempts stop at the first link that allows no step)")
+                  "exact box gap skips empty cells), jump-order (the fast closing's jump "
+                  "attempts stop at the first link that allows no step) or refusals (later passes "
+                  "do not test again a step the object, palm or limits refused where the finger "
+                  "still stands)")
       ->check(CLI::IsMember(shortcutsByName()))
       ->capture_default_str();
   cmd->add_option("--json", args->json_out, "Also write the rows as JSON");

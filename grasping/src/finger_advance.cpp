@@ -109,6 +109,25 @@ HandGeometry::HandGeometry(const HandModel& hand) : motion(hand) {
     }
     joints_moved_by_finger.push_back(std::move(order));
   }
+  // The joint above each link (-1 at the root), to walk each finger link's chain.
+  std::vector<int> joint_above(links.size(), -1);
+  for (std::size_t j = 0; j < joints.size(); ++j) joint_above[joints[j].child_link] = j;
+  for (std::size_t f = 0; f < hand.fingers().size(); ++f) {
+    std::vector<char> watched(joints.size(), 0);
+    for (int l : links_of_finger[f]) {
+      for (int j = joint_above[l]; j >= 0; j = joint_above[joints[j].parent_link])
+        watched[j] = watched[j] || closing_joints[j];
+    }
+    for (const auto& drive : hand.fingers()[f].drives) {
+      watched[drive.joint] = 1;
+      for (const auto& [joint, ratio] : drive.followers) watched[joint] = 1;
+    }
+    std::vector<int> list;
+    for (std::size_t j = 0; j < joints.size(); ++j) {
+      if (watched[j]) list.push_back(static_cast<int>(j));
+    }
+    joints_placing_finger.push_back(std::move(list));
+  }
 }
 
 void placeLink(const Pose& link_pose, std::vector<ShapeInstance>& shapes) {

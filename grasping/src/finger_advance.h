@@ -53,6 +53,7 @@ class FingerAdvance {
       for (int other : geometry_.finger_links) {
         if (hand_.fingerOfLink(other) != finger && !allowed_.allowed(l, other) &&
             linksCollide(shapes[l], shapes[other], queries_)) {
+          last_blocking_finger_ = hand_.fingerOfLink(other);
           return Blocker::kFinger;
         }
       }
@@ -79,6 +80,7 @@ class FingerAdvance {
     Eigen::VectorXd candidate = q_;
     for (const auto& [joint, amount] : moves) candidate[joint] += amount;
     hand_.normalise(candidate);
+    last_blocking_finger_ = -1;
     if ((candidate - q_).cwiseAbs().maxCoeff() < kNoJointMove) return false;  // at the limits
     placeFinger(finger, candidate);
     const Eigen::VectorXd change = candidate - q_;
@@ -93,12 +95,21 @@ class FingerAdvance {
 
   // One step of a drive: the drive joint with its followers; when that is blocked, a tendon keeps
   // pulling whichever phalanx is still free.
-  bool stepDrive(int finger, const FingerDrive& drive, double step, bool check_object = true) {
+  // `blockers`, when given and the step is refused: the other fingers that refused one of the
+  // moves tried (the object, the palm and the joint limits refused the rest).
+  bool stepDrive(int finger, const FingerDrive& drive, double step, bool check_object = true,
+                 std::vector<int>* blockers = nullptr) {
     std::vector<std::pair<int, double>> all{{drive.joint, step}};
     for (const auto& [joint, ratio] : drive.followers) all.emplace_back(joint, ratio * step);
+    if (blockers) blockers->clear();
+    const auto noteBlocker = [&] {
+      if (blockers && last_blocking_finger_ >= 0) blockers->push_back(last_blocking_finger_);
+    };
     bool moved = tryMove(finger, all, check_object);
+    if (!moved) noteBlocker();
     for (std::size_t k = 0; !moved && all.size() > 1 && k < all.size(); ++k) {
       moved = tryMove(finger, {all[k]}, check_object);
+      if (!moved) noteBlocker();
     }
     return moved;
   }
@@ -155,7 +166,16 @@ class FingerAdvance {
     std::vector<std::pair<int, double>> moves;  // (joint, amount) of one step
     int steps;
     bool stopped;
+    int index;  // among the hand's drives, fingers in order (the same in every pass)
   };
+
+  // AdvanceSettings::skip_repeated_refusals: a refused checked step is refused again while the
+  // placing joints of its finger and of the fingers that refused it keep their values (the same
+  // link placements against the same obstacles: the object and the palm do not move), so a later
+  // pass stops the drive without the collision tests. The stepwise closing tests it again: the
+  // same verdict.
+  bool knownRefused(const Drive& d) const;
+  void noteRefusal(const Drive& d, const std::vector<int>& blockers);
 
   // Joint change of `count` steps of the moves from the current configuration (limits, mimics).
   Eigen::VectorXd changeOf(const std::vector<std::pair<int, double>>& moves, double count) const;
@@ -219,6 +239,12 @@ class FingerAdvance {
   // (q_ or a candidate about to be tested); only the placed finger's change.
   std::vector<Pose> poses_;
   std::vector<char> touched_;
+  // The finger that refused tryMove's last refused move, -1 when the object, the palm or the
+  // limits did.
+  int last_blocking_finger_ = -1;
+  // Per drive (Drive::index): (joint, value) of the placing joints of its finger and of the fingers
+  // that refused its last refused step; empty when none is known.
+  std::vector<std::vector<std::pair<int, double>>> refused_at_;
 
   // Gap lower bounds kept valid while links move: a gap found once, less the displacement bounds
   // (motion_bounds.cpp) both links have moved since. A jump attempt recomputes a gap only when its

@@ -30,7 +30,7 @@ AdvanceResult FingerAdvance::runFast(const AdvanceSettings& settings) {
     std::vector<Drive> drives;
     for (std::size_t f = 0; f < fingers.size(); ++f) {
       for (const auto& drive : fingers[f].drives) {
-        Drive d{static_cast<int>(f), &drive, {}, 0, false};
+        Drive d{static_cast<int>(f), &drive, {}, 0, false, static_cast<int>(drives.size())};
         const double step = drive.direction * stepOf(drive.joint, settings);
         d.moves.emplace_back(drive.joint, step);
         for (const auto& [joint, ratio] : drive.followers)
@@ -44,6 +44,7 @@ AdvanceResult FingerAdvance::runFast(const AdvanceSettings& settings) {
     std::vector<int> retry_in(fingers.size(), 0), backoff(fingers.size(), 1);
     int iterations = 0, most_steps = 0;
     bool any_active = true;
+    std::vector<int> blockers;
     while (any_active) {
       any_active = false;
       for (int g = 0; g < static_cast<int>(fingers.size()); ++g) {
@@ -69,11 +70,16 @@ AdvanceResult FingerAdvance::runFast(const AdvanceSettings& settings) {
           const bool check_object = object_budget[g] <= 0;
           object_budget[g] = std::max(0, object_budget[g] - 1);
           for (Drive* d : members) {
-            if (stepDrive(d->finger, *d->drive, d->moves.front().second, check_object)) {
+            if (settings.skip_repeated_refusals && knownRefused(*d)) {
+              d->stopped = true;
+              continue;
+            }
+            if (stepDrive(d->finger, *d->drive, d->moves.front().second, check_object, &blockers)) {
               d->steps += 1;
               moved = 1;
             } else {
               d->stopped = true;
+              if (settings.skip_repeated_refusals) noteRefusal(*d, blockers);
             }
           }
         }
@@ -90,6 +96,25 @@ AdvanceResult FingerAdvance::runFast(const AdvanceSettings& settings) {
   result.joints = q_;
   result.touched = touched_;
   return result;
+}
+
+bool FingerAdvance::knownRefused(const Drive& d) const {
+  if (d.index >= static_cast<int>(refused_at_.size()) || refused_at_[d.index].empty()) return false;
+  for (const auto& [joint, value] : refused_at_[d.index]) {
+    if (q_[joint] != value) return false;
+  }
+  return true;
+}
+
+void FingerAdvance::noteRefusal(const Drive& d, const std::vector<int>& blockers) {
+  if (d.index >= static_cast<int>(refused_at_.size())) refused_at_.resize(d.index + 1);
+  auto& at = refused_at_[d.index];
+  at.clear();
+  const auto watch = [&](int finger) {
+    for (int j : geometry_.joints_placing_finger[finger]) at.emplace_back(j, q_[j]);
+  };
+  watch(d.finger);
+  for (int f : blockers) watch(f);
 }
 
 Eigen::VectorXd FingerAdvance::changeOf(const std::vector<std::pair<int, double>>& moves,

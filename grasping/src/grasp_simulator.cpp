@@ -113,6 +113,7 @@ ClosingResult GraspSimulator::closeImpl(const Pose& hand_pose, const Preshape& p
   settings.max_iterations_per_pass = params.max_iterations_per_pass;
   settings.method = params.method;
   settings.jump_stops_at_blocking_link = params.jump_stops_at_blocking_link;
+  settings.skip_repeated_refusals = params.skip_repeated_refusals;
   const double palm_distance =
       params.palm_contact_distance_m.value_or(defaults.palm_contact_distance_m);
   auto& geometry = impl_->geometry;

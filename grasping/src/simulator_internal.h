@@ -78,6 +78,10 @@ struct HandGeometry {
   std::vector<std::vector<int>> joints_moved_by_finger;
   // Per joint: whether any finger's closing turns it (drives, followers, their mimics).
   std::vector<char> closing_joints;
+  // Per finger, the joints a closing may turn on whose values its collision links' poses and its
+  // drives' limits depend: the closing joints above its links, and its drives and followers.
+  // While these keep their values, a step of the finger tests against the same link placements.
+  std::vector<std::vector<int>> joints_placing_finger;
   MotionBounds motion;
 };
 
@@ -129,6 +133,8 @@ struct AdvanceSettings {
   int max_iterations_per_pass = 5000;
   // ClosingParams::jump_stops_at_blocking_link (fast closing only).
   bool jump_stops_at_blocking_link = true;
+  // ClosingParams::skip_repeated_refusals (fast closing only).
+  bool skip_repeated_refusals = true;
 };
 
 struct AdvanceResult {

@@ -5,8 +5,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <functional>
 #include <memory>
 #include <random>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/logging.h"
@@ -147,40 +152,73 @@ TEST(FastClosing, AgreesWithStepwiseOnRealGraspsOfTheFourHands) {
   EXPECT_GT(total.closures, 50);
 }
 
-// A jump attempt that stops at the first link allowing no step (the default) takes the same steps
-// as one that measures every link: the same joints and contacts, exactly, on surface poses of a
-// Lego brick (where the Shadow hand's thumb refuses most attempts).
-TEST(FastClosing, StoppingAJumpAttemptAtTheBlockingLinkChangesNoClosing) {
-  SKELGRASP_REQUIRE_SHARED_DATA();
-  setLogLevel(spdlog::level::warn);
+// Closes surface poses of a Lego brick (where the Shadow hand's thumb refuses most jump attempts
+// and crawls along the object) with an exact shortcut of the fast closing off and on (`set` turns
+// it on or off in a ClosingParams whose default is on): the same joints and contacts, exactly.
+// Returns, per hand, the FCL queries of the closings without and with the shortcut.
+std::vector<std::pair<std::size_t, std::size_t>> expectShortcutChangesNoClosing(
+    const std::function<void(ClosingParams&, bool)>& set) {
   const std::string path = test::sharedDataDir() + "/objects/ycb/073-c_lego_duplo.ply";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not found";
+  if (!std::filesystem::exists(path)) return {};
   const GraspObject object(loadMesh(path));
   constexpr int kPosesPerPreshape = 12;
+  std::vector<std::pair<std::size_t, std::size_t>> queries;
   for (const std::string name : {"armar3", "sdh", "shadow"}) {
     const HandModel hand = loadBuiltinHand(name);
-    GraspSimulator every_link_sim(hand, object), stopping_sim(hand, object);
-    ClosingParams every_link, stopping;
-    every_link.jump_stops_at_blocking_link = false;
-    ASSERT_TRUE(stopping.jump_stops_at_blocking_link);  // the default
+    GraspSimulator off_sim(hand, object), on_sim(hand, object);
+    ClosingParams off, on;
+    set(off, false);
+    set(on, true);
     std::mt19937_64 rng(7);
     int closed = 0;
     for (const auto& [preshape_name, preshape] : hand.preshapes()) {
       for (int k = 0; k < kPosesPerPreshape; ++k) {
-        const auto placed = test::freeSurfaceHandPose(every_link_sim, object, preshape, rng);
+        const auto placed = test::freeSurfaceHandPose(off_sim, object, preshape, rng);
         if (!placed) continue;
-        const auto a = every_link_sim.close(*placed, preshape, every_link);
-        const auto b = stopping_sim.close(*placed, preshape, stopping);
+        const auto a = off_sim.close(*placed, preshape, off);
+        const auto b = on_sim.close(*placed, preshape, on);
         EXPECT_EQ(a.joints, b.joints) << name << " " << preshape_name << " pose " << k;
         EXPECT_EQ(sortedLinks(a), sortedLinks(b)) << name << " " << preshape_name << " pose " << k;
-        ASSERT_EQ(a.contacts.size(), b.contacts.size());
+        EXPECT_EQ(a.passes, b.passes) << name << " " << preshape_name << " pose " << k;
+        EXPECT_EQ(a.reason, b.reason) << name << " " << preshape_name << " pose " << k;
+        if (a.contacts.size() != b.contacts.size()) {
+          ADD_FAILURE() << name << " pose " << k << ": " << a.contacts.size() << " against "
+                        << b.contacts.size() << " contacts";
+          continue;
+        }
         for (std::size_t c = 0; c < a.contacts.size(); ++c)
           EXPECT_EQ(a.contacts[c].point, b.contacts[c].point) << name << " pose " << k;
         ++closed;
       }
     }
     EXPECT_GE(closed, kPosesPerPreshape) << name;
+    queries.emplace_back(off_sim.collisionQueries(), on_sim.collisionQueries());
   }
+  return queries;
+}
+
+// A jump attempt that stops at the first link allowing no step (the default) takes the same steps
+// as one that measures every link.
+TEST(FastClosing, StoppingAJumpAttemptAtTheBlockingLinkChangesNoClosing) {
+  SKELGRASP_REQUIRE_SHARED_DATA();
+  setLogLevel(spdlog::level::warn);
+  ASSERT_TRUE(ClosingParams{}.jump_stops_at_blocking_link);  // the default
+  const auto queries = expectShortcutChangesNoClosing(
+      [](ClosingParams& p, bool on) { p.jump_stops_at_blocking_link = on; });
+  if (queries.empty()) GTEST_SKIP() << "073-c_lego_duplo.ply not found in the shared data";
+}
+
+// A later pass that does not test again a step refused where its finger (and the finger that
+// refused it) still stand (the default) takes the same steps as one that tests every drive, and
+// makes fewer collision queries.
+TEST(FastClosing, SkippingRepeatedRefusalsChangesNoClosing) {
+  SKELGRASP_REQUIRE_SHARED_DATA();
+  setLogLevel(spdlog::level::warn);
+  ASSERT_TRUE(ClosingParams{}.skip_repeated_refusals);  // the default
+  const auto queries = expectShortcutChangesNoClosing(
+      [](ClosingParams& p, bool on) { p.skip_repeated_refusals = on; });
+  if (queries.empty()) GTEST_SKIP() << "073-c_lego_duplo.ply not found in the shared data";
+  for (const auto& [off, on] : queries) EXPECT_LT(on, off);
 }
 
 TEST(FastClosing, StaysStepwiseNearObstaclesOnGeneratedShapes) {

@@ -73,6 +73,11 @@ struct ClosingParams {
   // attempts so), instead of measuring every moving link's gap. The same closings either way; off
   // for `skelgrasp bench ranking --compare jump-order`.
   bool jump_stops_at_blocking_link = true;
+  // Fast closing: a drive whose step was refused is not tested again in a later pass while its
+  // finger, and any finger that refused it, stand where they stood (the object and the palm do not
+  // move: the same test, the same verdict). The same closings either way; off for `skelgrasp bench
+  // ranking --compare refusals`.
+  bool skip_repeated_refusals = true;
 };
 
 struct ClosingResult {
