@@ -7,8 +7,8 @@
 // (grasping/settling.h); `cell-skipping`, the exact box gap skipping empty cells of the triangle
 // grid (DistanceFieldParams::skip_empty_cells); `jump-order`, the fast closing's jump attempts
 // stopping at the first link that allows no step (ClosingParams::jump_stops_at_blocking_link);
-// `refusals`, the fast closing's later passes not testing again a step the object, the palm or the
-// limits refused where the finger still stands (ClosingParams::skip_repeated_refusals).
+// `refusals`, the fast closing's later passes not testing again a refused step while the fingers it
+// was tested against stand where they stood (ClosingParams::skip_repeated_refusals).
 #include <fmt/format.h>
 #include <tbb/global_control.h>
 
@@ -227,8 +227,8 @@ void registerBenchRankingCommand(CLI::App& app, Action& action) {
                   "skips the closure test while the squeeze is unbalanced), cell-skipping (the "
                   "exact box gap skips empty cells), jump-order (the fast closing's jump "
                   "attempts stop at the first link that allows no step) or refusals (later passes "
-                  "do not test again a step the object, palm or limits refused where the finger "
-                  "still stands)")
+                  "do not test again a refused step while the fingers it was tested against "
+                  "stand where they stood)")
       ->check(CLI::IsMember(shortcutsByName()))
       ->capture_default_str();
   cmd->add_option("--json", args->json_out, "Also write the rows as JSON");

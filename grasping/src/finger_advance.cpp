@@ -111,7 +111,8 @@ HandGeometry::HandGeometry(const HandModel& hand) : motion(hand) {
   }
   // The joint above each link (-1 at the root), to walk each finger link's chain.
   std::vector<int> joint_above(links.size(), -1);
-  for (std::size_t j = 0; j < joints.size(); ++j) joint_above[joints[j].child_link] = j;
+  for (std::size_t j = 0; j < joints.size(); ++j)
+    joint_above[joints[j].child_link] = static_cast<int>(j);
   for (std::size_t f = 0; f < hand.fingers().size(); ++f) {
     std::vector<char> watched(joints.size(), 0);
     for (int l : links_of_finger[f]) {

@@ -18,7 +18,13 @@ constexpr double kStepCountSlack = 1e-9;
 // A lower bound of the distance between two placed shapes from their covering spheres.
 double sphereCoverGap(const ShapeInstance& a, const ShapeInstance& b);
 
-enum class Blocker { kNone, kObject, kFinger, kPalm };
+enum class Blocker { kNone, kObject, kFinger, kPalm, kLimits };
+
+// What refused a move; `finger` is the other finger when `by` is kFinger (else -1).
+struct Block {
+  Blocker by = Blocker::kNone;
+  int finger = -1;
+};
 
 // One closing: the configuration, the links the object blocked, and the moves that keep the
 // configuration collision-free.
@@ -42,29 +48,28 @@ class FingerAdvance {
   // What blocks finger `finger` at its current placement (object contacts are noted).
   // `check_object` false: the object is known to be out of reach (fast closing's budget).
   // `change`: the joint change that placed the finger, for the fast closing's gap bounds.
-  Blocker blocked(int finger, bool check_object, const Eigen::VectorXd& change) {
+  Block blocked(int finger, bool check_object, const Eigen::VectorXd& change) {
     auto& shapes = geometry_.shapes;
     for (int l : geometry_.links_of_finger[finger]) {
       if (check_object && !provablyClearOfObject(l, change) &&
           linkHitsObject(shapes[l], object_, queries_)) {
         touched_[l] = 1;
-        return Blocker::kObject;
+        return {Blocker::kObject};
       }
       for (int other : geometry_.finger_links) {
         if (hand_.fingerOfLink(other) != finger && !allowed_.allowed(l, other) &&
             linksCollide(shapes[l], shapes[other], queries_)) {
-          last_blocking_finger_ = hand_.fingerOfLink(other);
-          return Blocker::kFinger;
+          return {Blocker::kFinger, hand_.fingerOfLink(other)};
         }
       }
       if (hand_.modeOfLink(l) == CollisionMode::kAll) {
         for (int s : geometry_.static_links) {
           if (!allowed_.allowed(l, s) && linksCollide(shapes[l], shapes[s], queries_))
-            return Blocker::kPalm;
+            return {Blocker::kPalm};
         }
       }
     }
-    return Blocker::kNone;
+    return {};
   }
 
   // Only the moving finger's links change pose (a drive moves joints of its own finger).
@@ -74,23 +79,24 @@ class FingerAdvance {
       placeLink(hand_pose_ * poses_[l], geometry_.shapes[l]);
   }
 
-  // Tries q + the given (joint, amount) moves; keeps it if collision-free.
-  bool tryMove(int finger, const std::vector<std::pair<int, double>>& moves,
-               bool check_object = true) {
+  // Tries q + the given (joint, amount) moves; keeps it if collision-free (then by kNone), else
+  // says what refused it.
+  Block tryMove(int finger, const std::vector<std::pair<int, double>>& moves,
+                bool check_object = true) {
     Eigen::VectorXd candidate = q_;
     for (const auto& [joint, amount] : moves) candidate[joint] += amount;
     hand_.normalise(candidate);
-    last_blocking_finger_ = -1;
-    if ((candidate - q_).cwiseAbs().maxCoeff() < kNoJointMove) return false;  // at the limits
+    if ((candidate - q_).cwiseAbs().maxCoeff() < kNoJointMove) return {Blocker::kLimits};
     placeFinger(finger, candidate);
     const Eigen::VectorXd change = candidate - q_;
-    if (blocked(finger, check_object, change) != Blocker::kNone) {
+    const Block block = blocked(finger, check_object, change);
+    if (block.by != Blocker::kNone) {
       placeFinger(finger, q_);
-      return false;
+      return block;
     }
     noteMove(finger, change);
     q_ = candidate;
-    return true;
+    return block;
   }
 
   // One step of a drive: the drive joint with its followers; when that is blocked, a tendon keeps
@@ -102,15 +108,14 @@ class FingerAdvance {
     std::vector<std::pair<int, double>> all{{drive.joint, step}};
     for (const auto& [joint, ratio] : drive.followers) all.emplace_back(joint, ratio * step);
     if (blockers) blockers->clear();
-    const auto noteBlocker = [&] {
-      if (blockers && last_blocking_finger_ >= 0) blockers->push_back(last_blocking_finger_);
+    // Whether the move went through; if not, notes the finger that refused it.
+    const auto moves = [&](const Block& block) {
+      if (blockers && block.finger >= 0) blockers->push_back(block.finger);
+      return block.by == Blocker::kNone;
     };
-    bool moved = tryMove(finger, all, check_object);
-    if (!moved) noteBlocker();
-    for (std::size_t k = 0; !moved && all.size() > 1 && k < all.size(); ++k) {
-      moved = tryMove(finger, {all[k]}, check_object);
-      if (!moved) noteBlocker();
-    }
+    bool moved = moves(tryMove(finger, all, check_object));
+    for (std::size_t k = 0; !moved && all.size() > 1 && k < all.size(); ++k)
+      moved = moves(tryMove(finger, {all[k]}, check_object));
     return moved;
   }
 
@@ -164,9 +169,12 @@ class FingerAdvance {
     int finger;
     const FingerDrive* drive;
     std::vector<std::pair<int, double>> moves;  // (joint, amount) of one step
-    int steps;
-    bool stopped;
-    int index;  // among the hand's drives, fingers in order (the same in every pass)
+    int steps;                                  // in this pass
+    bool stopped;                               // in this pass
+    // AdvanceSettings::skip_repeated_refusals: (joint, value) of the placing joints of its finger
+    // and of the fingers that refused its last refused step; empty when none is known or the drive
+    // has moved since.
+    std::vector<std::pair<int, double>> refused_at;
   };
 
   // AdvanceSettings::skip_repeated_refusals: a refused checked step is refused again while the
@@ -175,7 +183,7 @@ class FingerAdvance {
   // pass stops the drive without the collision tests. The stepwise closing tests it again: the
   // same verdict.
   bool knownRefused(const Drive& d) const;
-  void noteRefusal(const Drive& d, const std::vector<int>& blockers);
+  void noteRefusal(Drive& d, const std::vector<int>& blockers) const;
 
   // Joint change of `count` steps of the moves from the current configuration (limits, mimics).
   Eigen::VectorXd changeOf(const std::vector<std::pair<int, double>>& moves, double count) const;
@@ -239,12 +247,6 @@ class FingerAdvance {
   // (q_ or a candidate about to be tested); only the placed finger's change.
   std::vector<Pose> poses_;
   std::vector<char> touched_;
-  // The finger that refused tryMove's last refused move, -1 when the object, the palm or the
-  // limits did.
-  int last_blocking_finger_ = -1;
-  // Per drive (Drive::index): (joint, value) of the placing joints of its finger and of the fingers
-  // that refused its last refused step; empty when none is known.
-  std::vector<std::vector<std::pair<int, double>>> refused_at_;
 
   // Gap lower bounds kept valid while links move: a gap found once, less the displacement bounds
   // (motion_bounds.cpp) both links have moved since. A jump attempt recomputes a gap only when its

@@ -26,17 +26,21 @@ constexpr int kMaxBackoffIterations = 16;
 AdvanceResult FingerAdvance::runFast(const AdvanceSettings& settings) {
   AdvanceResult result;
   const auto& fingers = hand_.fingers();
+  std::vector<Drive> drives;
+  for (std::size_t f = 0; f < fingers.size(); ++f) {
+    for (const auto& drive : fingers[f].drives) {
+      Drive d{static_cast<int>(f), &drive, {}, 0, false, {}};
+      const double step = drive.direction * stepOf(drive.joint, settings);
+      d.moves.emplace_back(drive.joint, step);
+      for (const auto& [joint, ratio] : drive.followers) d.moves.emplace_back(joint, ratio * step);
+      drives.push_back(std::move(d));
+    }
+  }
   for (int pass = 0; pass < settings.max_passes; ++pass) {
-    std::vector<Drive> drives;
-    for (std::size_t f = 0; f < fingers.size(); ++f) {
-      for (const auto& drive : fingers[f].drives) {
-        Drive d{static_cast<int>(f), &drive, {}, 0, false, static_cast<int>(drives.size())};
-        const double step = drive.direction * stepOf(drive.joint, settings);
-        d.moves.emplace_back(drive.joint, step);
-        for (const auto& [joint, ratio] : drive.followers)
-          d.moves.emplace_back(joint, ratio * step);
-        drives.push_back(std::move(d));
-      }
+    // Every drive starts again; what refused it is remembered across passes.
+    for (Drive& d : drives) {
+      d.steps = 0;
+      d.stopped = false;
     }
     const std::vector<int> group = lockstepGroups(drives);
     // Per group: iterations still provably clear of the object (no object tests needed).
@@ -76,6 +80,7 @@ AdvanceResult FingerAdvance::runFast(const AdvanceSettings& settings) {
             }
             if (stepDrive(d->finger, *d->drive, d->moves.front().second, check_object, &blockers)) {
               d->steps += 1;
+              d->refused_at.clear();
               moved = 1;
             } else {
               d->stopped = true;
@@ -99,19 +104,17 @@ AdvanceResult FingerAdvance::runFast(const AdvanceSettings& settings) {
 }
 
 bool FingerAdvance::knownRefused(const Drive& d) const {
-  if (d.index >= static_cast<int>(refused_at_.size()) || refused_at_[d.index].empty()) return false;
-  for (const auto& [joint, value] : refused_at_[d.index]) {
+  if (d.refused_at.empty()) return false;
+  for (const auto& [joint, value] : d.refused_at) {
     if (q_[joint] != value) return false;
   }
   return true;
 }
 
-void FingerAdvance::noteRefusal(const Drive& d, const std::vector<int>& blockers) {
-  if (d.index >= static_cast<int>(refused_at_.size())) refused_at_.resize(d.index + 1);
-  auto& at = refused_at_[d.index];
-  at.clear();
+void FingerAdvance::noteRefusal(Drive& d, const std::vector<int>& blockers) const {
+  d.refused_at.clear();
   const auto watch = [&](int finger) {
-    for (int j : geometry_.joints_placing_finger[finger]) at.emplace_back(j, q_[j]);
+    for (int j : geometry_.joints_placing_finger[finger]) d.refused_at.emplace_back(j, q_[j]);
   };
   watch(d.finger);
   for (int f : blockers) watch(f);
@@ -313,6 +316,7 @@ int FingerAdvance::jumpGroup(std::vector<Drive*>& members, const AdvanceSettings
       d->stopped = true;  // at its limits, as the stepwise closing's first failed step
     } else {
       d->steps += static_cast<int>(steps);
+      d->refused_at.clear();
     }
     if (std::find(placed.begin(), placed.end(), d->finger) == placed.end()) {
       placeFinger(d->finger, q_);

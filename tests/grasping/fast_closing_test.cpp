@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <functional>
 #include <memory>
 #include <random>
 #include <string>
@@ -153,11 +152,13 @@ TEST(FastClosing, AgreesWithStepwiseOnRealGraspsOfTheFourHands) {
 }
 
 // Closes surface poses of a Lego brick (where the Shadow hand's thumb refuses most jump attempts
-// and crawls along the object) with an exact shortcut of the fast closing off and on (`set` turns
-// it on or off in a ClosingParams whose default is on): the same joints and contacts, exactly.
-// Returns, per hand, the FCL queries of the closings without and with the shortcut.
+// and crawls along the object) with an exact shortcut of the fast closing (a ClosingParams flag,
+// on by default) off and on: the same joints and contacts, exactly. Returns, per hand, the FCL
+// queries of the closings without and with the shortcut; none when the brick is not there.
 std::vector<std::pair<std::size_t, std::size_t>> expectShortcutChangesNoClosing(
-    const std::function<void(ClosingParams&, bool)>& set) {
+    bool ClosingParams::*shortcut) {
+  setLogLevel(spdlog::level::warn);
+  EXPECT_TRUE(ClosingParams{}.*shortcut) << "the shortcut is on by default";
   const std::string path = test::sharedDataDir() + "/objects/ycb/073-c_lego_duplo.ply";
   if (!std::filesystem::exists(path)) return {};
   const GraspObject object(loadMesh(path));
@@ -167,8 +168,8 @@ std::vector<std::pair<std::size_t, std::size_t>> expectShortcutChangesNoClosing(
     const HandModel hand = loadBuiltinHand(name);
     GraspSimulator off_sim(hand, object), on_sim(hand, object);
     ClosingParams off, on;
-    set(off, false);
-    set(on, true);
+    off.*shortcut = false;
+    on.*shortcut = true;
     std::mt19937_64 rng(7);
     int closed = 0;
     for (const auto& [preshape_name, preshape] : hand.preshapes()) {
@@ -201,11 +202,8 @@ std::vector<std::pair<std::size_t, std::size_t>> expectShortcutChangesNoClosing(
 // as one that measures every link.
 TEST(FastClosing, StoppingAJumpAttemptAtTheBlockingLinkChangesNoClosing) {
   SKELGRASP_REQUIRE_SHARED_DATA();
-  setLogLevel(spdlog::level::warn);
-  ASSERT_TRUE(ClosingParams{}.jump_stops_at_blocking_link);  // the default
-  const auto queries = expectShortcutChangesNoClosing(
-      [](ClosingParams& p, bool on) { p.jump_stops_at_blocking_link = on; });
-  if (queries.empty()) GTEST_SKIP() << "073-c_lego_duplo.ply not found in the shared data";
+  if (expectShortcutChangesNoClosing(&ClosingParams::jump_stops_at_blocking_link).empty())
+    GTEST_SKIP() << "073-c_lego_duplo.ply not found in the shared data";
 }
 
 // A later pass that does not test again a step refused where its finger (and the finger that
@@ -213,10 +211,7 @@ TEST(FastClosing, StoppingAJumpAttemptAtTheBlockingLinkChangesNoClosing) {
 // makes fewer collision queries.
 TEST(FastClosing, SkippingRepeatedRefusalsChangesNoClosing) {
   SKELGRASP_REQUIRE_SHARED_DATA();
-  setLogLevel(spdlog::level::warn);
-  ASSERT_TRUE(ClosingParams{}.skip_repeated_refusals);  // the default
-  const auto queries = expectShortcutChangesNoClosing(
-      [](ClosingParams& p, bool on) { p.skip_repeated_refusals = on; });
+  const auto queries = expectShortcutChangesNoClosing(&ClosingParams::skip_repeated_refusals);
   if (queries.empty()) GTEST_SKIP() << "073-c_lego_duplo.ply not found in the shared data";
   for (const auto& [off, on] : queries) EXPECT_LT(on, off);
 }
