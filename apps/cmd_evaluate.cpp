@@ -62,8 +62,8 @@ struct EvaluateArgs {
   bool restart = false;
   bool retry_failed = false;
   bool robust_ranking = evaluation::BatchParams{}.ranking.enabled;
-  std::size_t screen_k = evaluation::BatchParams{}.ranking.screen_k;
-  int screen_samples = evaluation::BatchParams{}.ranking.screen_samples;
+  std::optional<std::size_t> screen_k;  // unset: each hand's ranking budget
+  std::optional<int> screen_samples;
   RobustRefineOptions refine;
 };
 
@@ -183,10 +183,10 @@ void registerEvaluateCommands(CLI::App& app, Action& action) {
       ->capture_default_str();
   cmd->add_flag(
       "--robust-ranking", a->robust_ranking,
-      fmt::format("Also rank each run's grasps by robustness as plan does (best {} of {} screened, "
-                  "{} samples each) and report the r of the returned top grasps",
-                  evaluation::RobustRankingParams{}.top_k,
-                  evaluation::RobustRankingParams{}.screen_k,
+      fmt::format("Also rank each run's grasps by robustness as plan does (best {} of {} screened "
+                  "unless the hand's ranking budget says otherwise, {} samples each) and report "
+                  "the r of the returned top grasps",
+                  evaluation::RobustRankingParams{}.top_k, evaluation::kDefaultScreenK,
                   evaluation::RobustRankingParams{}.robustness.samples));
   addScreenOption(*cmd, a->screen_k);
   addScreenSamplesOption(*cmd, a->screen_samples);

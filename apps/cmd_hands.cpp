@@ -15,6 +15,7 @@
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/common/pose.h"
+#include "skelgrasp/evaluation/robust_ranking.h"
 #include "skelgrasp/grasping/contacts_io.h"
 #include "skelgrasp/grasping/grasp_simulator.h"
 #include "skelgrasp/grasping/hand_render.h"
@@ -40,19 +41,29 @@ std::string contactModel(const grasping::HandModel& hand) {
   return torsion_m > 0 ? fmt::format("soft {:.1f} mm", 1000 * torsion_m) : std::string("point");
 }
 
+// The robust ranking's budget for the hand unless options say otherwise: candidates screened x
+// samples each, and the r below which scored grasps are searched.
+std::string rankingBudget(const grasping::HandModel& hand) {
+  const auto used = evaluation::rankingBudgetFor(evaluation::RobustRankingParams{}, hand);
+  return fmt::format("{}x{}, r<{:g}", used.screen_k, used.screen_samples, used.search_below_r);
+}
+
 int runHands() {
-  std::cout << fmt::format("{:<18} {:>7} {:>6} {:>7}  {:<13}  {}\n", "hand", "fingers", "DOF",
-                           "joints", "contacts", "preshapes");
+  std::cout << fmt::format("{:<18} {:>7} {:>6} {:>7}  {:<13}  {:<14}  {}\n", "hand", "fingers",
+                           "DOF", "joints", "contacts", "ranking", "preshapes");
   for (const auto& name : grasping::builtinHandNames()) {
     const auto hand = grasping::loadBuiltinHand(name);
     std::string preshapes;
     for (const auto& [p, _] : hand.preshapes()) preshapes += (preshapes.empty() ? "" : ", ") + p;
-    std::cout << fmt::format("{:<18} {:>7} {:>6} {:>7}  {:<13}  {}   ({})\n", name,
+    std::cout << fmt::format("{:<18} {:>7} {:>6} {:>7}  {:<13}  {:<14}  {}   ({})\n", name,
                              hand.fingers().size(), hand.numDrives(), hand.numMovingJoints(),
-                             contactModel(hand), preshapes, hand.title());
+                             contactModel(hand), rankingBudget(hand), preshapes, hand.title());
   }
   std::cout << "DOF = actuated drives while closing; joints = joints those drives move; contacts = "
-               "point, or soft fingers with their torsional friction (--torsional-friction)\n";
+               "point, or soft fingers with their torsional friction (--torsional-friction); "
+               "ranking = the robust ranking's budget: candidates screened x samples each, and "
+               "the r below which scored grasps are searched for a more robust pose "
+               "(--robustness-screen, --robustness-screen-samples, --robust-refine-below-r)\n";
   return kExitOk;
 }
 

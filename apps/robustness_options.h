@@ -31,30 +31,33 @@ inline CLI::Option* addRobustnessVariantOption(CLI::App& cmd, std::string& varia
       ->capture_default_str();
 }
 
-// --robustness-screen, the same on every command that ranks by robustness.
-inline CLI::Option* addScreenOption(CLI::App& cmd, std::size_t& screen_k) {
+// --robustness-screen, the same on every command that ranks by robustness. No shown default:
+// unset means the hand's ranking budget.
+inline CLI::Option* addScreenOption(CLI::App& cmd, std::optional<std::size_t>& screen_k) {
   return cmd
       .add_option("--robustness-screen", screen_k,
-                  "Grasps screened with a cheap r to choose those scored, the best by epsilon "
-                  "(0 = all; none when at most --robustness-top-k)")
-      ->transform(countIn(0, kMaxCount))
-      ->capture_default_str();
+                  fmt::format("Grasps screened with a cheap r to choose those scored, the best by "
+                              "epsilon (0 = all; none when at most --robustness-top-k; default: "
+                              "the hand's ranking budget, else {})",
+                              evaluation::kDefaultScreenK))
+      ->transform(countIn(0, kMaxCount));
 }
 
 // --robustness-screen-samples, the same on every command that ranks by robustness.
-inline CLI::Option* addScreenSamplesOption(CLI::App& cmd, int& screen_samples) {
+inline CLI::Option* addScreenSamplesOption(CLI::App& cmd, std::optional<int>& screen_samples) {
   return cmd
       .add_option("--robustness-screen-samples", screen_samples,
-                  "Perturbed executions per screened grasp")
-      ->transform(countIn(1, kMaxRankingSamples))
-      ->capture_default_str();
+                  fmt::format("Perturbed executions per screened grasp (default: the hand's "
+                              "ranking budget, else {})",
+                              evaluation::kDefaultScreenSamples))
+      ->transform(countIn(1, kMaxRankingSamples));
 }
 
 // Refinement for robustness (evaluation/robust_refinement.h), the same on every command that ranks.
 struct RobustRefineOptions {
   bool disabled = !evaluation::RobustRefinementParams{}.enabled;
   std::size_t grasps = evaluation::RobustRefinementParams{}.max_grasps;
-  double search_below_r = evaluation::RobustRefinementParams{}.search_below_r;
+  std::optional<double> search_below_r;  // unset: the hand's ranking budget
   int evaluations = evaluation::RobustRefinementParams{}.max_evaluations;
   int samples = evaluation::RobustRefinementParams{}.samples;
   double max_standoff_m = evaluation::RobustRefinementParams{}.max_standoff_m;
@@ -69,10 +72,11 @@ struct RobustRefineOptions {
         ->transform(countIn(0, kMaxCount))
         ->capture_default_str();
     cmd.add_option("--robust-refine-below-r", search_below_r,
-                   "Only scored grasps whose r is below this are searched (1 = all but those "
-                   "that held in every sample, 0 = none)")
-        ->check(finiteIn(0, 1))
-        ->capture_default_str();
+                   fmt::format("Only scored grasps whose r is below this are searched (1 = all "
+                               "but those that held in every sample, 0 = none; default: the "
+                               "hand's ranking budget, else {})",
+                               evaluation::kDefaultSearchBelowR))
+        ->check(finiteIn(0, 1));
     cmd.add_option("--robust-refine-evaluations", evaluations,
                    "Poses tried near each scored grasp in the search for a more robust one")
         ->transform(countIn(0, kMaxRankingSamples))
@@ -109,9 +113,9 @@ struct RobustnessOptions {
   int samples = evaluation::RobustRankingParams{}.robustness.samples;
   std::string variant = evaluation::toString(evaluation::RobustRankingParams{}.robustness.variant);
   std::size_t top_k = evaluation::RobustRankingParams{}.top_k;
-  std::size_t screen_k = evaluation::RobustRankingParams{}.screen_k;
-  int screen_samples = evaluation::RobustRankingParams{}.screen_samples;
-  std::optional<double> mu;  // unset: the planner's --mu
+  std::optional<std::size_t> screen_k;  // unset: the hand's ranking budget
+  std::optional<int> screen_samples;    // unset: the hand's ranking budget
+  std::optional<double> mu;             // unset: the planner's --mu
   RobustRefineOptions refine;
 
   void addTo(CLI::App& cmd) {

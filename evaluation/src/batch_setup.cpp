@@ -82,11 +82,17 @@ std::string shown(const nlohmann::json& value) {
 }  // namespace
 
 // Robust ranking as recorded in batch.json (only when on, so batches from before the option
-// resume).
-nlohmann::json rankingOptions(const RobustRankingParams& r) {
+// resume). Budgets left to the hands are recorded as the defaults, as before they became optional,
+// and each hand whose own budget differs from that gets its budget in "hand_budgets": a batch
+// from before the hands had budgets resumes only where nothing changed.
+nlohmann::json rankingOptions(const RobustRankingParams& r,
+                              const std::vector<grasping::HandModel>& hands) {
+  const RankingBudgetUsed recorded{r.screen_k.value_or(kDefaultScreenK),
+                                   r.screen_samples.value_or(kDefaultScreenSamples),
+                                   r.refinement.search_below_r.value_or(kDefaultSearchBelowR)};
   nlohmann::json options = {{"top_k", r.top_k},
-                            {"screen_k", r.screen_k},
-                            {"screen_samples", r.screen_samples},
+                            {"screen_k", recorded.screen_k},
+                            {"screen_samples", recorded.screen_samples},
                             {"samples", r.robustness.samples},
                             {"variant", toString(r.robustness.variant)},
                             // The search moves the returned grasps, so a batch resumed with another
@@ -94,7 +100,7 @@ nlohmann::json rankingOptions(const RobustRankingParams& r) {
                             {"refinement",
                              {{"enabled", r.refinement.enabled},
                               {"max_grasps", r.refinement.max_grasps},
-                              {"search_below_r", r.refinement.search_below_r},
+                              {"search_below_r", recorded.search_below_r},
                               {"max_evaluations", r.refinement.max_evaluations},
                               {"samples", r.refinement.samples},
                               {"max_standoff_m", r.refinement.max_standoff_m},
@@ -103,6 +109,15 @@ nlohmann::json rankingOptions(const RobustRankingParams& r) {
   // before reported the moved grasps' r from the samples that chose them, so it does not resume
   // into this one.
   if (r.refinement.enabled) options["refinement"]["check"] = "own_samples";
+  for (const auto& hand : hands) {
+    const RankingBudgetUsed own = rankingBudgetFor(r, hand);
+    if (own.screen_k != recorded.screen_k || own.screen_samples != recorded.screen_samples ||
+        own.search_below_r != recorded.search_below_r) {
+      options["hand_budgets"][hand.name()] = {{"screen_k", own.screen_k},
+                                              {"screen_samples", own.screen_samples},
+                                              {"search_below_r", own.search_below_r}};
+    }
+  }
   return options;
 }
 
@@ -152,7 +167,7 @@ nlohmann::json resultOptions(const BatchParams& p, const std::vector<grasping::H
   // fingertip tripod); a batch from before planned power ones only, so it does not resume into
   // this one.
   if (p.centre_candidates) options["centre_candidate_types"] = "power_and_precision";
-  if (p.ranking.enabled) options["ranking"] = rankingOptions(p.ranking);
+  if (p.ranking.enabled) options["ranking"] = rankingOptions(p.ranking, hands);
   // Batches from before the option judged by patch centres and recorded nothing: only corners are
   // recorded, so those resume with --contact-patch centre and not with the default.
   if (c.contact_patch != grasping::ContactPatch::kCentre)

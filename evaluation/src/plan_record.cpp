@@ -46,7 +46,11 @@ nlohmann::json rankingRecordJson(const RobustRankingResult& ranking) {
           {"refined", ranking.refined},
           {"screening_s", ranking.screening_s},
           {"scoring_s", ranking.scoring_s},
-          {"refinement_s", ranking.refinement_s}};
+          {"refinement_s", ranking.refinement_s},
+          {"budget",
+           {{"screen_grasps", ranking.budget.screen_k},
+            {"screen_samples", ranking.budget.screen_samples},
+            {"refine_below_r", ranking.budget.search_below_r}}}};
 }
 
 nlohmann::json planTimingJson(const PlanTiming& timing) {

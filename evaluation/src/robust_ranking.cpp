@@ -37,14 +37,14 @@ constexpr std::uint64_t kCheckStream = 3;
 // grasp's robustness; true when the grasp was replaced by a moved pose.
 bool refineScoredGrasp(grasping::GraspSimulator& simulator, grasping::Grasp& grasp,
                        const grasping::HypothesisParams& planner, const RobustnessParams& rp,
-                       const RobustRefinementParams& params) {
+                       const RobustRefinementParams& params, double search_below_r) {
   grasping::GraspRobustRefinement record;
   record.search_samples = params.samples;
   record.r_before = grasp.robustness->r;
   record.preshape_before = grasp.preshape;
   // A grasp that held in (nearly) every scoring sample is not searched: its r is at most a few
   // samples short of 1, which the search's few samples cannot tell apart.
-  if (grasp.robustness->r >= params.search_below_r) {
+  if (grasp.robustness->r >= search_below_r) {
     grasp.robustness->refinement = record;
     return false;
   }
@@ -228,6 +228,18 @@ grasping::GraspRobustness graspRobustness(const RobustnessResult& result,
   return r;
 }
 
+RankingBudgetUsed rankingBudgetFor(const RobustRankingParams& params,
+                                   const grasping::HandModel& hand) {
+  const grasping::RankingBudget& own = hand.rankingBudget();
+  RankingBudgetUsed used;
+  used.screen_k = params.screen_k.value_or(own.screen_grasps.value_or(kDefaultScreenK));
+  used.screen_samples =
+      params.screen_samples.value_or(own.screen_samples.value_or(kDefaultScreenSamples));
+  used.search_below_r =
+      params.refinement.search_below_r.value_or(own.refine_below_r.value_or(kDefaultSearchBelowR));
+  return used;
+}
+
 RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
                                      const grasping::GraspObject& object,
                                      std::vector<grasping::Grasp> grasps,
@@ -243,15 +255,16 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
   }
   if (params.enabled && params.robustness.samples < 1)
     throw InvalidArgument("robust ranking: need at least one robustness sample");
-  if (params.enabled && params.screen_samples < 1)
+  if (params.enabled && params.screen_samples && *params.screen_samples < 1)
     throw InvalidArgument("robust ranking: need at least one screening sample");
   if (params.friction && !(std::isfinite(*params.friction) && *params.friction >= 0))
     throw InvalidArgument("robust ranking: friction must be finite and >= 0");
-  if (!(params.refinement.search_below_r >= 0 && params.refinement.search_below_r <= 1))
+  if (const auto& bar = params.refinement.search_below_r; bar && !(*bar >= 0 && *bar <= 1))
     throw InvalidArgument("robust ranking: refinement's search_below_r must be in [0, 1]");
   Stopwatch watch;
   RobustRankingResult out;
   out.enabled = params.enabled;
+  out.budget = rankingBudgetFor(params, hand);
   const std::size_t n = grasps.size();
   auto trustOf = [&](std::size_t i) { return trust.empty() ? 1.0 : trust[i]; };
   std::vector<double> pre_score(n);
@@ -274,7 +287,7 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
     rp.closing = planner.closing;
     grasping::GraspSimulator simulator(hand, object);
     const std::size_t top_k = params.top_k == 0 ? n : std::min(params.top_k, n);
-    const std::size_t screen_k = params.screen_k == 0 ? n : std::min(params.screen_k, n);
+    const std::size_t screen_k = out.budget.screen_k == 0 ? n : std::min(out.budget.screen_k, n);
     // The candidates for scoring, best first: by pre-score, or by the screening score.
     std::vector<std::size_t> candidates;
     for (std::size_t i : by_pre)
@@ -283,7 +296,7 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
       if (candidates.size() > screen_k) candidates.resize(screen_k);
       const Stopwatch screen_watch;
       RobustnessParams screen = rp;
-      screen.samples = params.screen_samples;
+      screen.samples = out.budget.screen_samples;
       std::vector<double> trusts;
       for (std::size_t i : candidates) trusts.push_back(trustOf(i));
       // Best-first gives only the chosen a screening score: which others ran all their samples
@@ -331,7 +344,9 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
                                        : std::min(params.refinement.max_grasps, candidates.size());
       for (std::size_t c = 0; c < refine_k; ++c) {
         const std::size_t i = candidates[c];
-        if (refineScoredGrasp(simulator, grasps[i], planner, rp, params.refinement)) ++out.refined;
+        if (refineScoredGrasp(simulator, grasps[i], planner, rp, params.refinement,
+                              out.budget.search_below_r))
+          ++out.refined;
         rank_score[i] = grasps[i].robustness->r * trustOf(i);
       }
     }

@@ -39,6 +39,13 @@ std::string settingsLine(const nlohmann::json& options) {
                     "with {}",
                     k.value("screen_k", 0), k.value("screen_samples", 0), k.value("top_k", 0),
                     k.value("samples", 0)));
+    if (k.contains("hand_budgets") && k["hand_budgets"].is_object()) {
+      for (const auto& [hand, b] : k["hand_budgets"].items()) {
+        parts.push_back(fmt::format(
+            "{}'s own ranking budget: {} screened with {} samples, refined below r = {}", hand,
+            b.value("screen_k", 0), b.value("screen_samples", 0), b.value("search_below_r", 0.0)));
+      }
+    }
   }
   std::string line = "Settings (batch.json): ";
   for (std::size_t i = 0; i < parts.size(); ++i) line += (i ? "; " : "") + parts[i];

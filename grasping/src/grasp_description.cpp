@@ -2,6 +2,9 @@
 // URDF model.
 #include <nlohmann/json.hpp>
 
+#include <cstddef>
+#include <string>
+
 #include "hand_loading.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/json.h"
@@ -10,6 +13,10 @@ namespace skelgrasp::grasping::internal {
 namespace {
 
 using nlohmann::json;
+
+// Most screening samples a description may ask for: a million perturbed executions per candidate
+// would be hours, as the commands' own limit says.
+constexpr long long kMaxBudgetSamples = 1'000'000;
 
 class DescriptionReader {
  public:
@@ -34,6 +41,33 @@ class DescriptionReader {
     const double v = j.at(key).get<double>();
     if (!(v > 0)) fail(std::string("'") + key + "' must be positive");
     return v;
+  }
+
+  // The optional "ranking" section: a misspelt key would silently leave the ranking's default, so
+  // unknown keys are refused.
+  RankingBudget rankingBudget(const json& j) const {
+    RankingBudget budget;
+    if (!j.is_object()) fail("'ranking' must be an object");
+    for (const auto& [key, value] : j.items()) {
+      if (key == "screen_grasps") {
+        if (!value.is_number_unsigned()) fail("ranking: 'screen_grasps' must be a count >= 0");
+        budget.screen_grasps = value.get<std::size_t>();
+      } else if (key == "screen_samples") {
+        if (!value.is_number_integer() || value.get<long long>() < 1 ||
+            value.get<long long>() > kMaxBudgetSamples)
+          fail("ranking: 'screen_samples' must be a whole number in [1, " +
+               std::to_string(kMaxBudgetSamples) + "]");
+        budget.screen_samples = value.get<int>();
+      } else if (key == "refine_below_r") {
+        if (!value.is_number() || !(value.get<double>() >= 0 && value.get<double>() <= 1))
+          fail("ranking: 'refine_below_r' must be a number in [0, 1]");
+        budget.refine_below_r = value.get<double>();
+      } else {
+        fail("ranking: unknown key '" + key +
+             "' (known: screen_grasps, screen_samples, refine_below_r)");
+      }
+    }
+    return budget;
   }
 
   ShapeThresholds thresholds(const json& j, const std::string& where) const {
@@ -170,6 +204,7 @@ void applyGraspDescription(HandModel& hand, const std::string& description_json,
 
     hand.setDescription(std::move(fingers), std::move(palm), std::move(preshapes), thresholds,
                         precision_m, power_m, closing);
+    hand.setRankingBudget(reader.rankingBudget(d.value("ranking", json::object())));
   } catch (const json::exception& e) {
     reader.fail(std::string("grasp description: ") + e.what());
   } catch (const InvalidArgument& e) {

@@ -35,10 +35,10 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
           const std::string& regularisation, double alpha_divisor, double offset_divisor,
           double spur_radius_factor, bool robustness, int robustness_samples,
           const std::string& robustness_variant, std::size_t robustness_top_k,
-          std::size_t robustness_screen, std::optional<double> robustness_mu, bool robust_refine,
-          bool centre_candidates, std::size_t surface_candidates, bool wrench_volume,
-          std::optional<double> torsional_friction, const std::string& contact_patch,
-          bool alternative_preshapes) {
+          std::optional<std::size_t> robustness_screen, std::optional<double> robustness_mu,
+          bool robust_refine, bool centre_candidates, std::size_t surface_candidates,
+          bool wrench_volume, std::optional<double> torsional_friction,
+          const std::string& contact_patch, bool alternative_preshapes) {
   if (planner != "skeleton" && planner != "surface")
     throw InvalidArgument("planner: '" + planner + "' is not skeleton or surface");
   grasping::HypothesisParams hypothesis;
@@ -285,8 +285,8 @@ Plans grasps for ``mesh`` with ``hand`` (``skelgrasp plan``): planner 'skeleton'
 or 'surface' (surface-normal baseline). Deterministic for a seed. The defaults are the library's
 SkeletonPlannerParams / SurfacePlannerParams (no time limit: ``timeout_s=0``; the command line
 sets 30 s) and RobustRankingParams. ``max_hypotheses`` is the surface planner's. Robust ranking
-(docs/planning.md): the best ``robustness_screen`` grasps by epsilon (0: all) are screened with a
-cheap r, and the best ``robustness_top_k`` of them (0: all) get a robustness r from
+(docs/planning.md): the best ``robustness_screen`` grasps by epsilon (0: all; None: the hand's
+ranking budget, 60 unless its description says otherwise) are screened with a cheap r, and the best ``robustness_top_k`` of them (0: all) get a robustness r from
 ``robustness_samples`` perturbed executions (``robustness_variant`` 'paper', 'guarded', 'settled' or 'reference',
 friction ``robustness_mu`` or ``mu``, samples seeded by ``seed``) and are ranked first by r;
 ``robustness=False`` keeps the epsilon order. ``robust_refine`` searches near the most robust

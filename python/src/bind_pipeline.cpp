@@ -101,7 +101,7 @@ py::object run(const Cloud& cloud, const HandPtr& hand, const py::object& object
                double pregrasp_distance_m, const std::string& plane, double voxel_leaf_m,
                int poisson_depth, bool robustness, int robustness_samples,
                const std::string& robustness_variant, std::size_t robustness_top_k,
-               std::size_t robustness_screen, std::optional<double> robustness_mu,
+               std::optional<std::size_t> robustness_screen, std::optional<double> robustness_mu,
                bool robust_refine) {
   pipeline::RunParams p;
   p.robust_ranking =

@@ -155,8 +155,9 @@ py::dict jointsDict(const grasping::HandModel& hand, const Eigen::VectorXd& q) {
 
 evaluation::RobustRankingParams robustRankingParams(bool robustness, int samples,
                                                     const std::string& variant, std::size_t top_k,
-                                                    std::size_t screen_k, std::optional<double> mu,
-                                                    std::uint64_t seed, bool refine) {
+                                                    std::optional<std::size_t> screen_k,
+                                                    std::optional<double> mu, std::uint64_t seed,
+                                                    bool refine) {
   if (samples < 1) throw InvalidArgument("robustness_samples: must be >= 1");
   if (mu && !(std::isfinite(*mu) && *mu >= 0))
     throw InvalidArgument("robustness_mu: must be finite and >= 0");

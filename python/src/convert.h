@@ -98,8 +98,9 @@ py::object fromJson(const nlohmann::json& j);
 // samples < 1 or an unknown variant.
 evaluation::RobustRankingParams robustRankingParams(bool robustness, int samples,
                                                     const std::string& variant, std::size_t top_k,
-                                                    std::size_t screen_k, std::optional<double> mu,
-                                                    std::uint64_t seed, bool refine);
+                                                    std::optional<std::size_t> screen_k,
+                                                    std::optional<double> mu, std::uint64_t seed,
+                                                    bool refine);
 
 // Contacts as a list of {point, normal, link, palm} dicts (Grasp.contacts, CloseResult.contacts).
 py::list contactsList(const std::vector<grasping::Contact>& contacts);

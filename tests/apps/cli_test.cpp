@@ -86,6 +86,11 @@ TEST(Cli, HandsListsTheFourBuiltInHands) {
       EXPECT_NE(line.find(" point "), std::string::npos) << line;
     if (line.rfind("parallel_gripper", 0) == 0)
       EXPECT_NE(line.find(" soft 2.5 mm "), std::string::npos) << line;
+    // Each hand's ranking budget: the Shadow hand's own, the defaults for the others.
+    if (line.rfind("shadow", 0) == 0)
+      EXPECT_NE(line.find(" 40x8, r<0.5 "), std::string::npos) << line;
+    if (line.rfind("armar3", 0) == 0 || line.rfind("sdh", 0) == 0)
+      EXPECT_NE(line.find(" 60x10, r<0.7 "), std::string::npos) << line;
   }
 }
 

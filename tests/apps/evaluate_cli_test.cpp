@@ -7,6 +7,8 @@
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <string>
 
 #include "cli_support.h"
 #include "skelgrasp/common/json.h"
@@ -108,6 +110,34 @@ TEST(EvaluateCli, RecordsTheScreeningSamplesOfTheRobustRanking) {
   const auto grasps = jsonLines(out + "/results.jsonl");
   ASSERT_FALSE(grasps.empty());
   for (const auto& g : grasps) EXPECT_GT(g["volume"].get<double>(), 0) << g.dump();
+}
+
+// Left unset, the screening and the search run with each hand's ranking budget; batch.json records
+// the defaults and, for a hand with its own budget, that budget, so that a batch from before the
+// hands had budgets resumes only for the hands whose budget did not change.
+TEST(EvaluateCli, RecordsEachHandsOwnRankingBudget) {
+  const std::string dir = test::tempDir("cli_eval_budget");
+  const std::string objects = objectsDir(dir, {"capsule"}), out = dir + "/out";
+  const CliRun run = runCli("evaluate --objects " + objects + " --out " + out +
+                                " --hands sdh,shadow --robustness-samples 4 --robustness-grasps 2"
+                                " --timeout 0 --vertex-distance 0.01 --robust-ranking",
+                            dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto ranking = readJsonFile(out + "/batch.json")["options"]["ranking"];
+  EXPECT_EQ(ranking["screen_k"], 60) << ranking.dump();
+  EXPECT_EQ(ranking["screen_samples"], 10) << ranking.dump();
+  EXPECT_DOUBLE_EQ(ranking["refinement"]["search_below_r"].get<double>(), 0.7);
+  ASSERT_TRUE(ranking.contains("hand_budgets")) << ranking.dump();
+  EXPECT_FALSE(ranking["hand_budgets"].contains("sdh")) << ranking.dump();
+  EXPECT_EQ(ranking["hand_budgets"]["shadow"]["screen_k"], 40) << ranking.dump();
+  EXPECT_EQ(ranking["hand_budgets"]["shadow"]["screen_samples"], 8) << ranking.dump();
+  EXPECT_DOUBLE_EQ(ranking["hand_budgets"]["shadow"]["search_below_r"].get<double>(), 0.5);
+  std::ifstream summary_file(out + "/summary.md");
+  const std::string summary((std::istreambuf_iterator<char>(summary_file)), {});
+  EXPECT_NE(summary.find("shadow's own ranking budget: 40 screened with 8 samples, refined below "
+                         "r = 0.5"),
+            std::string::npos)
+      << summary;
 }
 
 TEST(EvaluateCli, ABatchKilledMidwayResumesToTheUninterruptedResults) {

@@ -21,6 +21,7 @@ RobustRankingResult someRanking() {
   ranking.scoring_s = 0.5;
   ranking.refinement_s = 0.125;
   ranking.enabled = true;
+  ranking.budget = {40, 8, 0.5};
   return ranking;
 }
 
@@ -33,6 +34,9 @@ TEST(PlanRecord, RankingRecordCarriesTheCountsAndTheParts) {
   EXPECT_DOUBLE_EQ(record["screening_s"].get<double>(), 0.25);
   EXPECT_DOUBLE_EQ(record["scoring_s"].get<double>(), 0.5);
   EXPECT_DOUBLE_EQ(record["refinement_s"].get<double>(), 0.125);
+  EXPECT_EQ(record["budget"]["screen_grasps"], 40);
+  EXPECT_EQ(record["budget"]["screen_samples"], 8);
+  EXPECT_DOUBLE_EQ(record["budget"]["refine_below_r"].get<double>(), 0.5);
 }
 
 TEST(PlanRecord, TimingSumsItsPartsAndLeavesAMissingSkeletonNull) {

@@ -238,6 +238,68 @@ TEST(RobustRanking, PrunedScreeningChoosesTheGraspsFullScreeningChooses) {
   EXPECT_GT(best_first_pruned_any, 0u);
 }
 
+// A budget the parameters leave unset comes from the hand (its grasp description's "ranking"),
+// then from the defaults; one they set wins. A ranking under the hand's budget is the ranking
+// under the same budget given as parameters.
+TEST(RobustRanking, UnsetBudgetsComeFromTheHandThenTheDefaults) {
+  RobustRankingParams unset;
+  const RankingBudgetUsed shadow = rankingBudgetFor(unset, grasping::resolveHand("shadow"));
+  EXPECT_EQ(shadow.screen_k, 40u);
+  EXPECT_EQ(shadow.screen_samples, 8);
+  EXPECT_DOUBLE_EQ(shadow.search_below_r, 0.5);
+  const RankingBudgetUsed armar = rankingBudgetFor(unset, grasping::resolveHand("armar3"));
+  EXPECT_EQ(armar.screen_k, kDefaultScreenK);
+  EXPECT_EQ(armar.screen_samples, kDefaultScreenSamples);
+  EXPECT_DOUBLE_EQ(armar.search_below_r, kDefaultSearchBelowR);
+  RobustRankingParams set;
+  set.screen_k = 25;
+  set.screen_samples = 5;
+  set.refinement.search_below_r = 0.9;
+  for (const char* hand : {"shadow", "armar3"}) {
+    const RankingBudgetUsed used = rankingBudgetFor(set, grasping::resolveHand(hand));
+    EXPECT_EQ(used.screen_k, 25u) << hand;
+    EXPECT_EQ(used.screen_samples, 5) << hand;
+    EXPECT_DOUBLE_EQ(used.search_below_r, 0.9) << hand;
+  }
+
+  const Planned& p = cylinder();
+  ASSERT_GE(p.plan.grasps.size(), 6u);
+  grasping::HandModel budgeted = p.hand;
+  grasping::RankingBudget budget;
+  budget.screen_grasps = 6;
+  budget.screen_samples = 4;
+  budget.refine_below_r = 1.0;
+  budgeted.setRankingBudget(budget);
+  auto params = fewSamples(8, 2);
+  params.screen_k.reset();
+  params.refinement.max_evaluations = 1;
+  const auto by_hand =
+      rankByRobustness(budgeted, *p.object, p.plan.grasps, p.params.hypothesis, params);
+  EXPECT_EQ(by_hand.budget.screen_k, 6u);
+  EXPECT_EQ(by_hand.budget.screen_samples, 4);
+  EXPECT_DOUBLE_EQ(by_hand.budget.search_below_r, 1.0);
+  EXPECT_LE(by_hand.screened + by_hand.screen_pruned, 6u);
+  params.screen_k = 6;
+  params.screen_samples = 4;
+  params.refinement.search_below_r = 1.0;
+  const auto given =
+      rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params);
+  ASSERT_EQ(by_hand.grasps.size(), given.grasps.size());
+  EXPECT_EQ(by_hand.order, given.order);
+  EXPECT_EQ(by_hand.refined, given.refined);
+  for (std::size_t i = 0; i < given.grasps.size(); ++i) {
+    ASSERT_EQ(by_hand.grasps[i].robustness.has_value(), given.grasps[i].robustness.has_value());
+    if (given.grasps[i].robustness) {
+      EXPECT_DOUBLE_EQ(by_hand.grasps[i].robustness->r, given.grasps[i].robustness->r) << i;
+    }
+  }
+  // The plain hand runs the defaults.
+  EXPECT_EQ(
+      rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, fewSamples(8, 2))
+          .budget.screen_samples,
+      kDefaultScreenSamples);
+}
+
 TEST(RobustRanking, DisabledKeepsTheEpsilonOrderWithoutRobustness) {
   const Planned& p = cylinder();
   RobustRankingParams params;

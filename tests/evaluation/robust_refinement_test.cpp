@@ -88,7 +88,7 @@ void expectNeverLessRobust(const Planned& p, std::size_t top_k) {
     EXPECT_EQ(record.search_samples, params.refinement.samples) << i;
     {
       SCOPED_TRACE(i);
-      expectSearchedOnlyBelow(record, params.refinement.search_below_r);
+      expectSearchedOnlyBelow(record, *params.refinement.search_below_r);
     }
     searched += record.evaluations > 0;
     // A returned grasp is a force-closure grasp whose reported r is its own (same samples).
@@ -136,7 +136,8 @@ TEST(RobustRefinement, SearchesOnlyGraspsBelowTheRBar) {
   const auto p = planOn("sdh", primitives::makeCylinder(0.035, 0.2, 48, 10), 6);
   ASSERT_GE(p.plan.grasps.size(), 3u);
   RobustRankingParams params;
-  params.top_k = params.screen_k = 3;
+  params.top_k = 3;
+  params.screen_k = 3;
   params.robustness.samples = 24;
   for (double bar : {0.0, 0.5, 1.0}) {
     SCOPED_TRACE(bar);

@@ -5,6 +5,9 @@
 #include <fstream>
 #include <functional>
 #include <regex>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/error.h"
@@ -213,6 +216,55 @@ TEST(HandModel, BadHandInputsNameTheFileAndTheProblem) {
   std::ofstream(dir + "/schema.json") << "{\"schema\": \"other\"}";
   expectIoError([&] { loadHand(handFile("armar3", "armar3.urdf"), dir + "/schema.json"); },
                 dir + "/schema.json", "schema");
+}
+
+// The Shadow hand's closings cost twice the SDH's, so its description carries a smaller ranking
+// budget (docs/hands.md, "Ranking budget"); the paper's other hands leave it to the ranking.
+TEST(HandModel, DescriptionsCarryTheirRankingBudget) {
+  const RankingBudget shadow = resolveHand("shadow").rankingBudget();
+  ASSERT_TRUE(shadow.screen_grasps && shadow.screen_samples && shadow.refine_below_r);
+  EXPECT_EQ(*shadow.screen_grasps, 40u);
+  EXPECT_EQ(*shadow.screen_samples, 8);
+  EXPECT_DOUBLE_EQ(*shadow.refine_below_r, 0.5);
+  for (const char* name : {"armar3", "sdh", "parallel_gripper"}) {
+    const RankingBudget none = resolveHand(name).rankingBudget();
+    EXPECT_FALSE(none.screen_grasps || none.screen_samples || none.refine_below_r) << name;
+  }
+
+  const std::string dir = test::tempDir("ranking_budget");
+  std::ifstream in(handFile("armar3", "armar3.grasp.json"));
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  const auto withRanking = [&](const std::string& ranking) {
+    const std::string path = dir + "/ranking.json";
+    std::ofstream(path) << std::regex_replace(text, std::regex("\\{"),
+                                              "{\"ranking\": " + ranking + ", ",
+                                              std::regex_constants::format_first_only);
+    return path;
+  };
+  const std::string urdf = handFile("armar3", "armar3.urdf");
+  const RankingBudget partial =
+      loadHand(urdf, withRanking("{\"screen_samples\": 6}")).rankingBudget();
+  EXPECT_FALSE(partial.screen_grasps);
+  EXPECT_EQ(partial.screen_samples, 6);
+  EXPECT_FALSE(partial.refine_below_r);
+  EXPECT_EQ(loadHand(urdf, withRanking("{\"screen_grasps\": 0}")).rankingBudget().screen_grasps,
+            0u);  // 0: screen every candidate
+  for (const auto& [ranking, problem] : std::vector<std::pair<std::string, std::string>>{
+           {"{\"screen_grasps\": -1}", "'screen_grasps' must be a count"},
+           {"{\"screen_grasps\": 2.5}", "'screen_grasps' must be a count"},
+           {"{\"screen_samples\": 0}", "'screen_samples' must be a whole number"},
+           {"{\"refine_below_r\": 1.5}", "'refine_below_r' must be a number in [0, 1]"},
+           {"{\"refine_below_r\": \"low\"}", "'refine_below_r' must be a number in [0, 1]"},
+           {"{\"screen_k\": 40}", "unknown key 'screen_k'"},
+           {"[40]", "'ranking' must be an object"}}) {
+    try {
+      loadHand(urdf, withRanking(ranking));
+      ADD_FAILURE() << "expected IoError for " << ranking;
+    } catch (const IoError& e) {
+      EXPECT_EQ(e.path(), dir + "/ranking.json");
+      EXPECT_NE(e.problem().find(problem), std::string::npos) << e.problem();
+    }
+  }
 }
 
 }  // namespace

@@ -47,8 +47,10 @@ struct RobustRankingParams {
   // pre-score alone says little about robustness (epsilon favours fingertip pinches that fall
   // apart under pose error), so screening more candidates than are scored is what lifts the r of
   // the returned grasps. No screening when screen_k (0 read as all) is at most top_k.
-  std::size_t screen_k = kDefaultScreenK;
-  int screen_samples = kDefaultScreenSamples;
+  // Unset: the hand's ranking budget (grasping::RankingBudget, from its grasp description), else
+  // kDefaultScreenK and kDefaultScreenSamples (rankingBudgetFor below).
+  std::optional<std::size_t> screen_k;
+  std::optional<int> screen_samples;
   // How screening saves samples without changing its choice: the top_k chosen, their order and
   // their screening r are those of full screening (kNone) under every setting (tested); only
   // which of the other candidates get a full screening r differs (the rest rank by pre-score, as
@@ -65,9 +67,24 @@ struct RobustRankingParams {
   RobustRefinementParams refinement;
 };
 
+// The budget a ranking ran with: the parameters' values, or where they were unset the hand's
+// (grasping::RankingBudget), or the defaults above.
+struct RankingBudgetUsed {
+  std::size_t screen_k = kDefaultScreenK;
+  int screen_samples = kDefaultScreenSamples;
+  double search_below_r = kDefaultSearchBelowR;
+};
+
+// Each of params' unset screen_k, screen_samples and refinement.search_below_r from the hand's
+// ranking budget, else from the defaults. Every caller that knows the hand applies this one rule
+// (rankByRobustness does it itself).
+RankingBudgetUsed rankingBudgetFor(const RobustRankingParams& params,
+                                   const grasping::HandModel& hand);
+
 struct RobustRankingResult {
   Status status;                        // kOk (also when disabled or there is no grasp)
   bool enabled = false;                 // the params' `enabled`: whether a ranking ran at all
+  RankingBudgetUsed budget;             // what the screening and the refinement ran with
   std::vector<grasping::Grasp> grasps;  // best first, ids renumbered 0..n-1 (id = rank)
   std::vector<double> scores;           // each grasp's rank score (see rankByRobustness)
   std::vector<std::size_t> order;       // grasps[i] was input grasp order[i]
@@ -82,8 +99,8 @@ struct RobustRankingResult {
   double screening_s = 0, scoring_s = 0, refinement_s = 0;
 };
 
-// Screens the best `params.screen_k` grasps, scores the best `params.top_k` of them by robustness
-// and re-ranks all grasps:
+// Screens the best screen_k grasps (rankingBudgetFor: params', or the hand's), scores the best
+// `params.top_k` of them by robustness and re-ranks all grasps:
 //  * pre-score = epsilon x trust[i] (trust empty: 1; scans: 1 - w + w x observed contact ratio);
 //  * screening score = screening r x trust[i]; the top_k by it (ties: pre-score) are scored;
 //  * rank score of a scored grasp = r x trust[i]; of a screened one that is not scored = its
@@ -91,7 +108,7 @@ struct RobustRankingResult {
 //    pre-score); of the others (beyond screen_k, screening pruned, or ranking disabled) = its
 //    pre-score;
 //  * refinement (params.refinement.enabled): of the best params.refinement.max_grasps scored
-//    grasps by rank score, those with r below params.refinement.search_below_r are searched for
+//    grasps by rank score, those with r below the budget's search_below_r are searched for
 //    more robust poses (robust_refinement.h, own stream
 //    grasp_index = 2); a pose found replaces its grasp when it holds in at least as many samples
 //    of a check (own stream, grasp_index = 3, params.robustness.samples) as the grasp, and is then

@@ -14,6 +14,10 @@
 
 namespace skelgrasp::evaluation {
 
+// Scored grasps whose r is below this are searched, unless the parameters or the hand say
+// otherwise (RobustRefinementParams::search_below_r).
+inline constexpr double kDefaultSearchBelowR = 0.7;
+
 struct RobustRefinementParams {
   // Off: the ranking returns the planner's poses.
   bool enabled = true;
@@ -27,7 +31,9 @@ struct RobustRefinementParams {
   // grasps below 0.7 gain 4 times as much r per perturbed execution as those at 0.7-0.9,
   // ARMAR-III's about as much; at r >= 0.9 (at most one failure expected in the search's 12
   // samples) a win is mostly luck (docs/results.md, "Only grasps below r = 0.7 searched").
-  double search_below_r = 0.7;
+  // Unset: the hand's ranking budget (grasping::RankingBudget::refine_below_r), else
+  // kDefaultSearchBelowR.
+  std::optional<double> search_below_r;
   // Poses closed and judged per grasp besides its own (each costs one retreat search, one closing
   // and `samples` perturbed executions).
   int max_evaluations = 4;

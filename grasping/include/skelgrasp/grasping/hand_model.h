@@ -2,6 +2,7 @@
 // A robot hand: kinematics and collision geometry from URDF, plus the grasp description that says
 // how it grasps (fingers and their closing joints, preshapes with grasp centre points, interval
 // lengths and planner thresholds). Lengths in metres, angles in radians. Schema: docs/hands.md.
+#include <cstddef>
 #include <map>
 #include <memory>
 #include <optional>
@@ -104,6 +105,17 @@ struct ClosingDefaults {
   double torsional_friction_m = 0;
 };
 
+// The robust ranking's budget for a hand (evaluation/robust_ranking.h), where the ranking's
+// parameters leave it to the hand. A hand whose perturbed executions cost more screens and
+// searches less, so that ranking one object stays within a few seconds; unset fields take the
+// ranking's own defaults. docs/hands.md, "Ranking budget".
+struct RankingBudget {
+  std::optional<std::size_t> screen_grasps;  // candidates screened (0: all)
+  std::optional<int> screen_samples;         // perturbed executions per screened candidate (>= 1)
+  std::optional<double> refine_below_r;      // scored grasps searched for a more robust pose: r
+                                             // below this, in [0, 1]
+};
+
 class HandModel {
  public:
   // Built by the loaders below; validates the tree, the description and the preshapes.
@@ -148,6 +160,7 @@ class HandModel {
   double precisionIntervalM() const { return precision_interval_m_; }
   double powerIntervalM() const { return power_interval_m_; }
   const ClosingDefaults& closingDefaults() const { return closing_; }
+  const RankingBudget& rankingBudget() const { return ranking_budget_; }
   // Actuated drives (one per FingerDrive) and joints that move while closing.
   int numDrives() const;
   int numMovingJoints() const;
@@ -160,6 +173,8 @@ class HandModel {
                       std::map<std::string, Preshape> preshapes, PlannerThresholds thresholds,
                       double precision_interval_m, double power_interval_m,
                       ClosingDefaults closing);
+  // Throws InvalidArgument for a budget outside the ranges above.
+  void setRankingBudget(RankingBudget budget);
 
  private:
   std::string name_, title_;
@@ -173,6 +188,7 @@ class HandModel {
   PlannerThresholds thresholds_;
   double precision_interval_m_ = 0, power_interval_m_ = 0;
   ClosingDefaults closing_;
+  RankingBudget ranking_budget_;
   std::vector<int> link_finger_;
   std::vector<CollisionMode> link_mode_;
 };
