@@ -8,7 +8,9 @@
 // grid (DistanceFieldParams::skip_empty_cells); `jump-order`, the fast closing's jump attempts
 // stopping at the first link that allows no step (ClosingParams::jump_stops_at_blocking_link);
 // `refusals`, the fast closing's later passes not testing again a refused step while the fingers it
-// was tested against stand where they stood (ClosingParams::skip_repeated_refusals).
+// was tested against stand where they stood (ClosingParams::skip_repeated_refusals). Both paths
+// run each hand's own ranking budget (since 2026-11-29 the Shadow hand's is smaller: its figures
+// from before are not comparable with later ones).
 #include <fmt/format.h>
 #include <tbb/global_control.h>
 

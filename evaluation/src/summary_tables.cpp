@@ -40,10 +40,13 @@ std::string settingsLine(const nlohmann::json& options) {
                     k.value("screen_k", 0), k.value("screen_samples", 0), k.value("top_k", 0),
                     k.value("samples", 0)));
     if (k.contains("hand_budgets") && k["hand_budgets"].is_object()) {
+      // The search bar means nothing when the search is off.
+      const bool searched = !k.contains("refinement") || k["refinement"].value("enabled", true);
       for (const auto& [hand, b] : k["hand_budgets"].items()) {
-        parts.push_back(fmt::format(
-            "{}'s own ranking budget: {} screened with {} samples, refined below r = {}", hand,
-            b.value("screen_k", 0), b.value("screen_samples", 0), b.value("search_below_r", 0.0)));
+        std::string part = fmt::format("{}'s own ranking budget: {} screened with {} samples", hand,
+                                       b.value("screen_k", 0), b.value("screen_samples", 0));
+        if (searched) part += fmt::format(", refined below r = {}", b.value("search_below_r", 0.0));
+        parts.push_back(part);
       }
     }
   }

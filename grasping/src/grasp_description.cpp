@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 
 #include "hand_loading.h"
@@ -14,9 +15,10 @@ namespace {
 
 using nlohmann::json;
 
-// Most screening samples a description may ask for: a million perturbed executions per candidate
-// would be hours, as the commands' own limit says.
-constexpr long long kMaxBudgetSamples = 1'000'000;
+// Most screening samples and candidates a description may ask for, the commands' own limits: a
+// million perturbed executions per candidate would be hours, and no plan has a billion grasps.
+constexpr std::uint64_t kMaxBudgetSamples = 1'000'000;
+constexpr std::uint64_t kMaxBudgetCount = 1'000'000'000;
 
 class DescriptionReader {
  public:
@@ -43,25 +45,31 @@ class DescriptionReader {
     return v;
   }
 
-  // The optional "ranking" section: a misspelt key would silently leave the ranking's default, so
-  // unknown keys are refused.
+  // The optional "ranking" section (absent or null: none): a misspelt key would silently leave the
+  // ranking's default, so unknown keys are refused. Counts are compared as unsigned 64-bit numbers
+  // before they are narrowed.
   RankingBudget rankingBudget(const json& j) const {
     RankingBudget budget;
+    if (j.is_null()) return budget;
     if (!j.is_object()) fail("'ranking' must be an object");
+    const auto count = [&](const json& value, std::uint64_t low, std::uint64_t high,
+                           const char* key) {
+      if (!value.is_number_unsigned() || value.get<std::uint64_t>() < low ||
+          value.get<std::uint64_t>() > high)
+        fail(std::string("ranking: '") + key + "' must be a whole number in [" +
+             std::to_string(low) + ", " + std::to_string(high) + "]");
+      return value.get<std::uint64_t>();
+    };
     for (const auto& [key, value] : j.items()) {
       if (key == "screen_grasps") {
-        if (!value.is_number_unsigned()) fail("ranking: 'screen_grasps' must be a count >= 0");
-        budget.screen_grasps = value.get<std::size_t>();
+        budget.screen_grasps = count(value, 0, kMaxBudgetCount, "screen_grasps");
       } else if (key == "screen_samples") {
-        if (!value.is_number_integer() || value.get<long long>() < 1 ||
-            value.get<long long>() > kMaxBudgetSamples)
-          fail("ranking: 'screen_samples' must be a whole number in [1, " +
-               std::to_string(kMaxBudgetSamples) + "]");
-        budget.screen_samples = value.get<int>();
+        budget.screen_samples =
+            static_cast<int>(count(value, 1, kMaxBudgetSamples, "screen_samples"));
       } else if (key == "refine_below_r") {
         if (!value.is_number() || !(value.get<double>() >= 0 && value.get<double>() <= 1))
           fail("ranking: 'refine_below_r' must be a number in [0, 1]");
-        budget.refine_below_r = value.get<double>();
+        budget.refine_below_r = value.get<double>() + 0.0;  // -0 read as 0
       } else {
         fail("ranking: unknown key '" + key +
              "' (known: screen_grasps, screen_samples, refine_below_r)");

@@ -35,10 +35,12 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
           const std::string& regularisation, double alpha_divisor, double offset_divisor,
           double spur_radius_factor, bool robustness, int robustness_samples,
           const std::string& robustness_variant, std::size_t robustness_top_k,
-          std::optional<std::size_t> robustness_screen, std::optional<double> robustness_mu,
-          bool robust_refine, bool centre_candidates, std::size_t surface_candidates,
-          bool wrench_volume, std::optional<double> torsional_friction,
-          const std::string& contact_patch, bool alternative_preshapes) {
+          std::optional<std::size_t> robustness_screen,
+          std::optional<int> robustness_screen_samples, std::optional<double> robustness_mu,
+          bool robust_refine, std::optional<double> robust_refine_below_r, bool centre_candidates,
+          std::size_t surface_candidates, bool wrench_volume,
+          std::optional<double> torsional_friction, const std::string& contact_patch,
+          bool alternative_preshapes) {
   if (planner != "skeleton" && planner != "surface")
     throw InvalidArgument("planner: '" + planner + "' is not skeleton or surface");
   grasping::HypothesisParams hypothesis;
@@ -53,9 +55,9 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
   skeleton_params.regularisation.offset_divisor = offset_divisor;
   skeleton_params.spur_radius_factor = spur_radius_factor;
 
-  const auto ranking =
-      robustRankingParams(robustness, robustness_samples, robustness_variant, robustness_top_k,
-                          robustness_screen, robustness_mu, seed, robust_refine);
+  const auto ranking = robustRankingParams(
+      robustness, robustness_samples, robustness_variant, robustness_top_k, robustness_screen,
+      robustness_screen_samples, robustness_mu, seed, robust_refine, robust_refine_below_r);
   Plan out;
   out.hand = hand;
   out.object = mesh.name;
@@ -272,8 +274,10 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
       py::arg("robustness_samples") = ranking.robustness.samples,
       py::arg("robustness_variant") = std::string(evaluation::toString(ranking.robustness.variant)),
       py::arg("robustness_top_k") = ranking.top_k, py::arg("robustness_screen") = ranking.screen_k,
+      py::arg("robustness_screen_samples") = ranking.screen_samples,
       py::arg("robustness_mu") = ranking.friction,
       py::arg("robust_refine") = ranking.refinement.enabled,
+      py::arg("robust_refine_below_r") = ranking.refinement.search_below_r,
       py::arg("centre_candidates") = planner.centre_candidates,
       py::arg("surface_candidates") = planner.surface_candidates,
       py::arg("wrench_volume") = planner.hypothesis.quality.compute_volume,
@@ -285,12 +289,14 @@ Plans grasps for ``mesh`` with ``hand`` (``skelgrasp plan``): planner 'skeleton'
 or 'surface' (surface-normal baseline). Deterministic for a seed. The defaults are the library's
 SkeletonPlannerParams / SurfacePlannerParams (no time limit: ``timeout_s=0``; the command line
 sets 30 s) and RobustRankingParams. ``max_hypotheses`` is the surface planner's. Robust ranking
-(docs/planning.md): the best ``robustness_screen`` grasps by epsilon (0: all; None: the hand's
-ranking budget, 60 unless its description says otherwise) are screened with a cheap r, and the best ``robustness_top_k`` of them (0: all) get a robustness r from
+(docs/planning.md): the best ``robustness_screen`` grasps by epsilon (0: all) are screened with a
+cheap r from ``robustness_screen_samples`` executions each (None, for either: the hand's ranking
+budget, 60 and 10 unless its description says otherwise; the Shadow hand's 40 and 8), and the best ``robustness_top_k`` of them (0: all) get a robustness r from
 ``robustness_samples`` perturbed executions (``robustness_variant`` 'paper', 'guarded', 'settled' or 'reference',
 friction ``robustness_mu`` or ``mu``, samples seeded by ``seed``) and are ranked first by r;
 ``robustness=False`` keeps the epsilon order. ``robust_refine`` searches near the most robust
-scored grasps for more robust poses (docs/planning.md, "Refinement for robustness"). ``centre_candidates`` (skeleton planner) also tries
+scored grasps whose r is below ``robust_refine_below_r`` (None: the hand's, 0.7 or the Shadow
+hand's 0.5) for more robust poses (docs/planning.md, "Refinement for robustness"). ``centre_candidates`` (skeleton planner) also tries
 power and precision grasps about the object's centre on every object, the robust grasps the
 ranking chooses from; ``surface_candidates`` (skeleton planner) adds that many surface-normal hypotheses to the
 same pool (0: none; docs/planning.md, "Surface candidates"). ``wrench_volume`` also computes each

@@ -156,9 +156,15 @@ py::dict jointsDict(const grasping::HandModel& hand, const Eigen::VectorXd& q) {
 evaluation::RobustRankingParams robustRankingParams(bool robustness, int samples,
                                                     const std::string& variant, std::size_t top_k,
                                                     std::optional<std::size_t> screen_k,
+                                                    std::optional<int> screen_samples,
                                                     std::optional<double> mu, std::uint64_t seed,
-                                                    bool refine) {
+                                                    bool refine,
+                                                    std::optional<double> refine_below_r) {
   if (samples < 1) throw InvalidArgument("robustness_samples: must be >= 1");
+  if (screen_samples && *screen_samples < 1)
+    throw InvalidArgument("robustness_screen_samples: must be >= 1");
+  if (refine_below_r && !(*refine_below_r >= 0 && *refine_below_r <= 1))
+    throw InvalidArgument("robust_refine_below_r: must be in [0, 1]");
   if (mu && !(std::isfinite(*mu) && *mu >= 0))
     throw InvalidArgument("robustness_mu: must be finite and >= 0");
   evaluation::RobustRankingParams p;
@@ -168,6 +174,8 @@ evaluation::RobustRankingParams robustRankingParams(bool robustness, int samples
   p.robustness.seed = seed;
   p.top_k = top_k;
   p.screen_k = screen_k;
+  p.screen_samples = screen_samples;
+  p.refinement.search_below_r = refine_below_r;
   p.friction = mu;
   p.refinement.enabled = refine;
   return p;

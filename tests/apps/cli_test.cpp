@@ -144,6 +144,23 @@ TEST(Cli, CloseReportsJointsContactsAndQuality) {
   EXPECT_EQ(bad_pose.exit_code, 2);
 }
 
+// The ranking record says what budget the ranking ran with: an option given, the rest the hand's
+// (the Shadow hand's description sets 40 x 8 and r < 0.5; docs/hands.md, "Ranking budget").
+TEST(Cli, PlanRecordsTheRankingBudgetItRanWith) {
+  const std::string dir = test::tempDir("cli_plan_budget");
+  saveMesh(dir + "/capsule.ply", primitives::makeNamedShape("capsule"));
+  const CliRun run = runCli("plan " + dir +
+                                "/capsule.ply --hand shadow --robustness-samples 4 "
+                                "--robustness-screen 12 --out " +
+                                dir + "/grasps.json",
+                            dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto budget = readJsonFile(dir + "/grasps.json")["ranking"]["budget"];
+  EXPECT_EQ(budget["screen_grasps"], 12) << budget.dump();
+  EXPECT_EQ(budget["screen_samples"], 8) << budget.dump();
+  EXPECT_DOUBLE_EQ(budget["refine_below_r"].get<double>(), 0.5);
+}
+
 TEST(Cli, PlanWritesTheDocumentedGraspsJson) {
   const std::string dir = test::tempDir("cli_plan");
   saveMesh(dir + "/bottle.ply", primitives::makeNamedShape("bottle"));

@@ -118,10 +118,10 @@ TEST(EvaluateCli, RecordsTheScreeningSamplesOfTheRobustRanking) {
 TEST(EvaluateCli, RecordsEachHandsOwnRankingBudget) {
   const std::string dir = test::tempDir("cli_eval_budget");
   const std::string objects = objectsDir(dir, {"capsule"}), out = dir + "/out";
-  const CliRun run = runCli("evaluate --objects " + objects + " --out " + out +
-                                " --hands sdh,shadow --robustness-samples 4 --robustness-grasps 2"
-                                " --timeout 0 --vertex-distance 0.01 --robust-ranking",
-                            dir);
+  const std::string args = "evaluate --objects " + objects + " --out " + out +
+                           " --hands sdh,shadow --robustness-samples 4 --robustness-grasps 2"
+                           " --timeout 0 --vertex-distance 0.01 --robust-ranking";
+  const CliRun run = runCli(args, dir);
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const auto ranking = readJsonFile(out + "/batch.json")["options"]["ranking"];
   EXPECT_EQ(ranking["screen_k"], 60) << ranking.dump();
@@ -138,6 +138,19 @@ TEST(EvaluateCli, RecordsEachHandsOwnRankingBudget) {
                          "r = 0.5"),
             std::string::npos)
       << summary;
+  // A batch from before the hands had budgets (no hand_budgets) ranked the Shadow hand with the
+  // defaults: it does not resume into this one. The batch as written resumes.
+  auto batch = readJsonFile(out + "/batch.json");
+  const auto written = batch;
+  batch["options"]["ranking"].erase("hand_budgets");
+  std::ofstream(out + "/batch.json") << batch.dump(2);
+  CliRun resumed = runCli(args, dir);
+  EXPECT_EQ(resumed.exit_code, 2) << resumed.err;
+  EXPECT_NE(resumed.err.find("hand_budgets.shadow"), std::string::npos) << resumed.err;
+  std::ofstream(out + "/batch.json") << written.dump(2);
+  resumed = runCli(args, dir);
+  EXPECT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_NE(resumed.out.find("already done"), std::string::npos) << resumed.out;
 }
 
 TEST(EvaluateCli, ABatchKilledMidwayResumesToTheUninterruptedResults) {

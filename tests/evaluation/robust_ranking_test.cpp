@@ -251,6 +251,13 @@ TEST(RobustRanking, UnsetBudgetsComeFromTheHandThenTheDefaults) {
   EXPECT_EQ(armar.screen_k, kDefaultScreenK);
   EXPECT_EQ(armar.screen_samples, kDefaultScreenSamples);
   EXPECT_DOUBLE_EQ(armar.search_below_r, kDefaultSearchBelowR);
+  // One option given, the others left to the hand.
+  RobustRankingParams one;
+  one.screen_k = 60;
+  const RankingBudgetUsed mixed = rankingBudgetFor(one, grasping::resolveHand("shadow"));
+  EXPECT_EQ(mixed.screen_k, 60u);
+  EXPECT_EQ(mixed.screen_samples, 8);
+  EXPECT_DOUBLE_EQ(mixed.search_below_r, 0.5);
   RobustRankingParams set;
   set.screen_k = 25;
   set.screen_samples = 5;

@@ -249,10 +249,16 @@ TEST(HandModel, DescriptionsCarryTheirRankingBudget) {
   EXPECT_FALSE(partial.refine_below_r);
   EXPECT_EQ(loadHand(urdf, withRanking("{\"screen_grasps\": 0}")).rankingBudget().screen_grasps,
             0u);  // 0: screen every candidate
+  const RankingBudget none = loadHand(urdf, withRanking("null")).rankingBudget();  // as absent
+  EXPECT_FALSE(none.screen_grasps || none.screen_samples || none.refine_below_r);
   for (const auto& [ranking, problem] : std::vector<std::pair<std::string, std::string>>{
-           {"{\"screen_grasps\": -1}", "'screen_grasps' must be a count"},
-           {"{\"screen_grasps\": 2.5}", "'screen_grasps' must be a count"},
-           {"{\"screen_samples\": 0}", "'screen_samples' must be a whole number"},
+           {"{\"screen_grasps\": -1}", "'screen_grasps' must be a whole number in [0, "},
+           {"{\"screen_grasps\": 2.5}", "'screen_grasps' must be a whole number in [0, "},
+           {"{\"screen_grasps\": 18446744073709551615}", "'screen_grasps' must be a whole number"},
+           {"{\"screen_samples\": 0}", "'screen_samples' must be a whole number in [1, 1000000]"},
+           {"{\"screen_samples\": 1000001}", "'screen_samples' must be a whole number"},
+           {"{\"screen_samples\": 4294967297}", "'screen_samples' must be a whole number"},
+           {"{\"screen_samples\": 1e30}", "'screen_samples' must be a whole number"},
            {"{\"refine_below_r\": 1.5}", "'refine_below_r' must be a number in [0, 1]"},
            {"{\"refine_below_r\": \"low\"}", "'refine_below_r' must be a number in [0, 1]"},
            {"{\"screen_k\": 40}", "unknown key 'screen_k'"},

@@ -124,6 +124,23 @@ def test_plan_robustness_keywords(capsule, sdh):
         skelgrasp.plan(capsule, sdh, robustness_samples=0)
 
 
+def test_plan_ranks_with_the_hands_budget_unless_told_otherwise(capsule):
+    # The Shadow hand's description sets its own ranking budget (docs/hands.md, "Ranking budget");
+    # a keyword given overrides its part of it, None leaves it to the hand.
+    shadow = skelgrasp.hand("shadow")
+    own = skelgrasp.plan(capsule, shadow, seed=1, max_grasps=4, robustness_samples=4)
+    assert own.to_dict()["ranking"]["budget"] == {
+        "screen_grasps": 40, "screen_samples": 8, "refine_below_r": 0.5}
+    given = skelgrasp.plan(capsule, shadow, seed=1, max_grasps=4, robustness_samples=4,
+                           robustness_screen=60, robustness_screen_samples=10,
+                           robust_refine_below_r=0.7)
+    assert given.to_dict()["ranking"]["budget"] == {
+        "screen_grasps": 60, "screen_samples": 10, "refine_below_r": 0.7}
+    for bad in ({"robustness_screen_samples": 0}, {"robust_refine_below_r": 1.5}):
+        with pytest.raises(ValueError):
+            skelgrasp.plan(capsule, shadow, **bad)
+
+
 def test_plan_is_deterministic_for_a_seed(capsule, sdh, capsule_plan):
     again = skelgrasp.plan(capsule, sdh, seed=1, max_grasps=4)
     assert without_timing(again.to_dict()) == without_timing(capsule_plan.to_dict())
