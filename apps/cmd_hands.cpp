@@ -44,7 +44,7 @@ std::string contactModel(const grasping::HandModel& hand) {
 // The robust ranking's budget for the hand unless options say otherwise: candidates screened x
 // samples each, and the r below which scored grasps are searched.
 std::string rankingBudget(const grasping::HandModel& hand) {
-  const auto used = evaluation::rankingBudgetFor(evaluation::RobustRankingParams{}, hand);
+  const auto used = evaluation::rankingBudgetFor({}, hand.rankingBudget());
   return fmt::format("{}x{}, r<{:g}", used.screen_k, used.screen_samples, used.search_below_r);
 }
 

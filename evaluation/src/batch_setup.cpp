@@ -87,9 +87,7 @@ std::string shown(const nlohmann::json& value) {
 // from before the hands had budgets resumes only where nothing changed.
 nlohmann::json rankingOptions(const RobustRankingParams& r,
                               const std::vector<grasping::HandModel>& hands) {
-  const RankingBudgetUsed recorded{r.screen_k.value_or(kDefaultScreenK),
-                                   r.screen_samples.value_or(kDefaultScreenSamples),
-                                   r.refinement.search_below_r.value_or(kDefaultSearchBelowR)};
+  const RankingBudgetUsed recorded = rankingBudgetFor(r);  // as for a hand without a budget
   nlohmann::json options = {{"top_k", r.top_k},
                             {"screen_k", recorded.screen_k},
                             {"screen_samples", recorded.screen_samples},
@@ -110,7 +108,7 @@ nlohmann::json rankingOptions(const RobustRankingParams& r,
   // into this one.
   if (r.refinement.enabled) options["refinement"]["check"] = "own_samples";
   for (const auto& hand : hands) {
-    const RankingBudgetUsed own = rankingBudgetFor(r, hand);
+    const RankingBudgetUsed own = rankingBudgetFor(r, hand.rankingBudget());
     if (own.screen_k != recorded.screen_k || own.screen_samples != recorded.screen_samples ||
         own.search_below_r != recorded.search_below_r) {
       options["hand_budgets"][hand.name()] = {{"screen_k", own.screen_k},

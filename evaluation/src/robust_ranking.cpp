@@ -229,14 +229,13 @@ grasping::GraspRobustness graspRobustness(const RobustnessResult& result,
 }
 
 RankingBudgetUsed rankingBudgetFor(const RobustRankingParams& params,
-                                   const grasping::HandModel& hand) {
-  const grasping::RankingBudget& own = hand.rankingBudget();
+                                   const grasping::RankingBudget& hand_budget) {
   RankingBudgetUsed used;
-  used.screen_k = params.screen_k.value_or(own.screen_grasps.value_or(kDefaultScreenK));
+  used.screen_k = params.screen_k.value_or(hand_budget.screen_grasps.value_or(kDefaultScreenK));
   used.screen_samples =
-      params.screen_samples.value_or(own.screen_samples.value_or(kDefaultScreenSamples));
-  used.search_below_r =
-      params.refinement.search_below_r.value_or(own.refine_below_r.value_or(kDefaultSearchBelowR));
+      params.screen_samples.value_or(hand_budget.screen_samples.value_or(kDefaultScreenSamples));
+  used.search_below_r = params.refinement.search_below_r.value_or(
+      hand_budget.refine_below_r.value_or(kDefaultSearchBelowR));
   return used;
 }
 
@@ -264,7 +263,7 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
   Stopwatch watch;
   RobustRankingResult out;
   out.enabled = params.enabled;
-  out.budget = rankingBudgetFor(params, hand);
+  out.budget = rankingBudgetFor(params, hand.rankingBudget());
   const std::size_t n = grasps.size();
   auto trustOf = [&](std::size_t i) { return trust.empty() ? 1.0 : trust[i]; };
   std::vector<double> pre_score(n);

@@ -67,8 +67,8 @@ class DescriptionReader {
         budget.screen_samples =
             static_cast<int>(count(value, 1, kMaxBudgetSamples, "screen_samples"));
       } else if (key == "refine_below_r") {
-        if (!value.is_number() || !(value.get<double>() >= 0 && value.get<double>() <= 1))
-          fail("ranking: 'refine_below_r' must be a number in [0, 1]");
+        // Its range is HandModel::setRankingBudget's to check.
+        if (!value.is_number()) fail("ranking: 'refine_below_r' must be a number");
         budget.refine_below_r = value.get<double>() + 0.0;  // -0 read as 0
       } else {
         fail("ranking: unknown key '" + key +

@@ -243,18 +243,21 @@ TEST(RobustRanking, PrunedScreeningChoosesTheGraspsFullScreeningChooses) {
 // under the same budget given as parameters.
 TEST(RobustRanking, UnsetBudgetsComeFromTheHandThenTheDefaults) {
   RobustRankingParams unset;
-  const RankingBudgetUsed shadow = rankingBudgetFor(unset, grasping::resolveHand("shadow"));
+  const RankingBudgetUsed shadow =
+      rankingBudgetFor(unset, grasping::resolveHand("shadow").rankingBudget());
   EXPECT_EQ(shadow.screen_k, 40u);
   EXPECT_EQ(shadow.screen_samples, 8);
   EXPECT_DOUBLE_EQ(shadow.search_below_r, 0.5);
-  const RankingBudgetUsed armar = rankingBudgetFor(unset, grasping::resolveHand("armar3"));
+  const RankingBudgetUsed armar =
+      rankingBudgetFor(unset, grasping::resolveHand("armar3").rankingBudget());
   EXPECT_EQ(armar.screen_k, kDefaultScreenK);
   EXPECT_EQ(armar.screen_samples, kDefaultScreenSamples);
   EXPECT_DOUBLE_EQ(armar.search_below_r, kDefaultSearchBelowR);
   // One option given, the others left to the hand.
   RobustRankingParams one;
   one.screen_k = 60;
-  const RankingBudgetUsed mixed = rankingBudgetFor(one, grasping::resolveHand("shadow"));
+  const RankingBudgetUsed mixed =
+      rankingBudgetFor(one, grasping::resolveHand("shadow").rankingBudget());
   EXPECT_EQ(mixed.screen_k, 60u);
   EXPECT_EQ(mixed.screen_samples, 8);
   EXPECT_DOUBLE_EQ(mixed.search_below_r, 0.5);
@@ -263,7 +266,8 @@ TEST(RobustRanking, UnsetBudgetsComeFromTheHandThenTheDefaults) {
   set.screen_samples = 5;
   set.refinement.search_below_r = 0.9;
   for (const char* hand : {"shadow", "armar3"}) {
-    const RankingBudgetUsed used = rankingBudgetFor(set, grasping::resolveHand(hand));
+    const RankingBudgetUsed used =
+        rankingBudgetFor(set, grasping::resolveHand(hand).rankingBudget());
     EXPECT_EQ(used.screen_k, 25u) << hand;
     EXPECT_EQ(used.screen_samples, 5) << hand;
     EXPECT_DOUBLE_EQ(used.search_below_r, 0.9) << hand;

@@ -259,8 +259,8 @@ TEST(HandModel, DescriptionsCarryTheirRankingBudget) {
            {"{\"screen_samples\": 1000001}", "'screen_samples' must be a whole number"},
            {"{\"screen_samples\": 4294967297}", "'screen_samples' must be a whole number"},
            {"{\"screen_samples\": 1e30}", "'screen_samples' must be a whole number"},
-           {"{\"refine_below_r\": 1.5}", "'refine_below_r' must be a number in [0, 1]"},
-           {"{\"refine_below_r\": \"low\"}", "'refine_below_r' must be a number in [0, 1]"},
+           {"{\"refine_below_r\": 1.5}", "ranking refine_below_r must be in [0, 1]"},
+           {"{\"refine_below_r\": \"low\"}", "'refine_below_r' must be a number"},
            {"{\"screen_k\": 40}", "unknown key 'screen_k'"},
            {"[40]", "'ranking' must be an object"}}) {
     try {

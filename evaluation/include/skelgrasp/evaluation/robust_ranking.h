@@ -75,11 +75,11 @@ struct RankingBudgetUsed {
   double search_below_r = kDefaultSearchBelowR;
 };
 
-// Each of params' unset screen_k, screen_samples and refinement.search_below_r from the hand's
-// ranking budget, else from the defaults. Every caller that knows the hand applies this one rule
-// (rankByRobustness does it itself).
+// Each of params' unset screen_k, screen_samples and refinement.search_below_r from a hand's
+// ranking budget (HandModel::rankingBudget(); none: {}), else from the defaults. The one rule
+// (rankByRobustness applies it itself).
 RankingBudgetUsed rankingBudgetFor(const RobustRankingParams& params,
-                                   const grasping::HandModel& hand);
+                                   const grasping::RankingBudget& hand_budget = {});
 
 struct RobustRankingResult {
   Status status;                        // kOk (also when disabled or there is no grasp)
