@@ -2,7 +2,6 @@
 // The finger advance of GraspSimulator::close as a class shared by its two translation units:
 // finger_advance.cpp (geometry, collision tests, the stepwise closing) and finger_advance_fast.cpp
 // (the fast closing's jumps and the gap bounds behind them).
-#include <map>
 #include <utility>
 #include <vector>
 
@@ -43,7 +42,11 @@ class FingerAdvance {
         q_(start),
         poses_(hand.linkPoses(start)),
         touched_(hand.links().size(), 0),
-        moved_(hand.links().size(), 0.0) {}
+        moved_(hand.links().size(), 0.0),
+        pair_gaps_(hand.links().size() * hand.links().size()),
+        object_gaps_(hand.links().size()),
+        per_step_(hand.links().size(), 0.0),
+        in_jump_(hand.links().size(), 0) {}
 
   // What blocks finger `finger` at its current placement (object contacts are noted).
   // `check_object` false: the object is known to be out of reach (fast closing's budget).
@@ -83,19 +86,21 @@ class FingerAdvance {
   // says what refused it.
   Block tryMove(int finger, const std::vector<std::pair<int, double>>& moves,
                 bool check_object = true) {
-    Eigen::VectorXd candidate = q_;
-    for (const auto& [joint, amount] : moves) candidate[joint] += amount;
-    hand_.normalise(candidate);
-    if ((candidate - q_).cwiseAbs().maxCoeff() < kNoJointMove) return {Blocker::kLimits};
-    placeFinger(finger, candidate);
-    const Eigen::VectorXd change = candidate - q_;
-    const Block block = blocked(finger, check_object, change);
+    // candidate_ and change_ are scratch kept across steps: a closing takes thousands of checked
+    // steps, and two heap vectors per step were a few percent of its time.
+    candidate_ = q_;
+    for (const auto& [joint, amount] : moves) candidate_[joint] += amount;
+    hand_.normalise(candidate_);
+    change_ = candidate_ - q_;
+    if (change_.cwiseAbs().maxCoeff() < kNoJointMove) return {Blocker::kLimits};
+    placeFinger(finger, candidate_);
+    const Block block = blocked(finger, check_object, change_);
     if (block.by != Blocker::kNone) {
       placeFinger(finger, q_);
       return block;
     }
-    noteMove(finger, change);
-    q_ = candidate;
+    noteMove(finger, change_);
+    q_.swap(candidate_);
     return block;
   }
 
@@ -105,7 +110,8 @@ class FingerAdvance {
   // moves tried (the object, the palm and the joint limits refused the rest).
   bool stepDrive(int finger, const FingerDrive& drive, double step, bool check_object = true,
                  std::vector<int>* blockers = nullptr) {
-    std::vector<std::pair<int, double>> all{{drive.joint, step}};
+    auto& all = step_moves_;
+    all.assign(1, {drive.joint, step});
     for (const auto& [joint, ratio] : drive.followers) all.emplace_back(joint, ratio * step);
     if (blockers) blockers->clear();
     // Whether the move went through; if not, notes the finger that refused it.
@@ -114,8 +120,10 @@ class FingerAdvance {
       return block.by == Blocker::kNone;
     };
     bool moved = moves(tryMove(finger, all, check_object));
-    for (std::size_t k = 0; !moved && all.size() > 1 && k < all.size(); ++k)
-      moved = moves(tryMove(finger, {all[k]}, check_object));
+    for (std::size_t k = 0; !moved && all.size() > 1 && k < all.size(); ++k) {
+      single_move_.assign(1, all[k]);
+      moved = moves(tryMove(finger, single_move_, check_object));
+    }
     return moved;
   }
 
@@ -185,8 +193,10 @@ class FingerAdvance {
   bool knownRefused(const Drive& d) const;
   void noteRefusal(Drive& d, const std::vector<int>& blockers) const;
 
-  // Joint change of `count` steps of the moves from the current configuration (limits, mimics).
-  Eigen::VectorXd changeOf(const std::vector<std::pair<int, double>>& moves, double count) const;
+  // Joint change of `count` steps of the moves from the current configuration (limits, mimics),
+  // written to `change`.
+  void changeOf(const std::vector<std::pair<int, double>>& moves, double count,
+                Eigen::VectorXd& change) const;
 
   // Steps until every joint a drive moves is at its limit.
   double stepsToLimits(const std::vector<std::pair<int, double>>& moves) const;
@@ -260,8 +270,33 @@ class FingerAdvance {
     }
   };
   std::vector<double> moved_;  // per link: summed displacement bounds of its moves so far
-  std::map<std::pair<int, int>, GapBound> pair_gaps_;
-  std::map<int, GapBound> object_gaps_;
+  // Kept gap bounds, flat: per link pair (row-major, the lower link first) and per link; `known`
+  // says whether one was found. Trees of map nodes cost allocations on every closing and a
+  // search on every attempt.
+  struct KeptGap {
+    bool known = false;
+    GapBound bound{};
+  };
+  std::vector<KeptGap> pair_gaps_;
+  std::vector<KeptGap> object_gaps_;
+  const KeptGap* keptObjectGap(int link) const {
+    return object_gaps_[link].known ? &object_gaps_[link] : nullptr;
+  }
+
+  // Scratch reused across steps and jump attempts of one closing (no heap work per step).
+  Eigen::VectorXd candidate_, change_;
+  std::vector<std::pair<int, double>> step_moves_, single_move_;
+  std::vector<Eigen::VectorXd> jump_changes_;
+  std::vector<double> per_step_;  // per link: displacement bound of one lockstep iteration
+  std::vector<char> in_jump_;     // per link: a link of the jumping fingers
+  std::vector<int> jump_links_;   // those links, ascending
+  // A moving link of a jump attempt (AdvanceSettings::jump_stops_at_blocking_link's order).
+  struct Moving {
+    double kept_steps;  // the link's kept gap bound in steps (infinite when none is kept)
+    int link;
+    double rate;  // its displacement bound per iteration
+  };
+  std::vector<Moving> jump_moving_;
 };
 
 }  // namespace skelgrasp::grasping::internal

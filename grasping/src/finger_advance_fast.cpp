@@ -49,10 +49,12 @@ AdvanceResult FingerAdvance::runFast(const AdvanceSettings& settings) {
     int iterations = 0, most_steps = 0;
     bool any_active = true;
     std::vector<int> blockers;
+    std::vector<Drive*> members;
+    members.reserve(drives.size());
     while (any_active) {
       any_active = false;
       for (int g = 0; g < static_cast<int>(fingers.size()); ++g) {
-        std::vector<Drive*> members;
+        members.clear();
         for (auto& d : drives) {
           if (group[d.finger] == g && !d.stopped && d.steps < settings.max_iterations_per_pass)
             members.push_back(&d);
@@ -120,12 +122,12 @@ void FingerAdvance::noteRefusal(Drive& d, const std::vector<int>& blockers) cons
   for (int f : blockers) watch(f);
 }
 
-Eigen::VectorXd FingerAdvance::changeOf(const std::vector<std::pair<int, double>>& moves,
-                                        double count) const {
-  Eigen::VectorXd moved = q_;
-  for (const auto& [joint, amount] : moves) moved[joint] += count * amount;
-  hand_.normalise(moved);
-  return moved - q_;
+void FingerAdvance::changeOf(const std::vector<std::pair<int, double>>& moves, double count,
+                             Eigen::VectorXd& change) const {
+  change = q_;
+  for (const auto& [joint, amount] : moves) change[joint] += count * amount;
+  hand_.normalise(change);
+  change -= q_;
 }
 
 double FingerAdvance::stepsToLimits(const std::vector<std::pair<int, double>>& moves) const {
@@ -148,14 +150,14 @@ bool FingerAdvance::mayBlock(int link, int other_finger_link) const {
 }
 
 double FingerAdvance::linkPairGap(int a, int b, double needed) {
-  const std::pair<int, int> key = std::minmax(a, b);
-  const auto cached = pair_gaps_.find(key);
-  if (cached != pair_gaps_.end()) {
-    const double bound = cached->second.current(moved_[key.first], moved_[key.second]);
+  const auto [first, second] = std::minmax(a, b);
+  KeptGap& kept = pair_gaps_[static_cast<std::size_t>(first) * moved_.size() + second];
+  if (kept.known) {
+    const double bound = kept.bound.current(moved_[first], moved_[second]);
     if (bound >= needed) return bound;
   }
   const double gap = computeLinkPairGap(a, b, needed);
-  pair_gaps_[key] = {gap, moved_[key.first], moved_[key.second]};
+  kept = {true, {gap, moved_[first], moved_[second]}};
   return gap;
 }
 
@@ -180,21 +182,21 @@ double FingerAdvance::computeLinkPairGap(int a, int b, double needed) {
 }
 
 double FingerAdvance::objectGap(int link, double needed) {
-  const auto cached = object_gaps_.find(link);
-  if (cached != object_gaps_.end()) {
-    const double bound = cached->second.current(moved_[link], 0.0);
+  KeptGap& kept = object_gaps_[link];
+  if (kept.known) {
+    const double bound = kept.bound.current(moved_[link], 0.0);
     if (bound >= needed) return bound;
   }
   const double gap = linkObjectGap(geometry_.shapes[link], grasp_object_.distanceField(), needed);
-  object_gaps_[link] = {gap, moved_[link], 0.0};
+  kept = {true, {gap, moved_[link], 0.0}};
   return gap;
 }
 
 bool FingerAdvance::provablyClearOfObject(int link, const Eigen::VectorXd& change) const {
-  const auto cached = object_gaps_.find(link);
-  if (cached == object_gaps_.end()) return false;
+  const KeptGap* kept = keptObjectGap(link);
+  if (!kept) return false;
   const double moved = moved_[link] + geometry_.motion.displacement(link, change);
-  return cached->second.current(moved, 0.0) > kClearanceMarginM;
+  return kept->bound.current(moved, 0.0) > kClearanceMarginM;
 }
 
 void FingerAdvance::noteMove(int finger, const Eigen::VectorXd& change) {
@@ -206,9 +208,9 @@ std::vector<int> FingerAdvance::lockstepGroups(const std::vector<Drive>& drives)
   const int fingers = static_cast<int>(hand_.fingers().size());
   std::vector<double> travel(hand_.links().size(), 0);
   for (const auto& d : drives) {
-    const Eigen::VectorXd change = changeOf(d.moves, stepsToLimits(d.moves));
+    changeOf(d.moves, stepsToLimits(d.moves), change_);
     for (int l : geometry_.links_of_finger[d.finger])
-      travel[l] += geometry_.motion.displacement(l, change);
+      travel[l] += geometry_.motion.displacement(l, change_);
   }
   std::vector<int> group(fingers);
   std::iota(group.begin(), group.end(), 0);
@@ -234,19 +236,31 @@ int FingerAdvance::jumpGroup(std::vector<Drive*>& members, const AdvanceSettings
   const int max_steps = settings.max_iterations_per_pass;
   const bool stop_at_blocking_link = settings.jump_stops_at_blocking_link;
   object_safe = 0;
-  std::vector<Eigen::VectorXd> changes;
+  auto& changes = jump_changes_;
+  if (changes.size() < members.size()) changes.resize(members.size());
   double cap = 0;
-  for (Drive* d : members) {
-    changes.push_back(changeOf(d->moves, 1));
-    cap = std::max(cap, std::min<double>(stepsToLimits(d->moves), max_steps - d->steps));
+  for (std::size_t i = 0; i < members.size(); ++i) {
+    changeOf(members[i]->moves, 1, changes[i]);
+    cap = std::max(
+        cap, std::min<double>(stepsToLimits(members[i]->moves), max_steps - members[i]->steps));
   }
   if (cap < 2) return 0;
-  // Displacement bound of one lockstep iteration, per link of the group.
-  std::map<int, double> per_step;
-  for (std::size_t i = 0; i < members.size(); ++i) {
-    for (int l : geometry_.links_of_finger[members[i]->finger])
-      per_step[l] += geometry_.motion.displacement(l, changes[i]);
+  // Displacement bound of one lockstep iteration, per link of the group (jump_links_, ascending).
+  for (int l : jump_links_) {
+    per_step_[l] = 0;
+    in_jump_[l] = 0;
   }
+  jump_links_.clear();
+  for (std::size_t i = 0; i < members.size(); ++i) {
+    for (int l : geometry_.links_of_finger[members[i]->finger]) {
+      if (!in_jump_[l]) {
+        in_jump_[l] = 1;
+        jump_links_.push_back(l);
+      }
+      per_step_[l] += geometry_.motion.displacement(l, changes[i]);
+    }
+  }
+  std::sort(jump_links_.begin(), jump_links_.end());
   double steps = cap;
   const auto limit = [&](double gap, double rate) {
     if (rate > 0) steps = std::min(steps, std::floor((gap - kClearanceMarginM) / rate));
@@ -255,22 +269,21 @@ int FingerAdvance::jumpGroup(std::vector<Drive*>& members, const AdvanceSettings
   // kept gap bounds, in steps), and none after one that allows no step: the others' gaps, exact
   // queries near the object, could not allow one. That changes nothing but the work: no step is
   // taken and the object budget is the same (none).
-  struct Moving {
-    double kept_steps;  // the link's kept gap bound in steps (infinite when none is kept)
-    int link;
-    double rate;
-  };
-  std::vector<Moving> moving;
-  for (const auto& [l, rate] : per_step) {
+  auto& moving = jump_moving_;
+  moving.clear();
+  for (int l : jump_links_) {
+    const double rate = per_step_[l];
     if (!(rate > 0)) continue;
-    const auto kept = object_gaps_.find(l);
-    moving.push_back({kept == object_gaps_.end() ? std::numeric_limits<double>::infinity()
-                                                 : kept->second.current(moved_[l], 0.0) / rate,
+    const KeptGap* kept = keptObjectGap(l);
+    moving.push_back({kept ? kept->bound.current(moved_[l], 0.0) / rate
+                           : std::numeric_limits<double>::infinity(),
                       l, rate});
   }
   if (stop_at_blocking_link) {
-    std::stable_sort(moving.begin(), moving.end(),
-                     [](const Moving& a, const Moving& b) { return a.kept_steps < b.kept_steps; });
+    // Ties in link order, the order they were listed in: a stable sort without its buffer.
+    std::sort(moving.begin(), moving.end(), [](const Moving& a, const Moving& b) {
+      return a.kept_steps < b.kept_steps || (a.kept_steps == b.kept_steps && a.link < b.link);
+    });
   }
   for (const Moving& m : moving) {
     limit(objectGap(m.link, m.rate * steps + kClearanceMarginM), m.rate);
@@ -278,7 +291,8 @@ int FingerAdvance::jumpGroup(std::vector<Drive*>& members, const AdvanceSettings
   }
   object_safe = steps;
   if (steps < 2) return 0;
-  for (const auto& [l, rate] : per_step) {
+  for (int l : jump_links_) {
+    const double rate = per_step_[l];
     if (rate <= 0) continue;
     if (hand_.modeOfLink(l) == CollisionMode::kAll) {
       for (int s : geometry_.static_links) {
@@ -288,28 +302,30 @@ int FingerAdvance::jumpGroup(std::vector<Drive*>& members, const AdvanceSettings
     // Other fingers: moving ones of the group (each pair once) and standing ones.
     for (int other : geometry_.finger_links) {
       if (!mayBlock(l, other)) continue;
-      const auto moving = per_step.find(other);
-      if (moving != per_step.end() && other < l) continue;
-      const double both = rate + (moving != per_step.end() ? moving->second : 0.0);
+      if (in_jump_[other] && other < l) continue;
+      const double both = rate + (in_jump_[other] ? per_step_[other] : 0.0);
       limit(linkPairGap(l, other, both * steps + kClearanceMarginM), both);
     }
     if (steps < 2) return 0;
   }
   // Only the group's fingers move; fingers outside the group cannot be reached (lockstepGroups).
-  Eigen::VectorXd candidate = q_;
+  candidate_ = q_;
   for (Drive* d : members) {
-    for (const auto& [joint, amount] : d->moves) candidate[joint] += steps * amount;
+    for (const auto& [joint, amount] : d->moves) candidate_[joint] += steps * amount;
   }
-  hand_.normalise(candidate);
-  const Eigen::VectorXd change = candidate - q_;
-  std::vector<int> noted;
-  for (Drive* d : members) {
-    if (std::find(noted.begin(), noted.end(), d->finger) != noted.end()) continue;
-    noteMove(d->finger, change);
-    noted.push_back(d->finger);
+  hand_.normalise(candidate_);
+  change_ = candidate_ - q_;
+  // Each finger once, though several of its drives may be members.
+  const auto firstOfFinger = [&](std::size_t i) {
+    for (std::size_t k = 0; k < i; ++k) {
+      if (members[k]->finger == members[i]->finger) return false;
+    }
+    return true;
+  };
+  for (std::size_t i = 0; i < members.size(); ++i) {
+    if (firstOfFinger(i)) noteMove(members[i]->finger, change_);
   }
-  q_ = candidate;
-  std::vector<int> placed;
+  q_.swap(candidate_);
   for (std::size_t i = 0; i < members.size(); ++i) {
     Drive* d = members[i];
     if (changes[i].cwiseAbs().maxCoeff() < kNoJointMove) {
@@ -318,10 +334,7 @@ int FingerAdvance::jumpGroup(std::vector<Drive*>& members, const AdvanceSettings
       d->steps += static_cast<int>(steps);
       d->refused_at.clear();
     }
-    if (std::find(placed.begin(), placed.end(), d->finger) == placed.end()) {
-      placeFinger(d->finger, q_);
-      placed.push_back(d->finger);
-    }
+    if (firstOfFinger(i)) placeFinger(d->finger, q_);
   }
   return static_cast<int>(steps);
 }
