@@ -62,7 +62,7 @@ std::vector<char> jointsTurnedBy(const HandModel& hand, const Finger& finger) {
 
 }  // namespace
 
-HandGeometry::HandGeometry(const HandModel& hand) : motion(hand) {
+HandGeometry::HandGeometry(const HandModel& hand) : motion(hand), kept_gaps(hand.links().size()) {
   const auto& links = hand.links();
   shapes.resize(links.size());
   links_of_finger.resize(hand.fingers().size());

@@ -43,10 +43,10 @@ class FingerAdvance {
         poses_(hand.linkPoses(start)),
         touched_(hand.links().size(), 0),
         moved_(hand.links().size(), 0.0),
-        pair_gaps_(hand.links().size() * hand.links().size()),
-        object_gaps_(hand.links().size()),
         per_step_(hand.links().size(), 0.0),
-        in_jump_(hand.links().size(), 0) {}
+        in_jump_(hand.links().size(), 0) {
+    geometry_.kept_gaps.startClosing();
+  }
 
   // What blocks finger `finger` at its current placement (object contacts are noted).
   // `check_object` false: the object is known to be out of reach (fast closing's budget).
@@ -257,31 +257,9 @@ class FingerAdvance {
   // (q_ or a candidate about to be tested); only the placed finger's change.
   std::vector<Pose> poses_;
   std::vector<char> touched_;
-
-  // Gap lower bounds kept valid while links move: a gap found once, less the displacement bounds
-  // (motion_bounds.cpp) both links have moved since. A jump attempt recomputes a gap only when its
-  // bound would limit the jump, so far from contact the distance queries run once per closing
-  // instead of once per attempt.
-  struct GapBound {
-    double gap;
-    double moved_a, moved_b;  // moved_ of the two links when `gap` was found
-    double current(double now_a, double now_b) const {
-      return gap - (now_a - moved_a) - (now_b - moved_b);
-    }
-  };
-  std::vector<double> moved_;  // per link: summed displacement bounds of its moves so far
-  // Kept gap bounds, flat: per link pair (row-major, the lower link first) and per link; `known`
-  // says whether one was found. Trees of map nodes cost allocations on every closing and a
-  // search on every attempt.
-  struct KeptGap {
-    bool known = false;
-    GapBound bound{};
-  };
-  std::vector<KeptGap> pair_gaps_;
-  std::vector<KeptGap> object_gaps_;
-  const KeptGap* keptObjectGap(int link) const {
-    return object_gaps_[link].known ? &object_gaps_[link] : nullptr;
-  }
+  // Per link: summed displacement bounds of its moves so far, against which the gap bounds this
+  // closing keeps (geometry_.kept_gaps) stay valid.
+  std::vector<double> moved_;
 
   // Scratch reused across steps and jump attempts of one closing (no heap work per step).
   Eigen::VectorXd candidate_, change_;

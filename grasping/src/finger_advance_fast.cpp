@@ -151,13 +151,13 @@ bool FingerAdvance::mayBlock(int link, int other_finger_link) const {
 
 double FingerAdvance::linkPairGap(int a, int b, double needed) {
   const auto [first, second] = std::minmax(a, b);
-  KeptGap& kept = pair_gaps_[static_cast<std::size_t>(first) * moved_.size() + second];
-  if (kept.known) {
-    const double bound = kept.bound.current(moved_[first], moved_[second]);
-    if (bound >= needed) return bound;
+  auto& kept = geometry_.kept_gaps;
+  if (const GapBound* bound = kept.pair(first, second)) {
+    const double current = bound->current(moved_[first], moved_[second]);
+    if (current >= needed) return current;
   }
   const double gap = computeLinkPairGap(a, b, needed);
-  kept = {true, {gap, moved_[first], moved_[second]}};
+  kept.keepPair(first, second, {gap, moved_[first], moved_[second]});
   return gap;
 }
 
@@ -182,21 +182,21 @@ double FingerAdvance::computeLinkPairGap(int a, int b, double needed) {
 }
 
 double FingerAdvance::objectGap(int link, double needed) {
-  KeptGap& kept = object_gaps_[link];
-  if (kept.known) {
-    const double bound = kept.bound.current(moved_[link], 0.0);
-    if (bound >= needed) return bound;
+  auto& kept = geometry_.kept_gaps;
+  if (const GapBound* bound = kept.object(link)) {
+    const double current = bound->current(moved_[link], 0.0);
+    if (current >= needed) return current;
   }
   const double gap = linkObjectGap(geometry_.shapes[link], grasp_object_.distanceField(), needed);
-  kept = {true, {gap, moved_[link], 0.0}};
+  kept.keepObject(link, {gap, moved_[link], 0.0});
   return gap;
 }
 
 bool FingerAdvance::provablyClearOfObject(int link, const Eigen::VectorXd& change) const {
-  const KeptGap* kept = keptObjectGap(link);
+  const GapBound* kept = geometry_.kept_gaps.object(link);
   if (!kept) return false;
   const double moved = moved_[link] + geometry_.motion.displacement(link, change);
-  return kept->bound.current(moved, 0.0) > kClearanceMarginM;
+  return kept->current(moved, 0.0) > kClearanceMarginM;
 }
 
 void FingerAdvance::noteMove(int finger, const Eigen::VectorXd& change) {
@@ -274,10 +274,10 @@ int FingerAdvance::jumpGroup(std::vector<Drive*>& members, const AdvanceSettings
   for (int l : jump_links_) {
     const double rate = per_step_[l];
     if (!(rate > 0)) continue;
-    const KeptGap* kept = keptObjectGap(l);
-    moving.push_back({kept ? kept->bound.current(moved_[l], 0.0) / rate
-                           : std::numeric_limits<double>::infinity(),
-                      l, rate});
+    const GapBound* kept = geometry_.kept_gaps.object(l);
+    moving.push_back(
+        {kept ? kept->current(moved_[l], 0.0) / rate : std::numeric_limits<double>::infinity(), l,
+         rate});
   }
   if (stop_at_blocking_link) {
     // Ties in link order, the order they were listed in: a stable sort without its buffer.

@@ -1,6 +1,7 @@
 #pragma once
 // Internal: the pieces of GraspSimulator::close — the hand's FCL geometry, the link pairs allowed
 // to intersect, the finger advance (stepwise or fast) and the contact patch of a link.
+#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -65,6 +66,49 @@ class MotionBounds {
   std::vector<std::vector<std::pair<Eigen::Vector3d, double>>> hulls_;  // per link
 };
 
+// Gap lower bounds the fast closing keeps valid while links move (finger_advance.h): a gap found
+// once, less the displacement bounds (motion_bounds.cpp) both links have moved since. A jump
+// attempt recomputes a gap only when its bound would limit the jump, so far from contact the
+// distance queries run once per closing instead of once per attempt.
+struct GapBound {
+  double gap;
+  double moved_a, moved_b;  // the two links' summed displacement bounds when `gap` was found
+  double current(double now_a, double now_b) const {
+    return gap - (now_a - moved_a) - (now_b - moved_b);
+  }
+};
+
+// The kept gap bounds of one closing at a time, per link pair (row-major, the lower link first)
+// and per link. They live as long as the simulator, so that a closing neither allocates nor clears
+// a table of every link pair: an entry counts only while its stamp is the current closing's.
+class KeptGaps {
+ public:
+  explicit KeptGaps(std::size_t links) : links_(links), pairs_(links * links), objects_(links) {}
+  // Forgets every entry (the next closing's).
+  void startClosing() { ++closing_; }
+  // Nullptr when none was kept in this closing.
+  const GapBound* pair(int first, int second) const { return kept(pairs_[index(first, second)]); }
+  const GapBound* object(int link) const { return kept(objects_[link]); }
+  void keepPair(int first, int second, const GapBound& bound) {
+    pairs_[index(first, second)] = {closing_, bound};
+  }
+  void keepObject(int link, const GapBound& bound) { objects_[link] = {closing_, bound}; }
+
+ private:
+  struct Entry {
+    std::uint64_t closing = 0;  // 0: never kept (closings count from 1)
+    GapBound bound{};
+  };
+  std::size_t index(int first, int second) const {
+    return static_cast<std::size_t>(first) * links_ + second;
+  }
+  const GapBound* kept(const Entry& e) const { return e.closing == closing_ ? &e.bound : nullptr; }
+
+  std::size_t links_;
+  std::vector<Entry> pairs_, objects_;
+  std::uint64_t closing_ = 0;
+};
+
 // FCL objects of the hand's link shapes, built once per simulator and moved by placeLink.
 struct HandGeometry {
   explicit HandGeometry(const HandModel& hand);
@@ -83,6 +127,7 @@ struct HandGeometry {
   // While these keep their values, a step of the finger tests against the same link placements.
   std::vector<std::vector<int>> joints_placing_finger;
   MotionBounds motion;
+  KeptGaps kept_gaps;  // the fast closing's, of the closing under way
 };
 
 void placeLink(const Pose& link_pose, std::vector<ShapeInstance>& shapes);
