@@ -5,14 +5,12 @@
 // top_k (in pre-score order); `best-first`, screening best-first against pruning in pre-score
 // order; `closure-shortcut`, settling's closure test skipped while the squeeze is unbalanced
 // (grasping/settling.h); `cell-skipping`, the exact box gap skipping empty cells of the triangle
-// grid (DistanceFieldParams::skip_empty_cells); `row-clipping`, the exact box gap entering a row
-// of cells only where the box can reach (DistanceFieldParams::clip_rows_to_box); `jump-order`, the
-// fast closing's jump attempts stopping at the first link that allows no step
-// (ClosingParams::jump_stops_at_blocking_link); `refusals`, the fast closing's later passes not
-// testing again a refused step while the fingers it was tested against stand where they stood
-// (ClosingParams::skip_repeated_refusals). Both paths run each hand's own ranking budget (since
-// 2026-11-29 the Shadow hand's is smaller: its figures from before are not comparable with later
-// ones).
+// grid (DistanceFieldParams::skip_empty_cells); `jump-order`, the fast closing's jump attempts
+// stopping at the first link that allows no step (ClosingParams::jump_stops_at_blocking_link);
+// `refusals`, the fast closing's later passes not testing again a refused step while the fingers it
+// was tested against stand where they stood (ClosingParams::skip_repeated_refusals). Both paths
+// run each hand's own ranking budget (since 2026-11-29 the Shadow hand's is smaller: its figures
+// from before are not comparable with later ones).
 #include <fmt/format.h>
 #include <tbb/global_control.h>
 
@@ -53,7 +51,6 @@ enum class Shortcut {
   kBestFirst,
   kClosureShortcut,
   kCellSkipping,
-  kRowClipping,
   kJumpOrder,
   kRefusals
 };
@@ -66,7 +63,6 @@ const std::map<std::string, Shortcut>& shortcutsByName() {
       {"best-first", Shortcut::kBestFirst},
       {"closure-shortcut", Shortcut::kClosureShortcut},
       {"cell-skipping", Shortcut::kCellSkipping},
-      {"row-clipping", Shortcut::kRowClipping},
       {"jump-order", Shortcut::kJumpOrder},
       {"refusals", Shortcut::kRefusals}};
   return names;
@@ -77,8 +73,7 @@ struct PathRun {
   double seconds = 0;
 };
 
-// `object` is the one of the path (cell-skipping, row-clipping: built with or without the
-// shortcut).
+// `object` is the one of the path (cell-skipping: built with or without the skip).
 PathRun rankOnce(const grasping::HandModel& hand, const grasping::GraspObject& object,
                  const std::vector<grasping::Grasp>& grasps,
                  const grasping::SkeletonPlannerParams& planner, Shortcut shortcut, bool new_path) {
@@ -98,7 +93,6 @@ PathRun rankOnce(const grasping::HandModel& hand, const grasping::GraspObject& o
       params.robustness.settling.skip_closure_test_when_unbalanced = new_path;
       break;
     case Shortcut::kCellSkipping:  // the caller passes the path's object
-    case Shortcut::kRowClipping:
       break;
     case Shortcut::kJumpOrder:
       hypothesis.closing.jump_stops_at_blocking_link = new_path;
@@ -153,17 +147,14 @@ int runBenchRanking(const BenchRankingArgs& args) {
       const auto skel = skeleton::extractSkeleton(mesh);
       if (!skel.status.ok()) throw Error(skel.status.message);
       const grasping::GraspObject object(mesh);
-      // The old path's object for the field's shortcuts, its field built before any timing (the
-      // new one's is built by the planning below).
-      const bool field_shortcut =
-          shortcut == Shortcut::kCellSkipping || shortcut == Shortcut::kRowClipping;
-      std::optional<grasping::GraspObject> old_walk_object;
-      if (field_shortcut) {
-        grasping::DistanceFieldParams old_walk;
-        old_walk.skip_empty_cells = shortcut != Shortcut::kCellSkipping;
-        old_walk.clip_rows_to_box = shortcut != Shortcut::kRowClipping;
-        old_walk_object.emplace(mesh, old_walk);
-        old_walk_object->distanceField();
+      // The old path's object for cell-skipping, its field built before any timing (the new
+      // one's is built by the planning below).
+      std::optional<grasping::GraspObject> dense_object;
+      if (shortcut == Shortcut::kCellSkipping) {
+        grasping::DistanceFieldParams dense_walk;
+        dense_walk.skip_empty_cells = false;
+        dense_object.emplace(mesh, dense_walk);
+        dense_object->distanceField();
       }
       for (const auto& hand : hands) {
         const auto plan = grasping::planSkeletonGrasps(hand, object, skel.skeleton, planner);
@@ -173,8 +164,8 @@ int runBenchRanking(const BenchRankingArgs& args) {
         for (int rep = 0; rep < args.repeat; ++rep) {
           for (int k = 0; k < 2; ++k) {
             const bool new_path = (k == 1) != (rep % 2 == 1);
-            const bool old_walk = field_shortcut && !new_path;
-            PathRun run = rankOnce(hand, old_walk ? *old_walk_object : object, plan.grasps, planner,
+            const bool dense = shortcut == Shortcut::kCellSkipping && !new_path;
+            PathRun run = rankOnce(hand, dense ? *dense_object : object, plan.grasps, planner,
                                    shortcut, new_path);
             (new_path ? new_s : old_s) += run.seconds;
             (new_path ? new_run : old_run) = std::move(run);
@@ -232,16 +223,14 @@ void registerBenchRankingCommand(CLI::App& app, Action& action) {
   cmd->add_option("--repeat", args->repeat, "Runs of each path per object and hand (mean)")
       ->transform(countIn(1, kMaxRepeat))
       ->capture_default_str();
-  cmd->add_option(
-         "--compare", args->compare,
-         "pruning (screening stops where it cannot choose), best-first (screening "
-         "best-first against pruning in pre-score order), closure-shortcut (settling "
-         "skips the closure test while the squeeze is unbalanced), cell-skipping (the "
-         "exact box gap skips empty cells), row-clipping (it enters a row of cells only where "
-         "the box can reach), jump-order (the fast closing's jump "
-         "attempts stop at the first link that allows no step) or refusals (later passes "
-         "do not test again a refused step while the fingers it was tested against "
-         "stand where they stood)")
+  cmd->add_option("--compare", args->compare,
+                  "pruning (screening stops where it cannot choose), best-first (screening "
+                  "best-first against pruning in pre-score order), closure-shortcut (settling "
+                  "skips the closure test while the squeeze is unbalanced), cell-skipping (the "
+                  "exact box gap skips empty cells), jump-order (the fast closing's jump "
+                  "attempts stop at the first link that allows no step) or refusals (later passes "
+                  "do not test again a refused step while the fingers it was tested against "
+                  "stand where they stood)")
       ->check(CLI::IsMember(shortcutsByName()))
       ->capture_default_str();
   cmd->add_option("--json", args->json_out, "Also write the rows as JSON");

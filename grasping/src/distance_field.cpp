@@ -196,7 +196,6 @@ DistanceField::DistanceField(const TriangleMesh& mesh, bool signed_field,
   m.bounds = mesh.bounds();
   m.is_signed = signed_field;
   m.skip_empty_cells = params.skip_empty_cells;
-  m.clip_rows_to_box = params.clip_rows_to_box;
   m.h = params.spacing_m;
   for (;;) {
     m.band = std::max(params.band_m, m.h);  // the flood fill needs a band of at least a cell

@@ -38,31 +38,6 @@ struct VisitedFaces {
 };
 thread_local VisitedFaces visited_faces;
 
-// Narrows [x_first, x_last] to the cells of a row whose centres (row_start + x step, in the box's
-// frame) lie within every slab |p_k| <= half_k + reach; false when none do. A centre outside a slab
-// lies further than `reach` outside the box, which the walk's per-cell test cuts anyway: the
-// stretch kept is a superset of the cells that test keeps. Rounded outwards to whole cells, so
-// rounding can only keep a cell more, never lose one. A long finger box lies diagonally in the
-// grid, and most occupied cells of the rows its bounding box reaches are beside it, not near it.
-bool clipRowToBox(const Eigen::Vector3d& row_start, const Eigen::Vector3d& step,
-                  const Eigen::Vector3d& half, double reach, int& x_first, int& x_last) {
-  double lo = x_first, hi = x_last;
-  for (int k = 0; k < 3; ++k) {
-    const double limit = half[k] + reach;
-    if (step[k] == 0) {
-      if (std::abs(row_start[k]) > limit) return false;
-      continue;
-    }
-    const double t0 = (-limit - row_start[k]) / step[k], t1 = (limit - row_start[k]) / step[k];
-    lo = std::max(lo, std::floor(std::min(t0, t1)));
-    hi = std::min(hi, std::ceil(std::max(t0, t1)));
-  }
-  if (!(lo <= hi)) return false;
-  x_first = static_cast<int>(lo);
-  x_last = static_cast<int>(hi);
-  return true;
-}
-
 }  // namespace
 
 std::optional<SurfacePoint> DistanceField::closestPointWithin(const Eigen::Vector3d& p,
@@ -159,17 +134,11 @@ double DistanceField::boxGap(const Pose& box_pose, const Eigen::Vector3d& half, 
   for (int z = a.z(); z <= b.z(); ++z) {
     for (int y = a.y(); y <= b.y(); ++y) {
       const std::size_t row = m.cellIndex({0, y, z});
-      std::size_t row_end = row + b.x() + 1;
+      const std::size_t row_end = row + b.x() + 1;
       std::size_t c = m.nextOccupied(row + a.x(), row_end);
       if (c == row_end) continue;  // most rows a box reaches are empty (96 of 133 in an SDH plan)
       const Eigen::Vector3d row_start =
           to_box * (m.origin + m.cell * Eigen::Vector3d(0.5, y + 0.5, z + 0.5) - centre);
-      if (m.clip_rows_to_box) {
-        int x_first = static_cast<int>(c - row), x_last = b.x();
-        if (!clipRowToBox(row_start, step_x, half, best + cell_radius, x_first, x_last)) continue;
-        row_end = row + x_last + 1;
-        c = m.nextOccupied(row + x_first, row_end);
-      }
       for (; c < row_end; c = m.nextOccupied(c + 1, row_end)) {
         const auto x = static_cast<double>(c - row);
         // A triangle reaching past its cell is also listed in the cells it reaches.

@@ -52,7 +52,6 @@ struct DistanceField::Impl {
 
   bool occupied(std::size_t c) const { return (cell_occupied[c >> 6] >> (c & 63)) & 1u; }
   bool skip_empty_cells = true;  // DistanceFieldParams::skip_empty_cells
-  bool clip_rows_to_box = true;  // DistanceFieldParams::clip_rows_to_box
 
   // The first occupied cell in [c, end), or end: a row's empty runs are skipped a word (64 cells)
   // at a time, so a query's walk costs its occupied cells rather than every cell it reaches.

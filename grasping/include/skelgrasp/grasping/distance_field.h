@@ -28,12 +28,6 @@ struct DistanceFieldParams {
   // that `skelgrasp bench ranking --compare cell-skipping` times both in one process. The gaps
   // and closest faces are the same either way (the cells are visited in the same order).
   bool skip_empty_cells = true;
-  // True: the exact box gap enters a row of cells only over the stretch whose cell centres lie
-  // within the box's slabs widened by the search radius, a superset of the cells its per-cell
-  // test keeps, so the cells visited and their order are the same. False: every occupied cell of
-  // the row is tested, the walk before 2026-11-29, kept so that `skelgrasp bench ranking
-  // --compare row-clipping` times both in one process.
-  bool clip_rows_to_box = true;
 };
 
 // Throws InvalidArgument for a spacing or band that is not positive: the one check of these params,
