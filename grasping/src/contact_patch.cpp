@@ -278,8 +278,6 @@ std::vector<Contact> stepwiseContactPatch(const HandModel& hand,
   return {makeContact(hand, link, object, point, face, centre.on_link, palm, gap)};
 }
 
-// A touched link is within a closing step of the object; farther gaps are found by FCL.
-constexpr double kTouchedGapReachM = 0.01;
 // Over a few field cells the exact closest-point query scans too many triangles: CGAL's tree.
 constexpr double kExactClosestReachM = 0.008;
 

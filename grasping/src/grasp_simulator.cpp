@@ -161,12 +161,10 @@ ClosingResult GraspSimulator::closeImpl(const Pose& hand_pose, const Preshape& p
     ++links_in_contact;
     for (auto& contact : contacts) result.contacts.push_back(std::move(contact));
   };
-  // A link the object blocked stopped within a closing step of it (under 3 mm in an SDH plan of
-  // the power drill); one farther away has moved off since, its finger driven on by its other
-  // joints, and touches nothing: 7 % of the touched links there ended 3-134 mm away.
-  constexpr double kTouchedContactReachM = 0.01;
+  // Touched links only near the object (internal::kTouchedGapReachM says why).
   for (int l : geometry.finger_links) {
-    addContact(l, false, advance.touched[l] ? kTouchedContactReachM : params.contact_distance_m);
+    addContact(l, false,
+               advance.touched[l] ? internal::kTouchedGapReachM : params.contact_distance_m);
   }
   if (params.palm_contacts) {
     for (int l : hand_.palmLinks()) {
