@@ -6,6 +6,7 @@
 
 #include "simulator_internal.h"
 #include "skelgrasp/common/constants.h"
+#include "skelgrasp/common/error.h"
 
 namespace skelgrasp::grasping::internal {
 
@@ -238,17 +239,14 @@ std::vector<Contact> stepwiseContactPatch(const HandModel& hand,
                                           bool palm, double max_distance, bool corner_contacts,
                                           std::size_t& queries) {
   const auto& surface = object.surfaceQuery();
-  if (std::isfinite(max_distance)) {
-    // A link whose bounding spheres all stay farther than max_distance from the surface cannot
-    // be in contact: one closest-point query instead of an exact FCL distance, which dominated
-    // closing.
-    bool near = false;
-    for (const auto& s : shapes) {
-      const Eigen::Vector3d centre = link_pose * s.origin.translation();
-      near = near || surface.distance(centre) <= s.bounding_radius + max_distance;
-    }
-    if (!near) return {};
+  // A link whose bounding spheres all stay farther than max_distance from the surface cannot be
+  // in contact: one closest-point query instead of an exact FCL distance, which dominated closing.
+  bool near = false;
+  for (const auto& s : shapes) {
+    const Eigen::Vector3d centre = link_pose * s.origin.translation();
+    near = near || surface.distance(centre) <= s.bounding_radius + max_distance;
   }
+  if (!near) return {};
   // FCL gives the exact gap but an arbitrary point of a flat contact patch (a pad on a face), so
   // the point is the centre of the patch: the object points closest to the link's surface samples
   // that lie within kContactPatchBandM of the gap.
@@ -291,15 +289,13 @@ std::vector<Contact> fastContactPatch(const HandModel& hand,
                                       std::size_t& queries) {
   const DistanceField& field = object.distanceField();
   if (shapes.empty()) return {};  // nothing of the link can touch
-  const bool bounded = std::isfinite(max_distance);
   // The shapes' sphere bounds (a field lookup per sphere) reject a far link before any exact gap.
   std::vector<double> sphere_bounds;
   sphere_bounds.reserve(shapes.size());
   for (const auto& s : shapes) sphere_bounds.push_back(sphereCoverLowerBound(s, field));
-  if (bounded && *std::min_element(sphere_bounds.begin(), sphere_bounds.end()) > max_distance)
-    return {};
+  if (*std::min_element(sphere_bounds.begin(), sphere_bounds.end()) > max_distance) return {};
   // Gaps at or beyond `upper` come back as `upper`.
-  const double upper = bounded ? max_distance + kContactPatchBandM : kTouchedGapReachM;
+  const double upper = max_distance + kContactPatchBandM;
   // One box per shape: a box shape itself (its exact gap), or the box that holds a cylinder or a
   // sphere (a lower bound of its gap). Gaps at or beyond `best` come back as `best`. Each box is
   // searched once, and the face its gap was found at gives the closest points if the patch needs
@@ -326,16 +322,14 @@ std::vector<Contact> fastContactPatch(const HandModel& hand,
     }
   }
   // Every box gap (or bound) and every other shape's sphere bound beyond max_distance: no contact.
-  if (bounded) {
-    double link_bound = best;
-    for (std::size_t i = 0; i < shapes.size(); ++i) {
-      if (!shapes[i].enclosing_half) link_bound = std::min(link_bound, sphere_bounds[i]);
-    }
-    if (link_bound > max_distance) return {};
+  double link_bound = best;
+  for (std::size_t i = 0; i < shapes.size(); ++i) {
+    if (!shapes[i].enclosing_half) link_bound = std::min(link_bound, sphere_bounds[i]);
   }
+  if (link_bound > max_distance) return {};
   // Every shape provably farther than max_distance: no contact and no FCL query (the SDH's palm
   // and knuckle cylinders had taken a third of a settled score in those).
-  if (bounded && all_held && best >= upper) return {};
+  if (all_held && best >= upper) return {};
   std::optional<FclGap> exact;
   if (!all_boxes || best >= upper) {
     exact = fclGap(shapes, object, queries);
@@ -400,6 +394,7 @@ std::vector<Contact> contactPatch(const HandModel& hand, const std::vector<Shape
                                   int link, const Pose& link_pose, const GraspObject& object,
                                   bool palm, double max_distance, ClosingMethod method,
                                   bool corner_contacts, std::size_t& queries) {
+  SKELGRASP_DEMAND(std::isfinite(max_distance) && max_distance >= 0);
   if (method == ClosingMethod::kFast) {
     return fastContactPatch(hand, shapes, link, link_pose, object, palm, max_distance,
                             corner_contacts, queries);

@@ -14,8 +14,7 @@ namespace skelgrasp::grasping::internal {
 // A link the object blocked stops within a closing step of it (under 3 mm in an SDH plan of the
 // power drill). One farther away has since been carried off by its finger's other joints and
 // touches nothing: before 2026-11-29 such links kept contacts, 7 % of the touched links there,
-// 3-134 mm from the object. The simulator's contact reach for touched links and the contact
-// patch's exact-gap reach for them.
+// 3-134 mm from the object. The simulator's contact reach for touched links.
 constexpr double kTouchedGapReachM = 0.01;
 
 struct ShapeInstance {
@@ -90,7 +89,7 @@ struct GapBound {
 // a table of every link pair: an entry counts only while its stamp is the current closing's.
 class KeptGaps {
  public:
-  explicit KeptGaps(std::size_t links) : links_(links), pairs_(links * links), objects_(links) {}
+  explicit KeptGaps(std::size_t links) : pairs_(links * links), objects_(links) {}
   // Forgets every entry (the next closing's).
   void startClosing() { ++closing_; }
   // Nullptr when none was kept in this closing.
@@ -107,11 +106,10 @@ class KeptGaps {
     GapBound bound{};
   };
   std::size_t index(int first, int second) const {
-    return static_cast<std::size_t>(first) * links_ + second;
+    return static_cast<std::size_t>(first) * objects_.size() + second;
   }
   const GapBound* kept(const Entry& e) const { return e.closing == closing_ ? &e.bound : nullptr; }
 
-  std::size_t links_;
   std::vector<Entry> pairs_, objects_;
   std::uint64_t closing_ = 0;
 };
@@ -206,9 +204,9 @@ AdvanceResult advanceFingers(const HandModel& hand, HandGeometry& geometry,
 
 // The contacts of one link (placed at `link_pose`) with the object: one at the centre of its
 // touching patch, or with `corner_contacts` the corners of a wide patch
-// (4 mm or more; up to four); none when the link is farther than `max_distance` (infinity: always
-// in contact). kFast finds the same gap and patch from the object's distance field and exact
-// queries near the surface instead of FCL and CGAL.
+// (4 mm or more; up to four); none when the link is farther than `max_distance` (finite, >= 0).
+// kFast finds the same gap and patch from the object's distance field and exact queries near the
+// surface instead of FCL and CGAL.
 std::vector<Contact> contactPatch(const HandModel& hand, const std::vector<ShapeInstance>& shapes,
                                   int link, const Pose& link_pose, const GraspObject& object,
                                   bool palm, double max_distance, ClosingMethod method,
