@@ -33,7 +33,7 @@ inline CLI::Option* addAlternativePreshapesFlag(CLI::App& cmd, bool& alternative
   return cmd
       .add_flag("--alternative-preshapes,!--no-alternative-preshapes", alternative_preshapes,
                 "Skeleton planner: also close every pose with the hand's alternative preshapes of "
-                "its grasp type (the SDH's spherical tripod; docs/hands.md); off with "
+                "its grasp type (the SDH's tripods; docs/hands.md); off with "
                 "--reference-compat")
       ->capture_default_str();
 }

@@ -140,7 +140,7 @@ TEST_F(BatchTest, HandsClosingAlternativePreshapesAreRecorded) {
   p.max_objects = 1;
   runBatch(p);
   EXPECT_EQ(readJsonFile(out + "/batch.json")["options"]["alternative_preshapes"],
-            (nlohmann::json{{"sdh", {"precision_tripod", "spherical"}}}));
+            (nlohmann::json{{"sdh", {"claw", "precision_tripod", "spherical"}}}));
   p.alternative_preshapes = false;
   try {
     runBatch(p);

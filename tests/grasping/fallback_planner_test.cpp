@@ -167,9 +167,9 @@ TEST(FallbackPlanner, CentreCandidatesAddPowerAndPrecisionGraspsAboutTheCentre) 
   EXPECT_GT(with.result.summary.hypotheses, without.result.summary.hypotheses);
 }
 
-// Alternative preshapes (the SDH's tripods "spherical" and "precision_tripod"): every pose closed
-// with a hand's power or precision preshape is also closed with that type's alternatives, by the
-// skeleton strategies and the centre candidates alike; the grasps of the main preshapes stay
+// Alternative preshapes (the SDH's tripods "spherical", "claw" and "precision_tripod"): every pose
+// closed with a hand's power or precision preshape is also closed with that type's alternatives, by
+// the skeleton strategies and the centre candidates alike; the grasps of the main preshapes stay
 // exactly as without them, and switching them off or asking for the reference's quality leaves
 // only those.
 TEST(FallbackPlanner, AlternativePreshapesOnlyAddGraspsOfTheirOwnPreshape) {
@@ -206,11 +206,13 @@ TEST(FallbackPlanner, AlternativePreshapesOnlyAddGraspsOfTheirOwnPreshape) {
   std::map<std::string, std::set<std::string>> strategies;  // by alternative preshape
   for (const auto& g : with.result.grasps) {
     if (!alternative(g)) continue;
-    EXPECT_EQ(g.type, g.preshape == "spherical" ? GraspType::kPower : GraspType::kPrecision)
+    EXPECT_EQ(g.type, g.preshape == "precision_tripod" ? GraspType::kPrecision : GraspType::kPower)
         << g.preshape;
     strategies[g.preshape].insert(isFallbackStrategy(g.strategy) ? "centre" : "skeleton");
   }
   EXPECT_EQ(strategies["spherical"], (std::set<std::string>{"centre", "skeleton"}));
+  // The claw wraps the 6 cm capsule about its middle only (no skeleton pose holds).
+  EXPECT_EQ(strategies["claw"].count("centre"), 1u);
   EXPECT_EQ(strategies["precision_tripod"].count("centre"), 1u);
   const auto alternative_grasps =
       std::count_if(with.result.grasps.begin(), with.result.grasps.end(), alternative);
@@ -372,8 +374,9 @@ TEST(FallbackPlanner, TopStrategyComesFromAboveWhenThereIsASupportPlane) {
   const PlanResult r = planFallbackGrasps(hand, object, params);
   const FallbackStrategyParams& sp = params.strategies;
   const std::size_t poses = sp.top_rolls + sp.top_tilted_azimuths * sp.top_tilted_rolls;
-  // Precision, power and the SDH's alternatives of each (its tripods).
-  EXPECT_EQ(r.summary.poses, 4 * poses);
+  // Precision, power and the SDH's alternatives of each (its tripods: two of power, one of
+  // precision).
+  EXPECT_EQ(r.summary.poses, 5 * poses);
   EXPECT_GE(r.grasps.size(), kWantedGrasps);
   expectSound(r, hand, object);
   const double steepest = std::cos(sp.top_tilt_rad) - 1e-9;

@@ -105,12 +105,13 @@ TEST(HandModel, PlannersCloseEachTypesPreshapeThenItsAlternatives) {
     return out;
   };
   using Names = std::vector<std::string>;
-  EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPower)), (Names{"power", "spherical"}));
+  EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPower)), (Names{"power", "claw", "spherical"}));
   EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPower, false)), (Names{"power"}));
   EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPrecision)),
             (Names{"precision", "precision_tripod"}));
   EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPrecision, false)), (Names{"precision"}));
   EXPECT_EQ(sdh.preshape("spherical").grasp_type, GraspType::kPower);
+  EXPECT_EQ(sdh.preshape("claw").grasp_type, GraspType::kPower);
   EXPECT_EQ(sdh.preshape("precision").grasp_type, GraspType::kPrecision);
   EXPECT_EQ(sdh.preshape("precision_tripod").grasp_type, GraspType::kPrecision);
   // The paper's hands keep their two preshapes.
@@ -121,10 +122,10 @@ TEST(HandModel, PlannersCloseEachTypesPreshapeThenItsAlternatives) {
   }
 }
 
-// The SDH's tripods (spherical, precision_tripod) turn fingers 1 and 2 by 60 degrees about their
-// bases. The three finger bases lie on a circle about the palm axis (the fact sheet's 38.1 mm), so
-// then every finger closes towards that axis (a tripod, 120 degrees apart); in the power preshape
-// fingers 1 and 2 close side by side towards the thumb's side.
+// The SDH's tripods (spherical, claw, precision_tripod) turn fingers 1 and 2 by 60 degrees about
+// their bases. The three finger bases lie on a circle about the palm axis (the fact sheet's 38.1
+// mm), so then every finger closes towards that axis (a tripod, 120 degrees apart); in the power
+// preshape fingers 1 and 2 close side by side towards the thumb's side.
 TEST(HandModel, SdhTripodPreshapesCloseEveryFingerTowardsThePalmAxis) {
   const HandModel sdh = loadBuiltinHand("sdh");
   const auto closingDirections = [&](const Preshape& preshape) {
@@ -144,7 +145,7 @@ TEST(HandModel, SdhTripodPreshapesCloseEveryFingerTowardsThePalmAxis) {
     }
     return out;
   };
-  for (const char* tripod : {"spherical", "precision_tripod"}) {
+  for (const char* tripod : {"spherical", "claw", "precision_tripod"}) {
     const auto directions = closingDirections(sdh.preshape(tripod));
     for (std::size_t f = 0; f < 3; ++f)
       EXPECT_GT(directions[2 * f].dot(directions[2 * f + 1]), std::cos(2 * kPi / 180))

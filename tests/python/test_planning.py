@@ -170,18 +170,22 @@ def test_surface_candidates_join_the_skeleton_planners_pool(capsule):
 
 
 def test_alternative_preshapes_is_a_keyword_of_plan(capsule, sdh, capsule_plan):
-    # The SDH's tripods ("spherical", a power preshape, and "precision_tripod") are closed
-    # wherever the main preshape of their type is.
+    # The SDH's tripods ("spherical" and "claw", power preshapes, and "precision_tripod") are
+    # closed wherever the main preshape of their type is.
     assert "alternative_preshapes: bool = True" in skelgrasp.plan.__doc__
     with_alternatives = skelgrasp.plan(capsule, sdh, seed=1, robustness=False)
     plain = skelgrasp.plan(capsule, sdh, seed=1, robustness=False, alternative_preshapes=False)
     reference = skelgrasp.plan(capsule, sdh, seed=1, robustness=False, reference_compat=True)
     grasps = with_alternatives.to_dict()["grasps"]
     spherical = [g for g in grasps if g["preshape"] == "spherical"]
+    claw = [g for g in grasps if g["preshape"] == "claw"]
     tripod = [g for g in grasps if g["preshape"] == "precision_tripod"]
     assert spherical and all(g["type"] == "power" for g in spherical)
+    assert claw and all(g["type"] == "power" for g in claw)
     assert tripod and all(g["type"] == "precision" for g in tripod)
-    assert len(with_alternatives.grasps) == len(plain.grasps) + len(spherical) + len(tripod)
+    assert len(with_alternatives.grasps) == len(plain.grasps) + len(spherical) + len(claw) + len(
+        tripod
+    )
     for result in (plain, reference):
         assert {g["preshape"] for g in result.to_dict()["grasps"]} <= {"power", "precision"}
 

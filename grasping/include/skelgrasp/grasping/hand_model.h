@@ -74,7 +74,8 @@ struct Preshape {
   Pose gcp_in_link = Pose::Identity();  // grasp centre point: z = approach, y = finger spread
   // The grasp type the planners close this preshape for: "power" and "precision" are their own
   // types; another preshape with a type is an alternative the planners also close at every pose
-  // of that type (the SDH's "spherical", docs/hands.md). Unset: the planners never use it.
+  // of that type (the SDH's "spherical" and "claw", docs/hands.md). Unset: the planners never use
+  // it.
   std::optional<GraspType> grasp_type;
 };
 
