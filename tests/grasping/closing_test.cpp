@@ -1,6 +1,9 @@
 // Finger closing and contacts on generated shapes with known geometry.
 #include <gtest/gtest.h>
 
+#include <set>
+#include <string>
+
 #include "skelgrasp/common/pose.h"
 #include "skelgrasp/common/primitives.h"
 #include "skelgrasp/grasping/grasp_simulator.h"
@@ -154,6 +157,41 @@ TEST(Closing, HandsWrapACylinderWithinTheirJointLimits) {
       }
     }
   }
+}
+
+// The SDH's claw starts with its distal joints at their limit, so closing turns the proximal
+// joints only and the bent fingers hook a handle from three sides with their distal links
+// (docs/hands.md). A 25 mm rod, approached across its axis and backed off until the open hand is
+// free, as the planners place a hand.
+TEST(Closing, SdhClawHooksARodWithItsDistalLinksAndProximalJointsOnly) {
+  const GraspObject rod(primitives::makeCylinder(0.0125, 0.2, 48, 10));
+  const HandModel sdh = loadBuiltinHand("sdh");
+  GraspSimulator sim(sdh, rod);
+  const Preshape& claw = sdh.preshape("claw");
+  ClosingResult r;
+  for (double x = 0.0; x < 0.15; x += 0.001) {
+    const Pose placed = sim.handPoseForGcp(poseFromZY({x, 0, 0}, {-1, 0, 0}, {0, 0, 1}), claw);
+    if (sim.inCollision(placed, claw.joints)) continue;
+    r = sim.close(placed, claw);
+    break;
+  }
+  ASSERT_TRUE(r.status.ok()) << r.reason;
+  std::set<std::string> fingers_touching;
+  for (const char* finger : {"finger1", "finger2", "thumb"}) {
+    const int distal = sdh.jointIndex(std::string(finger) + "_distal_joint");
+    const int proximal = sdh.jointIndex(std::string(finger) + "_proximal_joint");
+    EXPECT_DOUBLE_EQ(r.joints[distal], sdh.joints()[distal].upper) << finger;
+    EXPECT_GT(r.joints[proximal], claw.joints[proximal]) << finger;
+  }
+  for (const auto& c : r.contacts) {
+    if (c.palm) continue;
+    EXPECT_NE(c.link.find("_distal"), std::string::npos) << c.link;
+    fingers_touching.insert(c.link.substr(0, c.link.find('_')));
+  }
+  EXPECT_EQ(fingers_touching, (std::set<std::string>{"finger1", "finger2", "thumb"}));
+  QualityParams quality;
+  quality.friction = 0.35;
+  EXPECT_TRUE(evaluateGrasp(r.contacts, rod, quality).force_closure);
 }
 
 TEST(Closing, ShadowTendonMovesTheDistalPhalanxWithTheMiddleOne) {
