@@ -126,21 +126,30 @@ TEST(Closing, ReportsTooFewContactsWhenClosingOnNothing) {
   EXPECT_NEAR(r.joints[gripper.jointIndex("finger_left")], 0.0, 1e-12);  // fully closed
 }
 
+// A hand approaching an object about the z axis from +x along -x, its fingers spreading along z:
+// backed off in 1 mm steps until the open hand is free of the object, as the planners place a
+// hand, and closed there. `closed` stays default (not ok) when no pose up to 15 cm was free.
+struct PlacedClosing {
+  Pose placed = Pose::Identity();
+  ClosingResult closed;
+};
+PlacedClosing closeBackedOffAlongX(GraspSimulator& sim, const Preshape& preshape) {
+  PlacedClosing out;
+  for (double x = 0.0; x < 0.15; x += 0.001) {
+    out.placed = sim.handPoseForGcp(poseFromZY({x, 0, 0}, {-1, 0, 0}, {0, 0, 1}), preshape);
+    if (sim.inCollision(out.placed, preshape.joints)) continue;
+    out.closed = sim.close(out.placed, preshape);
+    break;
+  }
+  return out;
+}
+
 TEST(Closing, HandsWrapACylinderWithinTheirJointLimits) {
   const GraspObject cylinder(primitives::makeCylinder(0.03, 0.2, 48, 10));
   for (const std::string name : {"armar3", "sdh", "shadow"}) {
     const HandModel hand = loadBuiltinHand(name);
     GraspSimulator sim(hand, cylinder);
-    const auto& preshape = hand.preshape("power");
-    // Approach from +x along -x, fingers spread along the axis; back off until collision-free.
-    ClosingResult r;
-    Pose placed = Pose::Identity();
-    for (double x = 0.0; x < 0.15; x += 0.001) {
-      placed = sim.handPoseForGcp(poseFromZY({x, 0, 0}, {-1, 0, 0}, {0, 0, 1}), preshape);
-      if (sim.inCollision(placed, preshape.joints)) continue;
-      r = sim.close(placed, preshape);
-      break;
-    }
+    const auto [placed, r] = closeBackedOffAlongX(sim, hand.preshape("power"));
     ASSERT_TRUE(r.status.ok()) << name << ": " << r.reason;
     EXPECT_GE(r.contacts.size(), 3u) << name;
     for (std::size_t j = 0; j < hand.joints().size(); ++j) {
@@ -161,20 +170,13 @@ TEST(Closing, HandsWrapACylinderWithinTheirJointLimits) {
 
 // The SDH's claw starts with its distal joints at their limit, so closing turns the proximal
 // joints only and the bent fingers hook a handle from three sides with their distal links
-// (docs/hands.md). A 25 mm rod, approached across its axis and backed off until the open hand is
-// free, as the planners place a hand.
+// (docs/hands.md). A 25 mm rod, approached across its axis.
 TEST(Closing, SdhClawHooksARodWithItsDistalLinksAndProximalJointsOnly) {
   const GraspObject rod(primitives::makeCylinder(0.0125, 0.2, 48, 10));
   const HandModel sdh = loadBuiltinHand("sdh");
   GraspSimulator sim(sdh, rod);
   const Preshape& claw = sdh.preshape("claw");
-  ClosingResult r;
-  for (double x = 0.0; x < 0.15; x += 0.001) {
-    const Pose placed = sim.handPoseForGcp(poseFromZY({x, 0, 0}, {-1, 0, 0}, {0, 0, 1}), claw);
-    if (sim.inCollision(placed, claw.joints)) continue;
-    r = sim.close(placed, claw);
-    break;
-  }
+  const ClosingResult r = closeBackedOffAlongX(sim, claw).closed;
   ASSERT_TRUE(r.status.ok()) << r.reason;
   std::set<std::string> fingers_touching;
   for (const char* finger : {"finger1", "finger2", "thumb"}) {

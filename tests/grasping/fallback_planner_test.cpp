@@ -206,8 +206,7 @@ TEST(FallbackPlanner, AlternativePreshapesOnlyAddGraspsOfTheirOwnPreshape) {
   std::map<std::string, std::set<std::string>> strategies;  // by alternative preshape
   for (const auto& g : with.result.grasps) {
     if (!alternative(g)) continue;
-    EXPECT_EQ(g.type, g.preshape == "precision_tripod" ? GraspType::kPrecision : GraspType::kPower)
-        << g.preshape;
+    EXPECT_EQ(g.type, sdh.preshape(g.preshape).grasp_type) << g.preshape;
     strategies[g.preshape].insert(isFallbackStrategy(g.strategy) ? "centre" : "skeleton");
   }
   EXPECT_EQ(strategies["spherical"], (std::set<std::string>{"centre", "skeleton"}));
