@@ -54,7 +54,12 @@ int runHands() {
   for (const auto& name : grasping::builtinHandNames()) {
     const auto hand = grasping::loadBuiltinHand(name);
     std::string preshapes;
-    for (const auto& [p, _] : hand.preshapes()) preshapes += (preshapes.empty() ? "" : ", ") + p;
+    for (const auto& [p, preshape] : hand.preshapes()) {
+      preshapes += (preshapes.empty() ? "" : ", ") + p;
+      // A preshape for small objects says how small (Preshape::max_object_extent_m).
+      if (preshape.max_object_extent_m)
+        preshapes += fmt::format(" (<= {:g} mm)", 1000 * *preshape.max_object_extent_m);
+    }
     std::cout << fmt::format("{:<18} {:>7} {:>6} {:>7}  {:<13}  {:<14}  {}   ({})\n", name,
                              hand.fingers().size(), hand.numDrives(), hand.numMovingJoints(),
                              contactModel(hand), rankingBudget(hand), preshapes, hand.title());
@@ -63,7 +68,9 @@ int runHands() {
                "point, or soft fingers with their torsional friction (--torsional-friction); "
                "ranking = the robust ranking's budget: candidates screened x samples each, and "
                "the r below which scored grasps are searched for a more robust pose "
-               "(--robustness-screen, --robustness-screen-samples, --robust-refine-below-r)\n";
+               "(--robustness-screen, --robustness-screen-samples, --robust-refine-below-r); "
+               "preshapes = those of the grasp description, with the largest object a preshape "
+               "for small objects is closed on\n";
   return kExitOk;
 }
 

@@ -173,18 +173,22 @@ nlohmann::json resultOptions(const BatchParams& p, const std::vector<grasping::H
   // Only when on, so batches from before the option resume.
   if (p.surface_candidates > 0) options["surface_candidates"] = p.surface_candidates;
   // The hands whose planners close alternative preshapes, with their names (the SDH's tripod since
-  // 2026-11-27, its fingertip tripod since 2026-11-28): only those, so batches of the other hands
-  // resume, and older ones with --no-alternative-preshapes.
+  // 2026-11-27, its fingertip tripod since 2026-11-28, its claw and narrow tripod since
+  // 2026-11-29): only those, so batches of the other hands resume, and older ones with
+  // --no-alternative-preshapes.
   nlohmann::json with_alternatives = nlohmann::json::object();
   const bool skeleton_planner =
       std::find(p.planners.begin(), p.planners.end(), Planner::kSkeleton) != p.planners.end();
   if (p.alternative_preshapes && !q.reference_compat && skeleton_planner) {
     for (const auto& hand : hands) {
-      // A preshape with a grasp type that is not named after it is an alternative.
+      // A preshape with a grasp type that is not named after it is an alternative; one for small
+      // objects names its limit, so a batch planned with another limit is not resumed.
       std::vector<std::string> names;
       for (const auto& [name, preshape] : hand.preshapes()) {
-        if (preshape.grasp_type && name != grasping::toString(*preshape.grasp_type))
-          names.push_back(name);
+        if (!preshape.grasp_type || name == grasping::toString(*preshape.grasp_type)) continue;
+        names.push_back(name);
+        if (preshape.max_object_extent_m)
+          names.back() += fmt::format(" (objects up to {} m)", *preshape.max_object_extent_m);
       }
       if (!names.empty()) with_alternatives[hand.name()] = names;
     }

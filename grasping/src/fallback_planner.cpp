@@ -279,7 +279,8 @@ PlanResult planFallbackGrasps(const HandModel& hand, const GraspObject& object,
     const bool asked = type == GraspType::kPrecision ? sp.precision : sp.power;
     if (!asked || !hand.thresholds().of(type)) continue;
     for (const Preshape* preshape : hand.plannerPreshapes(
-             type, sp.alternative_preshapes && !params.hypothesis.quality.reference_compat))
+             type, sp.alternative_preshapes && !params.hypothesis.quality.reference_compat,
+             object.largestExtentM()))
       closings.emplace_back(type, preshape);
   }
   std::vector<Trial> trials;

@@ -2,6 +2,7 @@
 // URDF model.
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -119,6 +120,12 @@ class DescriptionReader {
       if (p.grasp_type && *p.grasp_type != *named)
         fail(where + ": grasp_type must be its own name's type");
       p.grasp_type = named;
+    }
+    if (j.contains("max_object_extent_m")) {
+      const double extent = j.at("max_object_extent_m").get<double>();
+      if (!(std::isfinite(extent) && extent > 0))
+        fail(where + ": max_object_extent_m must be a positive number of metres");
+      p.max_object_extent_m = extent;
     }
     return p;
   }

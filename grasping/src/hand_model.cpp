@@ -121,13 +121,19 @@ const Preshape& HandModel::preshape(const std::string& name) const {
   return it->second;
 }
 
-std::vector<const Preshape*> HandModel::plannerPreshapes(GraspType type, bool alternatives) const {
+std::vector<const Preshape*> HandModel::plannerPreshapes(
+    GraspType type, bool alternatives, std::optional<double> object_extent_m) const {
+  const auto fits = [&](const Preshape& preshape) {
+    return !object_extent_m || !preshape.max_object_extent_m ||
+           *object_extent_m <= *preshape.max_object_extent_m;
+  };
   std::vector<const Preshape*> out;
   const auto main = preshapes_.find(toString(type));
-  if (main != preshapes_.end()) out.push_back(&main->second);
+  if (main != preshapes_.end() && fits(main->second)) out.push_back(&main->second);
   if (!alternatives) return out;
   for (const auto& [name, preshape] : preshapes_) {
-    if (preshape.grasp_type == type && name != toString(type)) out.push_back(&preshape);
+    if (preshape.grasp_type == type && name != toString(type) && fits(preshape))
+      out.push_back(&preshape);
   }
   return out;
 }

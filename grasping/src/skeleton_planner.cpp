@@ -207,7 +207,8 @@ PlanResult planSkeletonGrasps(const HandModel& hand, const GraspObject& object,
         continue;
       }
       const std::vector<const Preshape*> preshapes = hand.plannerPreshapes(
-          type, params.alternative_preshapes && !params.hypothesis.quality.reference_compat);
+          type, params.alternative_preshapes && !params.hypothesis.quality.reference_compat,
+          object.largestExtentM());
       item.local = RefinementFrame{shape.tangent, localCentroid(skel, object.mesh(), shape)};
       for (const Pose& frame : hypothesisFrames(v.position, shape, endpoint, params)) {
         // Each preshape closed at the pose is a hand pose of its own.

@@ -140,7 +140,9 @@ TEST_F(BatchTest, HandsClosingAlternativePreshapesAreRecorded) {
   p.max_objects = 1;
   runBatch(p);
   EXPECT_EQ(readJsonFile(out + "/batch.json")["options"]["alternative_preshapes"],
-            (nlohmann::json{{"sdh", {"claw", "precision_tripod", "spherical"}}}));
+            (nlohmann::json{{"sdh",
+                             {"claw", "narrow_tripod (objects up to 0.07 m)", "precision_tripod",
+                              "spherical"}}}));
   p.alternative_preshapes = false;
   try {
     runBatch(p);

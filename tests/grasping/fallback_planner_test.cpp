@@ -220,6 +220,44 @@ TEST(FallbackPlanner, AlternativePreshapesOnlyAddGraspsOfTheirOwnPreshape) {
   EXPECT_GT(with.result.summary.hypotheses, main_only.result.summary.hypotheses);
 }
 
+// A preshape made for small objects (the SDH's narrow tripod, Preshape::max_object_extent_m) is
+// closed on an object no larger than its limit, and on none larger: a ball whose diameter is 80 %
+// of the limit gets narrow-tripod grasps that hold, a capsule as thick but longer than the limit
+// gets none (and grasps of the other preshapes).
+TEST(FallbackPlanner, SmallObjectPreshapesCloseOnSmallObjectsOnly) {
+  const HandModel sdh = loadBuiltinHand("sdh");
+  ASSERT_TRUE(sdh.preshape("narrow_tripod").max_object_extent_m);
+  const double limit_m = *sdh.preshape("narrow_tripod").max_object_extent_m;
+  const double radius_m = 0.4 * limit_m;
+  const auto narrow = [](const PlanResult& r) {
+    return std::count_if(r.grasps.begin(), r.grasps.end(),
+                         [](const Grasp& g) { return g.preshape == "narrow_tripod"; });
+  };
+  const auto small = planOn(primitives::makeSphere(radius_m, 48, 24), sdh);
+  EXPECT_LE(small.object->largestExtentM(), limit_m);
+  EXPECT_GT(narrow(small.result), 0);
+  expectSound(small.result, sdh, *small.object);
+  SkeletonPlannerParams params;
+  params.surface_candidates = 0;  // the surface planner closes "power" only
+  const auto longer = planOn(primitives::makeCapsule(radius_m, limit_m, 48), sdh, params);
+  EXPECT_GT(longer.object->largestExtentM(), limit_m);
+  EXPECT_EQ(narrow(longer.result), 0);
+  EXPECT_GT(longer.result.grasps.size(), 0u);
+}
+
+// The object's size for such preshapes is its length along its longest principal axis, whatever
+// its orientation.
+TEST(FallbackPlanner, ObjectExtentIsTheLengthAlongTheLongestPrincipalAxis) {
+  const TriangleMesh box = primitives::makeBox(Eigen::Vector3d(0.12, 0.05, 0.03));
+  EXPECT_NEAR(GraspObject(box).largestExtentM(), 0.12, 1e-9);
+  TriangleMesh turned = box;
+  const Eigen::Matrix3d rotation =
+      (Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized())).toRotationMatrix();
+  for (auto& v : turned.vertices) v = rotation * v + Eigen::Vector3d(0.3, -0.2, 0.1);
+  EXPECT_NEAR(GraspObject(turned).largestExtentM(), 0.12, 1e-9);
+  EXPECT_NEAR(GraspObject(primitives::makeSphere(0.02, 48, 24)).largestExtentM(), 0.04, 1e-3);
+}
+
 // A grasp limit does not shut the centre candidates out: the skeleton strategies stop at its
 // larger half, the centre candidates fill up the rest.
 TEST(FallbackPlanner, CentreCandidatesGetTheRestOfAGraspLimit) {

@@ -108,12 +108,24 @@ TEST(HandModel, PlannersCloseEachTypesPreshapeThenItsAlternatives) {
   EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPower)), (Names{"power", "claw", "spherical"}));
   EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPower, false)), (Names{"power"}));
   EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPrecision)),
-            (Names{"precision", "precision_tripod"}));
+            (Names{"precision", "narrow_tripod", "precision_tripod"}));
   EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPrecision, false)), (Names{"precision"}));
+  // The narrow tripod is for small objects: left out for an object larger than its limit.
+  ASSERT_TRUE(sdh.preshape("narrow_tripod").max_object_extent_m);
+  const double limit_m = *sdh.preshape("narrow_tripod").max_object_extent_m;
+  EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPrecision, true, limit_m)),
+            (Names{"precision", "narrow_tripod", "precision_tripod"}));
+  EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPrecision, true, limit_m + 1e-3)),
+            (Names{"precision", "precision_tripod"}));
+  EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPower, true, 10 * limit_m)),
+            (Names{"power", "claw", "spherical"}));
+  for (const auto& [name, preshape] : sdh.preshapes())
+    EXPECT_EQ(preshape.max_object_extent_m.has_value(), name == "narrow_tripod") << name;
   EXPECT_EQ(sdh.preshape("spherical").grasp_type, GraspType::kPower);
   EXPECT_EQ(sdh.preshape("claw").grasp_type, GraspType::kPower);
   EXPECT_EQ(sdh.preshape("precision").grasp_type, GraspType::kPrecision);
   EXPECT_EQ(sdh.preshape("precision_tripod").grasp_type, GraspType::kPrecision);
+  EXPECT_EQ(sdh.preshape("narrow_tripod").grasp_type, GraspType::kPrecision);
   // The paper's hands keep their two preshapes.
   for (const char* name : {"armar3", "shadow", "parallel_gripper"}) {
     const HandModel hand = loadBuiltinHand(name);
@@ -122,10 +134,10 @@ TEST(HandModel, PlannersCloseEachTypesPreshapeThenItsAlternatives) {
   }
 }
 
-// The SDH's tripods (spherical, claw, precision_tripod) turn fingers 1 and 2 by 60 degrees about
-// their bases. The three finger bases lie on a circle about the palm axis (the fact sheet's 38.1
-// mm), so then every finger closes towards that axis (a tripod, 120 degrees apart); in the power
-// preshape fingers 1 and 2 close side by side towards the thumb's side.
+// The SDH's tripods (spherical, claw, precision_tripod, narrow_tripod) turn fingers 1 and 2 by 60
+// degrees about their bases. The three finger bases lie on a circle about the palm axis (the fact
+// sheet's 38.1 mm), so then every finger closes towards that axis (a tripod, 120 degrees apart); in
+// the power preshape fingers 1 and 2 close side by side towards the thumb's side.
 TEST(HandModel, SdhTripodPreshapesCloseEveryFingerTowardsThePalmAxis) {
   const HandModel sdh = loadBuiltinHand("sdh");
   const auto closingDirections = [&](const Preshape& preshape) {
@@ -145,7 +157,7 @@ TEST(HandModel, SdhTripodPreshapesCloseEveryFingerTowardsThePalmAxis) {
     }
     return out;
   };
-  for (const char* tripod : {"spherical", "claw", "precision_tripod"}) {
+  for (const char* tripod : {"spherical", "claw", "precision_tripod", "narrow_tripod"}) {
     const auto directions = closingDirections(sdh.preshape(tripod));
     for (std::size_t f = 0; f < 3; ++f)
       EXPECT_GT(directions[2 * f].dot(directions[2 * f + 1]), std::cos(2 * kPi / 180))
@@ -196,24 +208,38 @@ TEST(HandModel, BadHandInputsNameTheFileAndTheProblem) {
   expectIoError([&] { loadHand(handFile("armar3", "armar3.urdf"), dir + "/desc.json"); },
                 dir + "/desc.json", "unknown joint 'index_j9'");
   // A preshape's grasp type: one of the two, and its own name's for "power" and "precision".
-  const auto withPreshapeType = [&](const std::string& preshape, const std::string& type) {
-    const std::string typed = std::regex_replace(
-        text, std::regex("\"" + preshape + "\": \\{"),
-        "\"" + preshape + "\": {\"grasp_type\": \"" + type + "\", ",
-        std::regex_constants::format_first_only);  // the preshape, not the thresholds after it
-    std::ofstream(dir + "/typed.json") << typed;
-    return dir + "/typed.json";
+  // `entry` ("key": value) written first into the preshape's object.
+  const auto withPreshapeEntry = [&](const std::string& preshape, const std::string& entry) {
+    const std::string changed = std::regex_replace(
+        text, std::regex("\"" + preshape + "\": \\{"), "\"" + preshape + "\": {" + entry + ", ",
+        std::regex_constants::format_first_only);  // not the thresholds after it
+    std::ofstream(dir + "/changed.json") << changed;
+    return dir + "/changed.json";
   };
-  expectIoError(
-      [&] { loadHand(handFile("armar3", "armar3.urdf"), withPreshapeType("power", "x")); },
-      dir + "/typed.json", "grasp_type must be \"power\" or \"precision\"");
-  expectIoError(
-      [&] { loadHand(handFile("armar3", "armar3.urdf"), withPreshapeType("power", "precision")); },
-      dir + "/typed.json", "its own name's type");
-  EXPECT_EQ(loadHand(handFile("armar3", "armar3.urdf"), withPreshapeType("power", "power"))
-                .plannerPreshapes(GraspType::kPower)
-                .size(),
-            1u);
+  const auto withPreshapeType = [&](const std::string& preshape, const std::string& type) {
+    return withPreshapeEntry(preshape, "\"grasp_type\": \"" + type + "\"");
+  };
+  const std::string urdf = handFile("armar3", "armar3.urdf");
+  expectIoError([&] { loadHand(urdf, withPreshapeType("power", "x")); }, dir + "/changed.json",
+                "grasp_type must be \"power\" or \"precision\"");
+  expectIoError([&] { loadHand(urdf, withPreshapeType("power", "precision")); },
+                dir + "/changed.json", "its own name's type");
+  EXPECT_EQ(
+      loadHand(urdf, withPreshapeType("power", "power")).plannerPreshapes(GraspType::kPower).size(),
+      1u);
+  // A preshape's largest object: a positive length.
+  for (const char* bad : {"0", "-0.05"}) {
+    expectIoError(
+        [&] {
+          loadHand(urdf,
+                   withPreshapeEntry("power", std::string("\"max_object_extent_m\": ") + bad));
+        },
+        dir + "/changed.json", "max_object_extent_m must be a positive number");
+  }
+  EXPECT_EQ(loadHand(urdf, withPreshapeEntry("power", "\"max_object_extent_m\": 0.05"))
+                .preshape("power")
+                .max_object_extent_m,
+            0.05);
   std::ofstream(dir + "/schema.json") << "{\"schema\": \"other\"}";
   expectIoError([&] { loadHand(handFile("armar3", "armar3.urdf"), dir + "/schema.json"); },
                 dir + "/schema.json", "schema");

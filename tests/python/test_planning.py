@@ -171,7 +171,8 @@ def test_surface_candidates_join_the_skeleton_planners_pool(capsule):
 
 def test_alternative_preshapes_is_a_keyword_of_plan(capsule, sdh, capsule_plan):
     # The SDH's tripods ("spherical" and "claw", power preshapes, and "precision_tripod") are
-    # closed wherever the main preshape of their type is.
+    # closed wherever the main preshape of their type is; "narrow_tripod" only on objects up to
+    # 70 mm, and the capsule is 160 mm long.
     assert "alternative_preshapes: bool = True" in skelgrasp.plan.__doc__
     with_alternatives = skelgrasp.plan(capsule, sdh, seed=1, robustness=False)
     plain = skelgrasp.plan(capsule, sdh, seed=1, robustness=False, alternative_preshapes=False)
@@ -183,6 +184,7 @@ def test_alternative_preshapes_is_a_keyword_of_plan(capsule, sdh, capsule_plan):
     assert spherical and all(g["type"] == "power" for g in spherical)
     assert claw and all(g["type"] == "power" for g in claw)
     assert tripod and all(g["type"] == "precision" for g in tripod)
+    assert not [g for g in grasps if g["preshape"] == "narrow_tripod"]
     assert len(with_alternatives.grasps) == len(plain.grasps) + len(spherical) + len(claw) + len(
         tripod
     )

@@ -74,9 +74,13 @@ struct Preshape {
   Pose gcp_in_link = Pose::Identity();  // grasp centre point: z = approach, y = finger spread
   // The grasp type the planners close this preshape for: "power" and "precision" are their own
   // types; another preshape with a type is an alternative the planners also close at every pose
-  // of that type (the SDH's "spherical" and "claw", docs/hands.md). Unset: the planners never use
-  // it.
+  // of that type (the SDH's "spherical", "claw", "precision_tripod" and "narrow_tripod",
+  // docs/hands.md). Unset: the planners never use it.
   std::optional<GraspType> grasp_type;
+  // The largest object, by GraspObject::largestExtentM(), the planners close this preshape on;
+  // unset: every object. For a preshape made for small objects (the SDH's "narrow_tripod"), whose
+  // grasps on a larger object only crowd out the others (docs/hands.md).
+  std::optional<double> max_object_extent_m;
 };
 
 // Thresholds of one grasp type on the local surface shape (paper Table II), in metres of the
@@ -154,7 +158,11 @@ class HandModel {
   // then (with `alternatives`) the other preshapes of that type by name. Empty when the hand has
   // none of that type. The planners and the robust refinement ask for alternatives unless told
   // not to or in reference_compat (the reference's hands close their two preshapes only).
-  std::vector<const Preshape*> plannerPreshapes(GraspType type, bool alternatives = true) const;
+  // With `object_extent_m` (the object's GraspObject::largestExtentM()), a preshape whose
+  // max_object_extent_m is below it is left out.
+  std::vector<const Preshape*> plannerPreshapes(
+      GraspType type, bool alternatives = true,
+      std::optional<double> object_extent_m = std::nullopt) const;
   // Grasp centre point of a preshape in the root frame (at the preshape's joint values).
   Pose gcpInRoot(const Preshape& preshape) const;
   const PlannerThresholds& thresholds() const { return thresholds_; }

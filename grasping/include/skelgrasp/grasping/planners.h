@@ -30,9 +30,10 @@ struct SkeletonPlannerParams {
   int round_connecting_directions = 16;  // approach directions around a round section
   int round_endpoint_rolls = 8;          // hand rolls about the axis at a round end
   // Every pose of a grasp type is also closed with the hand's alternative preshapes of that type
-  // (HandModel::plannerPreshapes: the SDH's "spherical" and "claw" power preshapes, its fingers
-  // turned to a tripod). false, or hypothesis.quality.reference_compat: "power" and "precision"
-  // only, as the paper. Passed on to the fallback strategies and centre candidates.
+  // (HandModel::plannerPreshapes: the SDH's "spherical" and "claw" power preshapes and its
+  // "precision_tripod" and, on objects up to 70 mm, "narrow_tripod" precision preshapes, its
+  // fingers turned to a tripod). false, or hypothesis.quality.reference_compat: "power" and
+  // "precision" only, as the paper. Passed on to the fallback strategies and centre candidates.
   bool alternative_preshapes = true;
   // Objects whose skeleton says little (fallback_planner.h): when the skeleton strategies try no
   // hand pose, or keep fewer than fallback_min_grasps grasps, the fallback strategies add theirs
