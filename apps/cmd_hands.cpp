@@ -56,9 +56,9 @@ int runHands() {
     std::string preshapes;
     for (const auto& [p, preshape] : hand.preshapes()) {
       preshapes += (preshapes.empty() ? "" : ", ") + p;
-      // A preshape for small objects says how small (Preshape::max_object_extent_m).
-      if (preshape.max_object_extent_m)
-        preshapes += fmt::format(" (<= {:g} mm)", 1000 * *preshape.max_object_extent_m);
+      // A preshape for small objects says how small (Preshape::max_object_length_m).
+      if (preshape.max_object_length_m)
+        preshapes += fmt::format(" (<= {:g} mm)", 1000 * *preshape.max_object_length_m);
     }
     std::cout << fmt::format("{:<18} {:>7} {:>6} {:>7}  {:<13}  {:<14}  {}   ({})\n", name,
                              hand.fingers().size(), hand.numDrives(), hand.numMovingJoints(),

@@ -187,8 +187,8 @@ nlohmann::json resultOptions(const BatchParams& p, const std::vector<grasping::H
       for (const auto& [name, preshape] : hand.preshapes()) {
         if (!preshape.grasp_type || name == grasping::toString(*preshape.grasp_type)) continue;
         names.push_back(name);
-        if (preshape.max_object_extent_m)
-          names.back() += fmt::format(" (objects up to {} m)", *preshape.max_object_extent_m);
+        if (preshape.max_object_length_m)
+          names.back() += fmt::format(" (objects up to {} m)", *preshape.max_object_length_m);
       }
       if (!names.empty()) with_alternatives[hand.name()] = names;
     }

@@ -6,8 +6,6 @@
 #include <optional>
 #include <random>
 
-#include <Eigen/Eigenvalues>
-
 #include "fallback_trigger.h"
 #include "ordered_hypotheses.h"
 #include "skelgrasp/common/constants.h"
@@ -209,38 +207,6 @@ void appendPlan(PlanResult& into, PlanResult&& from) {
 
 }  // namespace
 
-PrincipalAxes surfacePrincipalAxes(const TriangleMesh& mesh) {
-  // Exact moments of uniformly dense triangles: E[x] = (a+b+c)/3 and
-  // E[x x^T] = (a a^T + b b^T + c c^T + s s^T) / 12 with s = a+b+c. Area weights make the axes
-  // independent of how finely each part is meshed (vertex moments are not).
-  double area = 0;
-  Eigen::Vector3d first = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
-  for (std::size_t f = 0; f < mesh.numFaces(); ++f) {
-    const double w = mesh.faceArea(f);
-    const auto& t = mesh.faces[f];
-    const Eigen::Vector3d &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]],
-                          &c = mesh.vertices[t[2]];
-    const Eigen::Vector3d s = a + b + c;
-    area += w;
-    first += w * s / 3.0;
-    second +=
-        w / 12.0 * (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose());
-  }
-  PrincipalAxes out;
-  if (!(area > 0)) return out;
-  const Eigen::Vector3d mean = first / area;
-  const Eigen::Matrix3d covariance = second / area - mean * mean.transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
-  // Eigen sorts eigenvalues increasingly: reverse so column 0 is the longest axis.
-  for (int i = 0; i < 3; ++i) {
-    out.axes.col(i) = solver.eigenvectors().col(2 - i);
-    out.sd(i) = std::sqrt(std::max(0.0, solver.eigenvalues()(2 - i)));
-  }
-  if (out.axes.determinant() < 0) out.axes.col(2) = -out.axes.col(2);
-  return out;
-}
-
 PlanResult planFallbackGrasps(const HandModel& hand, const GraspObject& object,
                               const FallbackPlannerParams& params) {
   const FallbackStrategyParams& sp = params.strategies;
@@ -280,7 +246,7 @@ PlanResult planFallbackGrasps(const HandModel& hand, const GraspObject& object,
     if (!asked || !hand.thresholds().of(type)) continue;
     for (const Preshape* preshape : hand.plannerPreshapes(
              type, sp.alternative_preshapes && !params.hypothesis.quality.reference_compat,
-             object.largestExtentM()))
+             object.principalLengthM()))
       closings.emplace_back(type, preshape);
   }
   std::vector<Trial> trials;

@@ -121,11 +121,15 @@ class DescriptionReader {
         fail(where + ": grasp_type must be its own name's type");
       p.grasp_type = named;
     }
-    if (j.contains("max_object_extent_m")) {
-      const double extent = j.at("max_object_extent_m").get<double>();
-      if (!(std::isfinite(extent) && extent > 0))
-        fail(where + ": max_object_extent_m must be a positive number of metres");
-      p.max_object_extent_m = extent;
+    if (j.contains("max_object_length_m")) {
+      // The main preshapes are closed where no size is asked: by the surface candidates and the
+      // robust refinement's switch between the two types.
+      if (graspTypeNamed(name))
+        fail(where + ": only an alternative preshape can have a size limit");
+      const json& length = j.at("max_object_length_m");
+      if (!length.is_number() || !(std::isfinite(length.get<double>()) && length.get<double>() > 0))
+        fail(where + ": max_object_length_m must be a positive number of metres");
+      p.max_object_length_m = length.get<double>();
     }
     return p;
   }

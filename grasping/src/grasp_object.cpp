@@ -1,12 +1,9 @@
 #include "skelgrasp/grasping/grasp_object.h"
 
-#include <algorithm>
-#include <limits>
-
 #include "fcl_conversions.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/geometry/mesh_topology.h"
-#include "skelgrasp/grasping/fallback_planner.h"
+#include "skelgrasp/geometry/principal_axes.h"
 
 namespace skelgrasp::grasping {
 
@@ -58,13 +55,7 @@ GraspObject::GraspObject(TriangleMesh mesh, const DistanceFieldParams& field)
   }
   for (const auto& v : mesh_.vertices)
     max_radius_ = std::max(max_radius_, (v - center_of_mass_).norm());
-  const Eigen::Vector3d longest_axis = surfacePrincipalAxes(mesh_).axes.col(0);
-  double low = std::numeric_limits<double>::infinity(), high = -low;
-  for (const auto& v : mesh_.vertices) {
-    low = std::min(low, longest_axis.dot(v));
-    high = std::max(high, longest_axis.dot(v));
-  }
-  largest_extent_m_ = high - low;
+  principal_length_m_ = geometry::principalLengthM(mesh_);
   vertex_faces_.resize(mesh_.vertices.size());
   for (std::size_t f = 0; f < mesh_.faces.size(); ++f) {
     for (int k = 0; k < 3; ++k) vertex_faces_[mesh_.faces[f][k]].push_back(static_cast<int>(f));

@@ -122,10 +122,10 @@ const Preshape& HandModel::preshape(const std::string& name) const {
 }
 
 std::vector<const Preshape*> HandModel::plannerPreshapes(
-    GraspType type, bool alternatives, std::optional<double> object_extent_m) const {
+    GraspType type, bool alternatives, std::optional<double> object_length_m) const {
   const auto fits = [&](const Preshape& preshape) {
-    return !object_extent_m || !preshape.max_object_extent_m ||
-           *object_extent_m <= *preshape.max_object_extent_m;
+    return !object_length_m || !preshape.max_object_length_m ||
+           *object_length_m <= *preshape.max_object_length_m;
   };
   std::vector<const Preshape*> out;
   const auto main = preshapes_.find(toString(type));

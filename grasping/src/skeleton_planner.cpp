@@ -208,7 +208,7 @@ PlanResult planSkeletonGrasps(const HandModel& hand, const GraspObject& object,
       }
       const std::vector<const Preshape*> preshapes = hand.plannerPreshapes(
           type, params.alternative_preshapes && !params.hypothesis.quality.reference_compat,
-          object.largestExtentM());
+          object.principalLengthM());
       item.local = RefinementFrame{shape.tangent, localCentroid(skel, object.mesh(), shape)};
       for (const Pose& frame : hypothesisFrames(v.position, shape, endpoint, params)) {
         // Each preshape closed at the pose is a hand pose of its own.

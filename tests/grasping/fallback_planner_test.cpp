@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/principal_axes.h"
 #include "skelgrasp/grasping/planners.h"
 #include "skelgrasp/grasping/scene.h"
 #include "skelgrasp/skeleton/extraction.h"
@@ -220,42 +221,54 @@ TEST(FallbackPlanner, AlternativePreshapesOnlyAddGraspsOfTheirOwnPreshape) {
   EXPECT_GT(with.result.summary.hypotheses, main_only.result.summary.hypotheses);
 }
 
-// A preshape made for small objects (the SDH's narrow tripod, Preshape::max_object_extent_m) is
-// closed on an object no larger than its limit, and on none larger: a ball whose diameter is 80 %
-// of the limit gets narrow-tripod grasps that hold, a capsule as thick but longer than the limit
-// gets none (and grasps of the other preshapes).
+// A preshape made for small objects (the SDH's narrow tripod, Preshape::max_object_length_m) is
+// closed on an object no longer than its limit, and on none longer: a ball whose diameter is 80 %
+// of the limit gets narrow-tripod grasps in force closure; a capsule as thick but longer than the
+// limit gets none, though the same hand without the limit closes the narrow tripod on it too.
 TEST(FallbackPlanner, SmallObjectPreshapesCloseOnSmallObjectsOnly) {
   const HandModel sdh = loadBuiltinHand("sdh");
-  ASSERT_TRUE(sdh.preshape("narrow_tripod").max_object_extent_m);
-  const double limit_m = *sdh.preshape("narrow_tripod").max_object_extent_m;
+  ASSERT_TRUE(sdh.preshape("narrow_tripod").max_object_length_m);
+  const double limit_m = *sdh.preshape("narrow_tripod").max_object_length_m;
+  HandModel unlimited = sdh;
+  auto preshapes = sdh.preshapes();
+  preshapes.at("narrow_tripod").max_object_length_m.reset();
+  unlimited.setDescription(sdh.fingers(), sdh.palmLinks(), preshapes, sdh.thresholds(),
+                           sdh.precisionIntervalM(), sdh.powerIntervalM(), sdh.closingDefaults());
   const double radius_m = 0.4 * limit_m;
   const auto narrow = [](const PlanResult& r) {
     return std::count_if(r.grasps.begin(), r.grasps.end(),
                          [](const Grasp& g) { return g.preshape == "narrow_tripod"; });
   };
   const auto small = planOn(primitives::makeSphere(radius_m, 48, 24), sdh);
-  EXPECT_LE(small.object->largestExtentM(), limit_m);
+  EXPECT_LE(small.object->principalLengthM(), limit_m);
   EXPECT_GT(narrow(small.result), 0);
   expectSound(small.result, sdh, *small.object);
   SkeletonPlannerParams params;
   params.surface_candidates = 0;  // the surface planner closes "power" only
-  const auto longer = planOn(primitives::makeCapsule(radius_m, limit_m, 48), sdh, params);
-  EXPECT_GT(longer.object->largestExtentM(), limit_m);
+  const TriangleMesh capsule = primitives::makeCapsule(radius_m, limit_m, 48);
+  const auto longer = planOn(capsule, sdh, params);
+  EXPECT_GT(longer.object->principalLengthM(), limit_m);
   EXPECT_EQ(narrow(longer.result), 0);
   EXPECT_GT(longer.result.grasps.size(), 0u);
+  EXPECT_GT(narrow(planOn(capsule, unlimited, params).result), 0);
 }
 
 // The object's size for such preshapes is its length along its longest principal axis, whatever
-// its orientation.
-TEST(FallbackPlanner, ObjectExtentIsTheLengthAlongTheLongestPrincipalAxis) {
+// its orientation; a ball's is its diameter (any axis will do), and a mesh without area, with no
+// axes, gets its bounding box diagonal rather than its length along an arbitrary axis.
+TEST(FallbackPlanner, ObjectLengthIsTheLengthAlongTheLongestPrincipalAxis) {
   const TriangleMesh box = primitives::makeBox(Eigen::Vector3d(0.12, 0.05, 0.03));
-  EXPECT_NEAR(GraspObject(box).largestExtentM(), 0.12, 1e-9);
+  EXPECT_NEAR(GraspObject(box).principalLengthM(), 0.12, 1e-9);
   TriangleMesh turned = box;
   const Eigen::Matrix3d rotation =
       (Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized())).toRotationMatrix();
   for (auto& v : turned.vertices) v = rotation * v + Eigen::Vector3d(0.3, -0.2, 0.1);
-  EXPECT_NEAR(GraspObject(turned).largestExtentM(), 0.12, 1e-9);
-  EXPECT_NEAR(GraspObject(primitives::makeSphere(0.02, 48, 24)).largestExtentM(), 0.04, 1e-3);
+  EXPECT_NEAR(GraspObject(turned).principalLengthM(), 0.12, 1e-9);
+  EXPECT_NEAR(GraspObject(primitives::makeSphere(0.02, 48, 24)).principalLengthM(), 0.04, 1e-3);
+  TriangleMesh sliver;
+  sliver.vertices = {{0, 0, 0}, {0, 0.05, 0}, {0, 0.1, 0}};
+  sliver.faces = {{0, 1, 2}};
+  EXPECT_NEAR(geometry::principalLengthM(sliver), 0.1, 1e-12);
 }
 
 // A grasp limit does not shut the centre candidates out: the skeleton strategies stop at its

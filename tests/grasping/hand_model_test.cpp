@@ -111,8 +111,8 @@ TEST(HandModel, PlannersCloseEachTypesPreshapeThenItsAlternatives) {
             (Names{"precision", "narrow_tripod", "precision_tripod"}));
   EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPrecision, false)), (Names{"precision"}));
   // The narrow tripod is for small objects: left out for an object larger than its limit.
-  ASSERT_TRUE(sdh.preshape("narrow_tripod").max_object_extent_m);
-  const double limit_m = *sdh.preshape("narrow_tripod").max_object_extent_m;
+  ASSERT_TRUE(sdh.preshape("narrow_tripod").max_object_length_m);
+  const double limit_m = *sdh.preshape("narrow_tripod").max_object_length_m;
   EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPrecision, true, limit_m)),
             (Names{"precision", "narrow_tripod", "precision_tripod"}));
   EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPrecision, true, limit_m + 1e-3)),
@@ -120,7 +120,7 @@ TEST(HandModel, PlannersCloseEachTypesPreshapeThenItsAlternatives) {
   EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPower, true, 10 * limit_m)),
             (Names{"power", "claw", "spherical"}));
   for (const auto& [name, preshape] : sdh.preshapes())
-    EXPECT_EQ(preshape.max_object_extent_m.has_value(), name == "narrow_tripod") << name;
+    EXPECT_EQ(preshape.max_object_length_m.has_value(), name == "narrow_tripod") << name;
   EXPECT_EQ(sdh.preshape("spherical").grasp_type, GraspType::kPower);
   EXPECT_EQ(sdh.preshape("claw").grasp_type, GraspType::kPower);
   EXPECT_EQ(sdh.preshape("precision").grasp_type, GraspType::kPrecision);
@@ -227,19 +227,20 @@ TEST(HandModel, BadHandInputsNameTheFileAndTheProblem) {
   EXPECT_EQ(
       loadHand(urdf, withPreshapeType("power", "power")).plannerPreshapes(GraspType::kPower).size(),
       1u);
-  // A preshape's largest object: a positive length.
-  for (const char* bad : {"0", "-0.05"}) {
-    expectIoError(
-        [&] {
-          loadHand(urdf,
-                   withPreshapeEntry("power", std::string("\"max_object_extent_m\": ") + bad));
-        },
-        dir + "/changed.json", "max_object_extent_m must be a positive number");
+  // A size limit: on an alternative preshape only (the main ones are closed where no size is
+  // asked), and a positive number of metres.
+  expectIoError(
+      [&] { loadHand(urdf, withPreshapeEntry("power", "\"max_object_length_m\": 0.05")); },
+      dir + "/changed.json", "only an alternative preshape can have a size limit");
+  std::ifstream sdh_in(handFile("sdh", "sdh.grasp.json"));
+  const std::string sdh_text((std::istreambuf_iterator<char>(sdh_in)), {});
+  for (const char* bad : {"0", "-0.05", "true", "\"70 mm\""}) {
+    std::ofstream(dir + "/sdh.json")
+        << std::regex_replace(sdh_text, std::regex("\"max_object_length_m\": [0-9.]+"),
+                              std::string("\"max_object_length_m\": ") + bad);
+    expectIoError([&] { loadHand(handFile("sdh", "sdh.urdf"), dir + "/sdh.json"); },
+                  dir + "/sdh.json", "max_object_length_m must be a positive number of metres");
   }
-  EXPECT_EQ(loadHand(urdf, withPreshapeEntry("power", "\"max_object_extent_m\": 0.05"))
-                .preshape("power")
-                .max_object_extent_m,
-            0.05);
   std::ofstream(dir + "/schema.json") << "{\"schema\": \"other\"}";
   expectIoError([&] { loadHand(handFile("armar3", "armar3.urdf"), dir + "/schema.json"); },
                 dir + "/schema.json", "schema");

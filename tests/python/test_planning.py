@@ -171,8 +171,8 @@ def test_surface_candidates_join_the_skeleton_planners_pool(capsule):
 
 def test_alternative_preshapes_is_a_keyword_of_plan(capsule, sdh, capsule_plan):
     # The SDH's tripods ("spherical" and "claw", power preshapes, and "precision_tripod") are
-    # closed wherever the main preshape of their type is; "narrow_tripod" only on objects up to
-    # 70 mm, and the capsule is 160 mm long.
+    # closed wherever the main preshape of their type is; "narrow_tripod" only on small objects
+    # (70 mm in the SDH's description), and the capsule is 160 mm long.
     assert "alternative_preshapes: bool = True" in skelgrasp.plan.__doc__
     with_alternatives = skelgrasp.plan(capsule, sdh, seed=1, robustness=False)
     plain = skelgrasp.plan(capsule, sdh, seed=1, robustness=False, alternative_preshapes=False)

@@ -36,7 +36,7 @@ struct BatchParams {
   double vertex_distance_m = 0;          // skeleton planner d
   // Skeleton planner: power grasps about the centre on every object (SkeletonPlannerParams).
   bool centre_candidates = grasping::SkeletonPlannerParams{}.centre_candidates;
-  // Skeleton planner: also close the hands' alternative preshapes (the SDH's tripod;
+  // Skeleton planner: also close the hands' alternative preshapes (the SDH's tripods;
   // SkeletonPlannerParams).
   bool alternative_preshapes = grasping::SkeletonPlannerParams{}.alternative_preshapes;
   // Skeleton planner: surface-normal hypotheses added to the pool (SkeletonPlannerParams).

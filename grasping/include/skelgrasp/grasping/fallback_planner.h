@@ -20,6 +20,7 @@
 // Every pose is tried with the precision and the power preshape where the hand does such grasps.
 #include <cstdint>
 
+#include "skelgrasp/geometry/principal_axes.h"
 #include "skelgrasp/grasping/grasp.h"
 #include "skelgrasp/grasping/grasp_object.h"
 #include "skelgrasp/grasping/hand_model.h"
@@ -77,13 +78,9 @@ struct FallbackPlannerParams {
   HypothesisParams hypothesis;
 };
 
-// Principal axes of the object's surface (area-weighted, about the surface centroid): columns
-// sorted by decreasing standard deviation; `sd` holds those standard deviations in metres.
-struct PrincipalAxes {
-  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d sd = Eigen::Vector3d::Zero();
-};
-PrincipalAxes surfacePrincipalAxes(const TriangleMesh& mesh);
+// The object's principal axes, along which the "axes" and "rim" strategies place the hand.
+using geometry::PrincipalAxes;
+using geometry::surfacePrincipalAxes;
 
 // The fallback strategies alone, about the object's centre of mass. Result as the other planners
 // (planner "fallback"; rejections by reason, grasps sorted by epsilon).

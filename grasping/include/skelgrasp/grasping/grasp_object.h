@@ -28,9 +28,10 @@ class GraspObject {
   const Eigen::Vector3d& vertexMean() const { return vertex_mean_; }
   // Largest distance of a vertex from the centre of mass.
   double maxRadius() const { return max_radius_; }
-  // Length of the mesh along its longest principal axis (surfacePrincipalAxes): the object's size
-  // whatever its orientation, for preshapes made for small objects (Preshape::max_object_extent_m).
-  double largestExtentM() const { return largest_extent_m_; }
+  // Length of the mesh along its longest principal axis (geometry::principalLengthM, which says
+  // how it behaves for a cube or a ball): the object's size for preshapes made for small objects
+  // (Preshape::max_object_length_m).
+  double principalLengthM() const { return principal_length_m_; }
   // Outward unit normal of a face (zero for degenerate faces).
   const Eigen::Vector3d& faceNormal(std::size_t face) const { return face_normals_[face]; }
   // Outward normal at a surface point found on face `face`. On an edge or a corner the point lies
@@ -56,7 +57,7 @@ class GraspObject {
   Eigen::Vector3d center_of_mass_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d vertex_mean_ = Eigen::Vector3d::Zero();
   double max_radius_ = 0;
-  double largest_extent_m_ = 0;
+  double principal_length_m_ = 0;
   bool closed_ = false;
   std::vector<Eigen::Vector3d> face_normals_;
   std::vector<std::vector<int>> vertex_faces_;

@@ -77,10 +77,11 @@ struct Preshape {
   // of that type (the SDH's "spherical", "claw", "precision_tripod" and "narrow_tripod",
   // docs/hands.md). Unset: the planners never use it.
   std::optional<GraspType> grasp_type;
-  // The largest object, by GraspObject::largestExtentM(), the planners close this preshape on;
-  // unset: every object. For a preshape made for small objects (the SDH's "narrow_tripod"), whose
-  // grasps on a larger object only crowd out the others (docs/hands.md).
-  std::optional<double> max_object_extent_m;
+  // The longest object, by GraspObject::principalLengthM(), the planners close this alternative
+  // preshape on (not allowed on "power" and "precision"); unset: every object. For a preshape made
+  // for small objects (the SDH's "narrow_tripod"), whose grasps on a larger object only crowd out
+  // the others (docs/hands.md).
+  std::optional<double> max_object_length_m;
 };
 
 // Thresholds of one grasp type on the local surface shape (paper Table II), in metres of the
@@ -156,13 +157,14 @@ class HandModel {
   const Preshape& preshape(const std::string& name) const;
   // The preshapes the planners close for grasps of `type`: the one named after the type first,
   // then (with `alternatives`) the other preshapes of that type by name. Empty when the hand has
-  // none of that type. The planners and the robust refinement ask for alternatives unless told
-  // not to or in reference_compat (the reference's hands close their two preshapes only).
-  // With `object_extent_m` (the object's GraspObject::largestExtentM()), a preshape whose
-  // max_object_extent_m is below it is left out.
+  // none of that type. The planners ask for alternatives unless told not to or in
+  // reference_compat (the reference's hands close their two preshapes only); the robust
+  // refinement switches between the two main preshapes only. With `object_length_m` (the
+  // object's GraspObject::principalLengthM()), an alternative whose max_object_length_m is below
+  // it is left out.
   std::vector<const Preshape*> plannerPreshapes(
       GraspType type, bool alternatives = true,
-      std::optional<double> object_extent_m = std::nullopt) const;
+      std::optional<double> object_length_m = std::nullopt) const;
   // Grasp centre point of a preshape in the root frame (at the preshape's joint values).
   Pose gcpInRoot(const Preshape& preshape) const;
   const PlannerThresholds& thresholds() const { return thresholds_; }

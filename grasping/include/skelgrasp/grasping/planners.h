@@ -31,9 +31,10 @@ struct SkeletonPlannerParams {
   int round_endpoint_rolls = 8;          // hand rolls about the axis at a round end
   // Every pose of a grasp type is also closed with the hand's alternative preshapes of that type
   // (HandModel::plannerPreshapes: the SDH's "spherical" and "claw" power preshapes and its
-  // "precision_tripod" and, on objects up to 70 mm, "narrow_tripod" precision preshapes, its
-  // fingers turned to a tripod). false, or hypothesis.quality.reference_compat: "power" and
-  // "precision" only, as the paper. Passed on to the fallback strategies and centre candidates.
+  // "precision_tripod" and, on small objects (its max_object_length_m), "narrow_tripod" precision
+  // preshapes, its fingers turned to a tripod). false, or hypothesis.quality.reference_compat:
+  // "power" and "precision" only, as the paper. Passed on to the fallback strategies and centre
+  // candidates.
   bool alternative_preshapes = true;
   // Objects whose skeleton says little (fallback_planner.h): when the skeleton strategies try no
   // hand pose, or keep fewer than fallback_min_grasps grasps, the fallback strategies add theirs
