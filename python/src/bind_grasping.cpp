@@ -1,6 +1,7 @@
 // Hands, the planners and pictures (closing and re-scoring: bind_scoring.cpp).
 #include <pybind11/stl.h>
 
+#include <map>
 #include <optional>
 
 #include "bindings.h"
@@ -112,6 +113,17 @@ preshapes, planner thresholds; docs/hands.md). From :func:`hand` or :func:`load_
             return names;
           },
           "Preshape names (e.g. ['power', 'precision']).")
+      .def_property_readonly(
+          "preshape_length_limits",
+          [](const grasping::HandModel& h) {
+            std::map<std::string, double> limits;
+            for (const auto& [name, preshape] : h.preshapes())
+              if (preshape.max_object_length_m) limits[name] = *preshape.max_object_length_m;
+            return limits;
+          },
+          "Preshapes made for small objects and the longest object (metres, along its longest "
+          "principal axis) the planners close each on, e.g. {'narrow_tripod': 0.07} for the SDH; "
+          "the others are closed on every object (docs/hands.md).")
       .def_property_readonly(
           "joints",
           [](const grasping::HandModel& h) {

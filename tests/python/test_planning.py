@@ -184,6 +184,8 @@ def test_alternative_preshapes_is_a_keyword_of_plan(capsule, sdh, capsule_plan):
     assert spherical and all(g["type"] == "power" for g in spherical)
     assert claw and all(g["type"] == "power" for g in claw)
     assert tripod and all(g["type"] == "precision" for g in tripod)
+    assert sdh.preshape_length_limits == {"narrow_tripod": 0.07}
+    assert skelgrasp.hand("armar3").preshape_length_limits == {}
     assert not [g for g in grasps if g["preshape"] == "narrow_tripod"]
     assert len(with_alternatives.grasps) == len(plain.grasps) + len(spherical) + len(claw) + len(
         tripod
