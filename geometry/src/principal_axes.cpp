@@ -40,8 +40,7 @@ PrincipalAxes surfacePrincipalAxes(const TriangleMesh& mesh) {
   return out;
 }
 
-double principalLengthM(const TriangleMesh& mesh) {
-  const PrincipalAxes axes = surfacePrincipalAxes(mesh);
+double principalLengthM(const TriangleMesh& mesh, const PrincipalAxes& axes) {
   // No area, no axes: the identity's x would make a sliver along y look as small as a point.
   if (!(axes.sd(0) > 0)) return mesh.bounds().diagonal();
   const Eigen::Vector3d longest = axes.axes.col(0);

@@ -217,7 +217,7 @@ PlanResult planFallbackGrasps(const HandModel& hand, const GraspObject& object,
   auto& summary = result.summary;
 
   const Eigen::Vector3d centre = object.centerOfMass();
-  const PrincipalAxes pa = surfacePrincipalAxes(object.mesh());
+  const PrincipalAxes& pa = object.principalAxes();
   const bool disc = pa.sd(1) > 0 && pa.sd(2) < sp.disc_ratio * pa.sd(1);
   std::vector<FallbackPose> poses;
   if (sp.sphere) addSpherePoses(centre, sp, poses);

@@ -3,7 +3,6 @@
 #include "fcl_conversions.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/geometry/mesh_topology.h"
-#include "skelgrasp/geometry/principal_axes.h"
 
 namespace skelgrasp::grasping {
 
@@ -55,7 +54,8 @@ GraspObject::GraspObject(TriangleMesh mesh, const DistanceFieldParams& field)
   }
   for (const auto& v : mesh_.vertices)
     max_radius_ = std::max(max_radius_, (v - center_of_mass_).norm());
-  principal_length_m_ = geometry::principalLengthM(mesh_);
+  principal_axes_ = geometry::surfacePrincipalAxes(mesh_);
+  principal_length_m_ = geometry::principalLengthM(mesh_, principal_axes_);
   vertex_faces_.resize(mesh_.vertices.size());
   for (std::size_t f = 0; f < mesh_.faces.size(); ++f) {
     for (int k = 0; k < 3; ++k) vertex_faces_[mesh_.faces[f][k]].push_back(static_cast<int>(f));

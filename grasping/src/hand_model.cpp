@@ -129,7 +129,7 @@ std::vector<const Preshape*> HandModel::plannerPreshapes(
   };
   std::vector<const Preshape*> out;
   const auto main = preshapes_.find(toString(type));
-  if (main != preshapes_.end() && fits(main->second)) out.push_back(&main->second);
+  if (main != preshapes_.end()) out.push_back(&main->second);
   if (!alternatives) return out;
   for (const auto& [name, preshape] : preshapes_) {
     if (preshape.grasp_type == type && name != toString(type) && fits(preshape))

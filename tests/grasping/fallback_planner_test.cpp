@@ -268,7 +268,8 @@ TEST(FallbackPlanner, ObjectLengthIsTheLengthAlongTheLongestPrincipalAxis) {
   TriangleMesh sliver;
   sliver.vertices = {{0, 0, 0}, {0, 0.05, 0}, {0, 0.1, 0}};
   sliver.faces = {{0, 1, 2}};
-  EXPECT_NEAR(geometry::principalLengthM(sliver), 0.1, 1e-12);
+  EXPECT_NEAR(geometry::principalLengthM(sliver, geometry::surfacePrincipalAxes(sliver)), 0.1,
+              1e-12);
 }
 
 // A grasp limit does not shut the centre candidates out: the skeleton strategies stop at its

@@ -20,6 +20,12 @@ std::string handFile(const std::string& hand, const std::string& file) {
   return std::string(SKELGRASP_SOURCE_DIR) + "/grasping/hands/" + hand + "/" + file;
 }
 
+// A hand file's text, for tests that write a changed copy.
+std::string handFileText(const std::string& hand, const std::string& file) {
+  std::ifstream in(handFile(hand, file));
+  return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+
 TEST(HandModel, BuiltInHandsHaveTheirFingersAndDrives) {
   struct Expected {
     const char* name;
@@ -201,8 +207,7 @@ TEST(HandModel, BadHandInputsNameTheFileAndTheProblem) {
          "</geometry></collision></link></robot>";
   expectIoError([&] { loadHand(dir + "/mesh.urdf", desc); }, dir + "/missing.stl", "not found");
   // A description naming a joint the URDF does not have.
-  std::ifstream in(desc);
-  std::string text((std::istreambuf_iterator<char>(in)), {});
+  const std::string text = handFileText("armar3", "armar3.grasp.json");
   const std::string renamed = std::regex_replace(text, std::regex("\"index_j1\""), "\"index_j9\"");
   std::ofstream(dir + "/desc.json") << renamed;
   expectIoError([&] { loadHand(handFile("armar3", "armar3.urdf"), dir + "/desc.json"); },
@@ -232,8 +237,7 @@ TEST(HandModel, BadHandInputsNameTheFileAndTheProblem) {
   expectIoError(
       [&] { loadHand(urdf, withPreshapeEntry("power", "\"max_object_length_m\": 0.05")); },
       dir + "/changed.json", "only an alternative preshape can have a size limit");
-  std::ifstream sdh_in(handFile("sdh", "sdh.grasp.json"));
-  const std::string sdh_text((std::istreambuf_iterator<char>(sdh_in)), {});
+  const std::string sdh_text = handFileText("sdh", "sdh.grasp.json");
   for (const char* bad : {"0", "-0.05", "true", "\"70 mm\""}) {
     std::ofstream(dir + "/sdh.json")
         << std::regex_replace(sdh_text, std::regex("\"max_object_length_m\": [0-9.]+"),
@@ -260,8 +264,7 @@ TEST(HandModel, DescriptionsCarryTheirRankingBudget) {
   }
 
   const std::string dir = test::tempDir("ranking_budget");
-  std::ifstream in(handFile("armar3", "armar3.grasp.json"));
-  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  const std::string text = handFileText("armar3", "armar3.grasp.json");
   const auto withRanking = [&](const std::string& ranking) {
     const std::string path = dir + "/ranking.json";
     std::ofstream(path) << std::regex_replace(text, std::regex("\\{"),

@@ -17,10 +17,11 @@ struct PrincipalAxes {
 };
 PrincipalAxes surfacePrincipalAxes(const TriangleMesh& mesh);
 
-// Length of the mesh's vertices along its longest principal axis, in metres. When the two largest
-// deviations are nearly equal (a cube, a square plate, a ball) that axis may lie anywhere in their
-// plane, and the length anywhere between the side and the diagonal of that cross-section. A mesh
-// without area has no axes: its bounding box diagonal is returned.
-double principalLengthM(const TriangleMesh& mesh);
+// Length of the mesh's vertices along its longest principal axis (`axes`, the mesh's
+// surfacePrincipalAxes, computed once by the caller), in metres. When the two largest deviations
+// are nearly equal (a cube, a square plate, a ball) that axis may lie anywhere in their plane, and
+// the length anywhere between the side and the diagonal of that cross-section. A mesh without area
+// has no axes: its bounding box diagonal is returned.
+double principalLengthM(const TriangleMesh& mesh, const PrincipalAxes& axes);
 
 }  // namespace skelgrasp::geometry

@@ -7,6 +7,7 @@
 
 #include "skelgrasp/common/mesh.h"
 #include "skelgrasp/geometry/mesh_query.h"
+#include "skelgrasp/geometry/principal_axes.h"
 #include "skelgrasp/grasping/distance_field.h"
 
 namespace skelgrasp::grasping {
@@ -28,6 +29,9 @@ class GraspObject {
   const Eigen::Vector3d& vertexMean() const { return vertex_mean_; }
   // Largest distance of a vertex from the centre of mass.
   double maxRadius() const { return max_radius_; }
+  // Principal axes of the surface (geometry::surfacePrincipalAxes), along which the fallback
+  // strategies place the hand.
+  const geometry::PrincipalAxes& principalAxes() const { return principal_axes_; }
   // Length of the mesh along its longest principal axis (geometry::principalLengthM, which says
   // how it behaves for a cube or a ball): the object's size for preshapes made for small objects
   // (Preshape::max_object_length_m).
@@ -57,6 +61,7 @@ class GraspObject {
   Eigen::Vector3d center_of_mass_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d vertex_mean_ = Eigen::Vector3d::Zero();
   double max_radius_ = 0;
+  geometry::PrincipalAxes principal_axes_;
   double principal_length_m_ = 0;
   bool closed_ = false;
   std::vector<Eigen::Vector3d> face_normals_;
