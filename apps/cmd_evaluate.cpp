@@ -64,6 +64,7 @@ struct EvaluateArgs {
   bool robust_ranking = evaluation::BatchParams{}.ranking.enabled;
   std::optional<std::size_t> screen_k;  // unset: each hand's ranking budget
   std::optional<int> screen_samples;
+  std::string screen_by = evaluation::toString(evaluation::RobustRankingParams{}.screen_candidates);
   RobustRefineOptions refine;
 };
 
@@ -132,6 +133,7 @@ int runEvaluate(const EvaluateArgs& a) {
   p.ranking.robustness.variant = p.robustness.variant;
   p.ranking.screen_k = a.screen_k;
   p.ranking.screen_samples = a.screen_samples;
+  p.ranking.screen_candidates = evaluation::parseScreenCandidates(a.screen_by);
   a.refine.applyTo(p.ranking.refinement);
   p.load.units = parseLengthUnit(a.units);
   p.seed = a.seed;
@@ -190,6 +192,7 @@ void registerEvaluateCommands(CLI::App& app, Action& action) {
                   evaluation::RobustRankingParams{}.robustness.samples));
   addScreenOption(*cmd, a->screen_k);
   addScreenSamplesOption(*cmd, a->screen_samples);
+  addScreenByOption(*cmd, a->screen_by);
   a->refine.addTo(*cmd);
   cmd->add_flag("--reference-compat", a->reference_compat,
                 "Quality as the reference code (docs/hands.md)");

@@ -53,6 +53,17 @@ inline CLI::Option* addScreenSamplesOption(CLI::App& cmd, std::optional<int>& sc
       ->transform(countIn(1, kMaxRankingSamples));
 }
 
+// --robustness-screen-by, the same on every command that ranks by robustness.
+inline CLI::Option* addScreenByOption(CLI::App& cmd, std::string& screen_by) {
+  return cmd
+      .add_option("--robustness-screen-by", screen_by,
+                  "Which grasps are screened: preshapes (each preshape's best by epsilon in turn, "
+                  "so every preshape the planner closed is screened) or epsilon (the best by "
+                  "epsilon over all, the rule before 2026-11-29)")
+      ->check(CLI::IsMember({"preshapes", "epsilon"}))
+      ->capture_default_str();
+}
+
 // Refinement for robustness (evaluation/robust_refinement.h), the same on every command that ranks.
 struct RobustRefineOptions {
   bool disabled = !evaluation::RobustRefinementParams{}.enabled;
@@ -115,7 +126,8 @@ struct RobustnessOptions {
   std::size_t top_k = evaluation::RobustRankingParams{}.top_k;
   std::optional<std::size_t> screen_k;  // unset: the hand's ranking budget
   std::optional<int> screen_samples;    // unset: the hand's ranking budget
-  std::optional<double> mu;             // unset: the planner's --mu
+  std::string screen_by = evaluation::toString(evaluation::RobustRankingParams{}.screen_candidates);
+  std::optional<double> mu;  // unset: the planner's --mu
   RobustRefineOptions refine;
 
   void addTo(CLI::App& cmd) {
@@ -131,6 +143,7 @@ struct RobustnessOptions {
         ->capture_default_str();
     addScreenOption(cmd, screen_k);
     addScreenSamplesOption(cmd, screen_samples);
+    addScreenByOption(cmd, screen_by);
     // No shown default: unset means the planner's friction.
     cmd.add_option("--robustness-mu", mu, "Friction coefficient of r (default: --mu)")
         ->check(finiteIn(0, kMaxFriction));
@@ -144,6 +157,7 @@ struct RobustnessOptions {
     p.top_k = top_k;
     p.screen_k = screen_k;
     p.screen_samples = screen_samples;
+    p.screen_candidates = evaluation::parseScreenCandidates(screen_by);
     p.robustness.samples = samples;
     p.robustness.variant = evaluation::parseRobustnessVariant(variant);
     p.robustness.seed = seed;

@@ -107,6 +107,10 @@ nlohmann::json rankingOptions(const RobustRankingParams& r,
   // before reported the moved grasps' r from the samples that chose them, so it does not resume
   // into this one.
   if (r.refinement.enabled) options["refinement"]["check"] = "own_samples";
+  // Since 2026-11-29 screening takes every preshape's best grasps in turn; a batch from before
+  // screened the best by epsilon, so it resumes only into that.
+  if (r.screen_candidates != ScreenCandidates::kByPreScore)
+    options["screen_by"] = toString(r.screen_candidates);
   for (const auto& hand : hands) {
     const RankingBudgetUsed own = rankingBudgetFor(r, hand.rankingBudget());
     if (own.screen_k != recorded.screen_k || own.screen_samples != recorded.screen_samples ||

@@ -50,6 +50,7 @@ nlohmann::json rankingRecordJson(const RobustRankingResult& ranking) {
           {"budget",
            {{"screen_grasps", ranking.budget.screen_k},
             {"screen_samples", ranking.budget.screen_samples},
+            {"screen_by", toString(ranking.budget.screen_candidates)},
             {"refine_below_r", ranking.budget.search_below_r}}}};
 }
 

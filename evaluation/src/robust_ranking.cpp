@@ -6,6 +6,7 @@
 #include <numeric>
 #include <optional>
 #include <queue>
+#include <string>
 
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -206,6 +207,30 @@ Screening screenInOrder(grasping::GraspSimulator& simulator,
   return out;
 }
 
+// `candidates` (best first) reordered so that the preshapes take turns: the best of each preshape
+// (preshapes in the order their best grasps come), then the second best of each, and so on. The
+// order within a preshape is kept.
+std::vector<std::size_t> preshapesInTurn(const std::vector<grasping::Grasp>& grasps,
+                                         const std::vector<std::size_t>& candidates) {
+  std::vector<std::string> preshapes;
+  std::vector<std::vector<std::size_t>> queues;
+  for (std::size_t i : candidates) {
+    const auto it = std::find(preshapes.begin(), preshapes.end(), grasps[i].preshape);
+    if (it == preshapes.end()) {
+      preshapes.push_back(grasps[i].preshape);
+      queues.push_back({i});
+    } else {
+      queues[static_cast<std::size_t>(it - preshapes.begin())].push_back(i);
+    }
+  }
+  std::vector<std::size_t> in_turn;
+  in_turn.reserve(candidates.size());
+  for (std::size_t round = 0; in_turn.size() < candidates.size(); ++round)
+    for (const auto& queue : queues)
+      if (round < queue.size()) in_turn.push_back(queue[round]);
+  return in_turn;
+}
+
 }  // namespace
 
 grasping::GraspRobustness graspRobustness(const RobustnessResult& result,
@@ -228,6 +253,22 @@ grasping::GraspRobustness graspRobustness(const RobustnessResult& result,
   return r;
 }
 
+ScreenCandidates parseScreenCandidates(const std::string& text) {
+  if (text == "epsilon") return ScreenCandidates::kByPreScore;
+  if (text == "preshapes") return ScreenCandidates::kPreshapesInTurn;
+  throw InvalidArgument("unknown screening candidates '" + text + "' (use epsilon or preshapes)");
+}
+
+const char* toString(ScreenCandidates candidates) {
+  switch (candidates) {
+    case ScreenCandidates::kByPreScore:
+      return "epsilon";
+    case ScreenCandidates::kPreshapesInTurn:
+      return "preshapes";
+  }
+  return "?";
+}
+
 RankingBudgetUsed rankingBudgetFor(const RobustRankingParams& params,
                                    const grasping::RankingBudget& hand_budget) {
   RankingBudgetUsed used;
@@ -236,6 +277,7 @@ RankingBudgetUsed rankingBudgetFor(const RobustRankingParams& params,
       params.screen_samples.value_or(hand_budget.screen_samples.value_or(kDefaultScreenSamples));
   used.search_below_r = params.refinement.search_below_r.value_or(
       hand_budget.refine_below_r.value_or(kDefaultSearchBelowR));
+  used.screen_candidates = params.screen_candidates;
   return used;
 }
 
@@ -292,6 +334,8 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
     for (std::size_t i : by_pre)
       if (!grasps[i].contacts.empty()) candidates.push_back(i);
     if (screen_k > top_k) {
+      if (params.screen_candidates == ScreenCandidates::kPreshapesInTurn)
+        candidates = preshapesInTurn(grasps, candidates);
       if (candidates.size() > screen_k) candidates.resize(screen_k);
       const Stopwatch screen_watch;
       RobustnessParams screen = rp;

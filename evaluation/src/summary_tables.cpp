@@ -35,10 +35,12 @@ std::string settingsLine(const nlohmann::json& options) {
   if (options.contains("ranking")) {
     const auto& k = options["ranking"];
     parts.push_back(
-        fmt::format("robust ranking: {} screened with {} samples, the best {} scored "
+        fmt::format("robust ranking: {} screened ({}) with {} samples, the best {} scored "
                     "with {}",
-                    k.value("screen_k", 0), k.value("screen_samples", 0), k.value("top_k", 0),
-                    k.value("samples", 0)));
+                    k.value("screen_k", 0),
+                    k.value("screen_by", "epsilon") == "preshapes" ? "each preshape's best in turn"
+                                                                   : "the best by epsilon",
+                    k.value("screen_samples", 0), k.value("top_k", 0), k.value("samples", 0)));
     if (k.contains("hand_budgets") && k["hand_budgets"].is_object()) {
       // The search bar means nothing when the search is off.
       const bool searched = !k.contains("refinement") || k["refinement"].value("enabled", true);

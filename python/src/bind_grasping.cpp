@@ -37,8 +37,9 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
           double spur_radius_factor, bool robustness, int robustness_samples,
           const std::string& robustness_variant, std::size_t robustness_top_k,
           std::optional<std::size_t> robustness_screen,
-          std::optional<int> robustness_screen_samples, std::optional<double> robustness_mu,
-          bool robust_refine, std::optional<double> robust_refine_below_r, bool centre_candidates,
+          std::optional<int> robustness_screen_samples, const std::string& robustness_screen_by,
+          std::optional<double> robustness_mu, bool robust_refine,
+          std::optional<double> robust_refine_below_r, bool centre_candidates,
           std::size_t surface_candidates, bool wrench_volume,
           std::optional<double> torsional_friction, const std::string& contact_patch,
           bool alternative_preshapes) {
@@ -56,9 +57,10 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
   skeleton_params.regularisation.offset_divisor = offset_divisor;
   skeleton_params.spur_radius_factor = spur_radius_factor;
 
-  const auto ranking = robustRankingParams(
-      robustness, robustness_samples, robustness_variant, robustness_top_k, robustness_screen,
-      robustness_screen_samples, robustness_mu, seed, robust_refine, robust_refine_below_r);
+  const auto ranking =
+      robustRankingParams(robustness, robustness_samples, robustness_variant, robustness_top_k,
+                          robustness_screen, robustness_screen_samples, robustness_screen_by,
+                          robustness_mu, seed, robust_refine, robust_refine_below_r);
   Plan out;
   out.hand = hand;
   out.object = mesh.name;
@@ -287,6 +289,8 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
       py::arg("robustness_variant") = std::string(evaluation::toString(ranking.robustness.variant)),
       py::arg("robustness_top_k") = ranking.top_k, py::arg("robustness_screen") = ranking.screen_k,
       py::arg("robustness_screen_samples") = ranking.screen_samples,
+      py::arg("robustness_screen_by") =
+          std::string(evaluation::toString(ranking.screen_candidates)),
       py::arg("robustness_mu") = ranking.friction,
       py::arg("robust_refine") = ranking.refinement.enabled,
       py::arg("robust_refine_below_r") = ranking.refinement.search_below_r,
@@ -301,7 +305,8 @@ Plans grasps for ``mesh`` with ``hand`` (``skelgrasp plan``): planner 'skeleton'
 or 'surface' (surface-normal baseline). Deterministic for a seed. The defaults are the library's
 SkeletonPlannerParams / SurfacePlannerParams (no time limit: ``timeout_s=0``; the command line
 sets 30 s) and RobustRankingParams. ``max_hypotheses`` is the surface planner's. Robust ranking
-(docs/planning.md): the best ``robustness_screen`` grasps by epsilon (0: all) are screened with a
+(docs/planning.md): ``robustness_screen`` grasps (0: all), each preshape's best by epsilon in turn
+(``robustness_screen_by='preshapes'``; 'epsilon': the best by epsilon over all) are screened with a
 cheap r from ``robustness_screen_samples`` executions each (None, for either: the hand's ranking
 budget, 60 and 10 unless its description says otherwise; the Shadow hand's 40 and 8), and the best ``robustness_top_k`` of them (0: all) get a robustness r from
 ``robustness_samples`` perturbed executions (``robustness_variant`` 'paper', 'guarded', 'settled' or 'reference',

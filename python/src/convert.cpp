@@ -153,13 +153,11 @@ py::dict jointsDict(const grasping::HandModel& hand, const Eigen::VectorXd& q) {
   return joints;
 }
 
-evaluation::RobustRankingParams robustRankingParams(bool robustness, int samples,
-                                                    const std::string& variant, std::size_t top_k,
-                                                    std::optional<std::size_t> screen_k,
-                                                    std::optional<int> screen_samples,
-                                                    std::optional<double> mu, std::uint64_t seed,
-                                                    bool refine,
-                                                    std::optional<double> refine_below_r) {
+evaluation::RobustRankingParams robustRankingParams(
+    bool robustness, int samples, const std::string& variant, std::size_t top_k,
+    std::optional<std::size_t> screen_k, std::optional<int> screen_samples,
+    const std::string& screen_by, std::optional<double> mu, std::uint64_t seed, bool refine,
+    std::optional<double> refine_below_r) {
   if (samples < 1) throw InvalidArgument("robustness_samples: must be >= 1");
   if (screen_samples && *screen_samples < 1)
     throw InvalidArgument("robustness_screen_samples: must be >= 1");
@@ -175,6 +173,7 @@ evaluation::RobustRankingParams robustRankingParams(bool robustness, int samples
   p.top_k = top_k;
   p.screen_k = screen_k;
   p.screen_samples = screen_samples;
+  p.screen_candidates = evaluation::parseScreenCandidates(screen_by);
   p.refinement.search_below_r = refine_below_r;
   p.friction = mu;
   p.refinement.enabled = refine;

@@ -161,6 +161,7 @@ TEST(Cli, PlanRecordsTheRankingBudgetItRanWith) {
   const auto budget = readJsonFile(dir + "/grasps.json")["ranking"]["budget"];
   EXPECT_EQ(budget["screen_grasps"], 12) << budget.dump();
   EXPECT_EQ(budget["screen_samples"], 8) << budget.dump();
+  EXPECT_EQ(budget["screen_by"], "preshapes") << budget.dump();  // the library's default
   EXPECT_DOUBLE_EQ(budget["refine_below_r"].get<double>(), 0.5);
 }
 

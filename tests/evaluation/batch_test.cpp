@@ -176,7 +176,8 @@ TEST_F(BatchTest, RobustRankingRecordsTheReturnedGraspsRAndIsPartOfTheOptions) {
   EXPECT_NE(summary.find("Settings (batch.json): μ = 0.35; each hand's own contact model"),
             std::string::npos)
       << summary;
-  EXPECT_NE(summary.find("robust ranking: 4 screened with 4 samples, the best 2 scored with 6"),
+  EXPECT_NE(summary.find("robust ranking: 4 screened (each preshape's best in turn) with 4 "
+                         "samples, the best 2 scored with 6"),
             std::string::npos)
       << summary;
   EXPECT_EQ(readJsonFile(out + "/batch.json")["options"]["ranking"]["top_k"], 2);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <numeric>
 #include <random>
 #include <utility>
@@ -108,6 +109,7 @@ TEST(RobustRanking, ScreeningChoosesTheScoredGraspsByAScreeningROnItsOwnSamples)
   // candidate gets its full screening r (pruning is checked below).
   params.refinement.enabled = false;
   params.screening_pruning = ScreeningPruning::kNone;
+  params.screen_candidates = ScreenCandidates::kByPreScore;
   const auto result =
       rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params);
   EXPECT_EQ(result.screened, 6u);
@@ -149,6 +151,63 @@ TEST(RobustRanking, ScreeningChoosesTheScoredGraspsByAScreeningROnItsOwnSamples)
   params.screen_samples = 0;
   EXPECT_THROW(rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params),
                InvalidArgument);
+}
+
+// With preshapes in turn, the screened candidates are, for every preshape, its best grasps by
+// epsilon (a prefix of its epsilon order), and the preshapes share the screen_k places evenly: a
+// preshape gets fewer places than another only when it has no grasp left. Whatever the order of
+// the grasps given.
+TEST(RobustRanking, ScreeningTakesEachPreshapesBestGraspsInTurn) {
+  // A 60 mm ball: the SDH closes its power, precision and all three tripods on it.
+  const Planned p = planOn("sdh", primitives::makeSphere(0.03), 0);
+  const std::size_t n = p.plan.grasps.size();
+  std::map<std::string, std::vector<double>> epsilons;  // of each preshape, all its grasps
+  for (const auto& g : p.plan.grasps) epsilons[g.preshape].push_back(g.epsilon);
+  ASSERT_GE(epsilons.size(), 3u) << "the ball should get several preshapes";
+  auto params = fewSamples(4, 2);
+  params.screen_k = 3 * epsilons.size() + 1;
+  params.screen_samples = 2;
+  params.refinement.enabled = false;
+  params.screening_pruning = ScreeningPruning::kNone;  // every candidate keeps its screening score
+  // The input in reverse too: the candidates may not depend on where a grasp stands.
+  std::vector<grasping::Grasp> reversed(p.plan.grasps.rbegin(), p.plan.grasps.rend());
+  for (const std::vector<grasping::Grasp>* grasps :
+       std::initializer_list<const std::vector<grasping::Grasp>*>{&p.plan.grasps, &reversed}) {
+    const auto result = rankByRobustness(p.hand, *p.object, *grasps, p.params.hypothesis, params);
+    ASSERT_EQ(result.screened, *params.screen_k);
+    EXPECT_EQ(result.budget.screen_candidates, ScreenCandidates::kPreshapesInTurn);
+    // The screened are the scored and the screened-only grasps, ranked before all others.
+    std::map<std::string, std::vector<double>> screened;
+    for (std::size_t i = 0; i < *params.screen_k; ++i)
+      screened[result.grasps[i].preshape].push_back(result.grasps[i].epsilon);
+    std::size_t most = 0, fewest_with_more_left = n;
+    for (auto& [preshape, all] : epsilons) {
+      std::vector<double> taken = screened[preshape];
+      std::sort(all.begin(), all.end(), std::greater<>());
+      std::sort(taken.begin(), taken.end(), std::greater<>());
+      // A prefix of the preshape's epsilon order (ties may swap equal epsilons only).
+      for (std::size_t k = 0; k < taken.size(); ++k) EXPECT_EQ(taken[k], all[k]) << preshape;
+      most = std::max(most, taken.size());
+      if (taken.size() < all.size())
+        fewest_with_more_left = std::min(fewest_with_more_left, taken.size());
+    }
+    // Even shares: no preshape with grasps left got two places fewer than another.
+    EXPECT_LE(most, fewest_with_more_left + 1);
+  }
+  // By epsilon over all, the same budget screens one preshape's grasps more often than its share
+  // here (else this test would not tell the rules apart).
+  params.screen_candidates = ScreenCandidates::kByPreScore;
+  const auto by_epsilon =
+      rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params);
+  std::map<std::string, std::size_t> counts;
+  for (std::size_t i = 0; i < *params.screen_k; ++i) ++counts[by_epsilon.grasps[i].preshape];
+  std::size_t most_by_epsilon = 0;
+  for (const auto& [preshape, count] : counts) most_by_epsilon = std::max(most_by_epsilon, count);
+  EXPECT_GT(most_by_epsilon, 4u);
+  EXPECT_EQ(parseScreenCandidates(toString(ScreenCandidates::kByPreScore)),
+            ScreenCandidates::kByPreScore);
+  EXPECT_EQ(parseScreenCandidates("preshapes"), ScreenCandidates::kPreshapesInTurn);
+  EXPECT_THROW(parseScreenCandidates("random"), InvalidArgument);
 }
 
 // Pruned screening, in pre-score order or best-first, chooses the grasps full screening chooses:

@@ -4,6 +4,7 @@
 // each with its r attached (Grasp::robustness). docs/planning.md, "Robust ranking".
 #include <cstddef>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "skelgrasp/evaluation/robust_refinement.h"
@@ -38,6 +39,24 @@ enum class ScreeningPruning {
   kBestFirst,
 };
 
+// Which grasps screening looks at (screen_k of them).
+enum class ScreenCandidates {
+  // The best by pre-score (epsilon x trust) over all grasps (the default until 2026-11-29).
+  kByPreScore,
+  // The best by pre-score of each preshape in turn (the preshape with the best grasp first, then
+  // the next best, ...), so that every preshape the planner closed is screened. Epsilon is
+  // comparable within a preshape, not across them: a power tripod's three fingertips reach a
+  // larger epsilon on a ball than a narrow tripod's, yet slip more under pose error (on the SDH's
+  // tennis ball the 60 best epsilons were all power tripods, r 0.73 at best, while 167 narrow
+  // tripods reached up to 0.92; docs/results.md, "Screening every preshape").
+  kPreshapesInTurn,
+};
+
+// "epsilon" or "preshapes" (the CLI's --robustness-screen-by); parse throws InvalidArgument for
+// anything else.
+ScreenCandidates parseScreenCandidates(const std::string& text);
+const char* toString(ScreenCandidates candidates);
+
 struct RobustRankingParams {
   bool enabled = true;  // false: the grasps keep the pre-score order and get no robustness
   // The grasps scored: the best top_k by the screening (below); 0 scores all of them.
@@ -51,6 +70,7 @@ struct RobustRankingParams {
   // kDefaultScreenK and kDefaultScreenSamples (rankingBudgetFor below).
   std::optional<std::size_t> screen_k;
   std::optional<int> screen_samples;
+  ScreenCandidates screen_candidates = ScreenCandidates::kPreshapesInTurn;
   // How screening saves samples without changing its choice: the top_k chosen, their order and
   // their screening r are those of full screening (kNone) under every setting (tested); only
   // which of the other candidates get a full screening r differs (the rest rank by pre-score, as
@@ -68,11 +88,12 @@ struct RobustRankingParams {
 };
 
 // The budget a ranking ran with: the parameters' values, or where they were unset the hand's
-// (grasping::RankingBudget), or the defaults above.
+// (grasping::RankingBudget), or the defaults above; and which grasps screening took.
 struct RankingBudgetUsed {
   std::size_t screen_k = kDefaultScreenK;
   int screen_samples = kDefaultScreenSamples;
   double search_below_r = kDefaultSearchBelowR;
+  ScreenCandidates screen_candidates = ScreenCandidates::kPreshapesInTurn;
 };
 
 // Each of params' unset screen_k, screen_samples and refinement.search_below_r from a hand's
@@ -99,8 +120,9 @@ struct RobustRankingResult {
   double screening_s = 0, scoring_s = 0, refinement_s = 0;
 };
 
-// Screens the best screen_k grasps (rankingBudgetFor: params', or the hand's), scores the best
-// `params.top_k` of them by robustness and re-ranks all grasps:
+// Screens screen_k grasps (rankingBudgetFor: params', or the hand's; which ones:
+// params.screen_candidates, each preshape's best by pre-score in turn or the best by pre-score),
+// scores the best `params.top_k` of them by robustness and re-ranks all grasps:
 //  * pre-score = epsilon x trust[i] (trust empty: 1; scans: 1 - w + w x observed contact ratio);
 //  * screening score = screening r x trust[i]; the top_k by it (ties: pre-score) are scored;
 //  * rank score of a scored grasp = r x trust[i]; of a screened one that is not scored = its
