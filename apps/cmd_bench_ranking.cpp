@@ -8,7 +8,11 @@
 // grid (DistanceFieldParams::skip_empty_cells); `jump-order`, the fast closing's jump attempts
 // stopping at the first link that allows no step (ClosingParams::jump_stops_at_blocking_link);
 // `refusals`, the fast closing's later passes not testing again a refused step while the fingers it
-// was tested against stand where they stood (ClosingParams::skip_repeated_refusals). Both paths
+// was tested against stand where they stood (ClosingParams::skip_repeated_refusals). One
+// comparison is not of an exact shortcut but of a choice: `screen-by`, screening the best by
+// epsilon (old) or each preshape's best in turn (new, RobustRankingParams::screen_candidates); its
+// paths return different grasps, and the mean r of each path's scored grasps says which is worth
+// more. Both paths
 // run each hand's own ranking budget (since 2026-11-29 the Shadow hand's is smaller: its figures
 // from before are not comparable with later ones).
 #include <fmt/format.h>
@@ -52,7 +56,8 @@ enum class Shortcut {
   kClosureShortcut,
   kCellSkipping,
   kJumpOrder,
-  kRefusals
+  kRefusals,
+  kScreenBy  // not exact: the two paths may score different grasps
 };
 
 // --compare's names: the option admits these (CLI::IsMember on the keys) and the run looks its
@@ -64,7 +69,8 @@ const std::map<std::string, Shortcut>& shortcutsByName() {
       {"closure-shortcut", Shortcut::kClosureShortcut},
       {"cell-skipping", Shortcut::kCellSkipping},
       {"jump-order", Shortcut::kJumpOrder},
-      {"refusals", Shortcut::kRefusals}};
+      {"refusals", Shortcut::kRefusals},
+      {"screen-by", Shortcut::kScreenBy}};
   return names;
 }
 
@@ -100,12 +106,23 @@ PathRun rankOnce(const grasping::HandModel& hand, const grasping::GraspObject& o
     case Shortcut::kRefusals:
       hypothesis.closing.skip_repeated_refusals = new_path;
       break;
+    case Shortcut::kScreenBy:
+      params.screen_candidates = new_path ? evaluation::ScreenCandidates::kPreshapesInTurn
+                                          : evaluation::ScreenCandidates::kByPreScore;
+      break;
   }
   PathRun run;
   const Stopwatch watch;
   run.result = evaluation::rankByRobustness(hand, object, grasps, hypothesis, params);
   run.seconds = watch.seconds();
   return run;
+}
+
+// The mean r of the scored grasps (they come first); 0 when none was scored.
+double meanScoredR(const evaluation::RobustRankingResult& result) {
+  double sum = 0;
+  for (std::size_t i = 0; i < result.scored; ++i) sum += result.grasps[i].robustness->r;
+  return result.scored > 0 ? sum / static_cast<double>(result.scored) : 0.0;
 }
 
 // The scored grasps (they come first) agree in order, pose and r.
@@ -132,11 +149,16 @@ int runBenchRanking(const BenchRankingArgs& args) {
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 1);
   const grasping::SkeletonPlannerParams planner;
   const Shortcut shortcut = shortcutsByName().at(args.compare);
-  std::cout << fmt::format("comparing {}: old path (off) against new path (on)\n", args.compare);
-  std::cout << fmt::format("{:<32} {:<8} {:>6} {:>8} {:>7} {:>7} {:>7} {:>6}\n", "object", "hand",
-                           "cands", "pruned", "old_s", "new_s", "ratio", "same");
+  std::cout << fmt::format("comparing {}: old path ({}) against new path ({})\n", args.compare,
+                           shortcut == Shortcut::kScreenBy ? "epsilon" : "off",
+                           shortcut == Shortcut::kScreenBy ? "preshapes" : "on");
+  const bool exact = shortcut != Shortcut::kScreenBy;
+  std::cout << fmt::format("{:<32} {:<8} {:>6} {:>8} {:>7} {:>7} {:>7} {:>6} {:>6} {:>6}\n",
+                           "object", "hand", "cands", "pruned", "old_s", "new_s", "ratio", "same",
+                           "old_r", "new_r");
   std::map<std::string, std::pair<double, double>> totals;  // per hand: old, new seconds
   std::map<std::string, std::vector<double>> ratios;
+  std::map<std::string, std::pair<std::vector<double>, std::vector<double>>> mean_rs;  // old, new
   bool all_same = true;
   nlohmann::json rows = nlohmann::json::array();
   ProgressReporter progress("bench ranking", files.size(), 10.0);
@@ -179,17 +201,22 @@ int runBenchRanking(const BenchRankingArgs& args) {
         ratios[hand.name()].push_back(ratio);
         // Every path screens the same candidates, fully or cut short.
         const std::size_t candidates = old_run.result.screened + old_run.result.screen_pruned;
-        std::cout << fmt::format("{:<32} {:<8} {:>6} {:>8} {:>7.2f} {:>7.2f} {:>6.2f}x {:>6}\n",
-                                 name.substr(0, 32), hand.name(), candidates,
-                                 new_run.result.screen_pruned, old_s / args.repeat,
-                                 new_s / args.repeat, ratio, same ? "yes" : "NO");
+        const double old_r = meanScoredR(old_run.result), new_r = meanScoredR(new_run.result);
+        mean_rs[hand.name()].first.push_back(old_r);
+        mean_rs[hand.name()].second.push_back(new_r);
+        std::cout << fmt::format(
+            "{:<32} {:<8} {:>6} {:>8} {:>7.2f} {:>7.2f} {:>6.2f}x {:>6} {:>6.3f} {:>6.3f}\n",
+            name.substr(0, 32), hand.name(), candidates, new_run.result.screen_pruned,
+            old_s / args.repeat, new_s / args.repeat, ratio, same ? "yes" : "NO", old_r, new_r);
         rows.push_back({{"object", name},
                         {"hand", hand.name()},
                         {"candidates", candidates},
                         {"pruned", new_run.result.screen_pruned},
                         {"old_s", old_s / args.repeat},
                         {"new_s", new_s / args.repeat},
-                        {"same_scored_grasps", same}});
+                        {"same_scored_grasps", same},
+                        {"old_mean_r", old_r},
+                        {"new_mean_r", new_r}});
       }
     } catch (const std::exception& e) {
       spdlog::error("bench ranking: {}: {}", files[f], e.what());
@@ -201,6 +228,14 @@ int runBenchRanking(const BenchRankingArgs& args) {
         "{:<8} ranking time old {:.1f} s, new {:.1f} s over the objects: {:.2f}x (median per "
         "object {:.2f}x)\n",
         hand, t.first, t.second, t.second > 0 ? t.first / t.second : 0.0, median(ratios[hand]));
+    std::cout << fmt::format(
+        "{:<8} mean r of the scored grasps, median over the objects: old {:.3f}, new {:.3f}\n",
+        hand, median(mean_rs[hand].first), median(mean_rs[hand].second));
+  }
+  // A choice, not a shortcut: the paths may differ, and the r above says how.
+  if (!exact) {
+    if (!args.json_out.empty()) writeJsonFile(args.json_out, {{"rows", rows}});
+    return kExitOk;
   }
   std::cout << (all_same ? "every object: the same scored grasps with the same r\n"
                          : "SOME OBJECTS DIFFER in their scored grasps\n");
@@ -214,7 +249,8 @@ void registerBenchRankingCommand(CLI::App& app, Action& action) {
   CLI::App* bench = app.get_subcommand("bench");  // created by registerBenchCommand
   auto* cmd = bench->add_subcommand(
       "ranking",
-      "Robust ranking without and with an exact shortcut, one process, same grasps (one core)");
+      "Robust ranking without and with an exact shortcut (or another screening choice), one "
+      "process, same grasps (one core)");
   auto args = std::make_shared<BenchRankingArgs>();
   cmd->add_option("inputs", args->inputs, "Mesh files or directories")->required();
   cmd->add_option("--hands", args->hands, "Comma-separated built-in hands")->capture_default_str();
@@ -230,7 +266,8 @@ void registerBenchRankingCommand(CLI::App& app, Action& action) {
                   "exact box gap skips empty cells), jump-order (the fast closing's jump "
                   "attempts stop at the first link that allows no step) or refusals (later passes "
                   "do not test again a refused step while the fingers it was tested against "
-                  "stand where they stood)")
+                  "stand where they stood); or screen-by, not exact: screening the best by "
+                  "epsilon against each preshape's best in turn, the two paths' r compared")
       ->check(CLI::IsMember(shortcutsByName()))
       ->capture_default_str();
   cmd->add_option("--json", args->json_out, "Also write the rows as JSON");

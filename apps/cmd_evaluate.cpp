@@ -64,7 +64,7 @@ struct EvaluateArgs {
   bool robust_ranking = evaluation::BatchParams{}.ranking.enabled;
   std::optional<std::size_t> screen_k;  // unset: each hand's ranking budget
   std::optional<int> screen_samples;
-  std::string screen_by = evaluation::toString(evaluation::RobustRankingParams{}.screen_candidates);
+  std::optional<std::string> screen_by;  // unset: each hand's ranking budget
   RobustRefineOptions refine;
 };
 
@@ -133,7 +133,7 @@ int runEvaluate(const EvaluateArgs& a) {
   p.ranking.robustness.variant = p.robustness.variant;
   p.ranking.screen_k = a.screen_k;
   p.ranking.screen_samples = a.screen_samples;
-  p.ranking.screen_candidates = evaluation::parseScreenCandidates(a.screen_by);
+  p.ranking.screen_candidates = screenCandidates(a.screen_by);
   a.refine.applyTo(p.ranking.refinement);
   p.load.units = parseLengthUnit(a.units);
   p.seed = a.seed;

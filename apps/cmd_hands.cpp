@@ -45,11 +45,15 @@ std::string contactModel(const grasping::HandModel& hand) {
 // samples each, and the r below which scored grasps are searched.
 std::string rankingBudget(const grasping::HandModel& hand) {
   const auto used = evaluation::rankingBudgetFor({}, hand.rankingBudget());
-  return fmt::format("{}x{}, r<{:g}", used.screen_k, used.screen_samples, used.search_below_r);
+  // Screening by epsilon over all is the exception since 2026-11-29: said only there.
+  return fmt::format(
+      "{}x{}{}, r<{:g}", used.screen_k, used.screen_samples,
+      used.screen_candidates == evaluation::ScreenCandidates::kByPreScore ? " by eps" : "",
+      used.search_below_r);
 }
 
 int runHands() {
-  std::cout << fmt::format("{:<18} {:>7} {:>6} {:>7}  {:<13}  {:<14}  {}\n", "hand", "fingers",
+  std::cout << fmt::format("{:<18} {:>7} {:>6} {:>7}  {:<13}  {:<18}  {}\n", "hand", "fingers",
                            "DOF", "joints", "contacts", "ranking", "preshapes");
   for (const auto& name : grasping::builtinHandNames()) {
     const auto hand = grasping::loadBuiltinHand(name);
@@ -60,15 +64,17 @@ int runHands() {
       if (preshape.max_object_length_m)
         preshapes += fmt::format(" (<= {:g} mm)", 1000 * *preshape.max_object_length_m);
     }
-    std::cout << fmt::format("{:<18} {:>7} {:>6} {:>7}  {:<13}  {:<14}  {}   ({})\n", name,
+    std::cout << fmt::format("{:<18} {:>7} {:>6} {:>7}  {:<13}  {:<18}  {}   ({})\n", name,
                              hand.fingers().size(), hand.numDrives(), hand.numMovingJoints(),
                              contactModel(hand), rankingBudget(hand), preshapes, hand.title());
   }
   std::cout << "DOF = actuated drives while closing; joints = joints those drives move; contacts = "
                "point, or soft fingers with their torsional friction (--torsional-friction); "
-               "ranking = the robust ranking's budget: candidates screened x samples each, and "
-               "the r below which scored grasps are searched for a more robust pose "
-               "(--robustness-screen, --robustness-screen-samples, --robust-refine-below-r); "
+               "ranking = the robust ranking's budget: candidates screened x samples each (each "
+               "preshape's best by epsilon in turn, or \"by eps\": the best by epsilon over all), "
+               "and the r below which scored grasps are searched for a more robust pose "
+               "(--robustness-screen, --robustness-screen-samples, --robustness-screen-by, "
+               "--robust-refine-below-r); "
                "preshapes = those of the grasp description, with the largest object a preshape "
                "for small objects is closed on\n";
   return kExitOk;

@@ -54,14 +54,23 @@ inline CLI::Option* addScreenSamplesOption(CLI::App& cmd, std::optional<int>& sc
 }
 
 // --robustness-screen-by, the same on every command that ranks by robustness.
-inline CLI::Option* addScreenByOption(CLI::App& cmd, std::string& screen_by) {
+// No shown default: unset means the hand's ranking budget.
+inline CLI::Option* addScreenByOption(CLI::App& cmd, std::optional<std::string>& screen_by) {
   return cmd
       .add_option("--robustness-screen-by", screen_by,
-                  "Which grasps are screened: preshapes (each preshape's best by epsilon in turn, "
-                  "so every preshape the planner closed is screened) or epsilon (the best by "
-                  "epsilon over all, the rule before 2026-11-29)")
-      ->check(CLI::IsMember({"preshapes", "epsilon"}))
-      ->capture_default_str();
+                  fmt::format("Which grasps are screened: preshapes (each preshape's best by "
+                              "epsilon in turn, so every preshape the planner closed is screened) "
+                              "or epsilon (the best by epsilon over all; default: the hand's "
+                              "ranking budget, else {})",
+                              evaluation::toString(evaluation::kDefaultScreenCandidates)))
+      ->check(CLI::IsMember({"preshapes", "epsilon"}));
+}
+
+// The option's value as the ranking's parameter (unset stays unset: the hand's).
+inline std::optional<evaluation::ScreenCandidates> screenCandidates(
+    const std::optional<std::string>& screen_by) {
+  if (!screen_by) return std::nullopt;
+  return evaluation::parseScreenCandidates(*screen_by);
 }
 
 // Refinement for robustness (evaluation/robust_refinement.h), the same on every command that ranks.
@@ -124,10 +133,10 @@ struct RobustnessOptions {
   int samples = evaluation::RobustRankingParams{}.robustness.samples;
   std::string variant = evaluation::toString(evaluation::RobustRankingParams{}.robustness.variant);
   std::size_t top_k = evaluation::RobustRankingParams{}.top_k;
-  std::optional<std::size_t> screen_k;  // unset: the hand's ranking budget
-  std::optional<int> screen_samples;    // unset: the hand's ranking budget
-  std::string screen_by = evaluation::toString(evaluation::RobustRankingParams{}.screen_candidates);
-  std::optional<double> mu;  // unset: the planner's --mu
+  std::optional<std::size_t> screen_k;   // unset: the hand's ranking budget
+  std::optional<int> screen_samples;     // unset: the hand's ranking budget
+  std::optional<std::string> screen_by;  // unset: the hand's ranking budget
+  std::optional<double> mu;              // unset: the planner's --mu
   RobustRefineOptions refine;
 
   void addTo(CLI::App& cmd) {
@@ -157,7 +166,7 @@ struct RobustnessOptions {
     p.top_k = top_k;
     p.screen_k = screen_k;
     p.screen_samples = screen_samples;
-    p.screen_candidates = evaluation::parseScreenCandidates(screen_by);
+    p.screen_candidates = screenCandidates(screen_by);
     p.robustness.samples = samples;
     p.robustness.variant = evaluation::parseRobustnessVariant(variant);
     p.robustness.seed = seed;

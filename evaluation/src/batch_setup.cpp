@@ -109,15 +109,20 @@ nlohmann::json rankingOptions(const RobustRankingParams& r,
   if (r.refinement.enabled) options["refinement"]["check"] = "own_samples";
   // Since 2026-11-29 screening takes every preshape's best grasps in turn; a batch from before
   // screened the best by epsilon, so it resumes only into that.
-  if (r.screen_candidates != ScreenCandidates::kByPreScore)
-    options["screen_by"] = toString(r.screen_candidates);
+  if (recorded.screen_candidates != ScreenCandidates::kByPreScore)
+    options["screen_by"] = toString(recorded.screen_candidates);
   for (const auto& hand : hands) {
     const RankingBudgetUsed own = rankingBudgetFor(r, hand.rankingBudget());
     if (own.screen_k != recorded.screen_k || own.screen_samples != recorded.screen_samples ||
-        own.search_below_r != recorded.search_below_r) {
+        own.search_below_r != recorded.search_below_r ||
+        own.screen_candidates != recorded.screen_candidates) {
       options["hand_budgets"][hand.name()] = {{"screen_k", own.screen_k},
                                               {"screen_samples", own.screen_samples},
                                               {"search_below_r", own.search_below_r}};
+      // Only where it differs, so the record of a hand whose screening is the options' own
+      // stays as it was.
+      if (own.screen_candidates != recorded.screen_candidates)
+        options["hand_budgets"][hand.name()]["screen_by"] = toString(own.screen_candidates);
     }
   }
   return options;

@@ -277,7 +277,13 @@ RankingBudgetUsed rankingBudgetFor(const RobustRankingParams& params,
       params.screen_samples.value_or(hand_budget.screen_samples.value_or(kDefaultScreenSamples));
   used.search_below_r = params.refinement.search_below_r.value_or(
       hand_budget.refine_below_r.value_or(kDefaultSearchBelowR));
-  used.screen_candidates = params.screen_candidates;
+  if (params.screen_candidates) {
+    used.screen_candidates = *params.screen_candidates;
+  } else if (hand_budget.screen_preshapes_in_turn) {
+    used.screen_candidates = *hand_budget.screen_preshapes_in_turn
+                                 ? ScreenCandidates::kPreshapesInTurn
+                                 : ScreenCandidates::kByPreScore;
+  }
   return used;
 }
 
@@ -334,7 +340,7 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
     for (std::size_t i : by_pre)
       if (!grasps[i].contacts.empty()) candidates.push_back(i);
     if (screen_k > top_k) {
-      if (params.screen_candidates == ScreenCandidates::kPreshapesInTurn)
+      if (out.budget.screen_candidates == ScreenCandidates::kPreshapesInTurn)
         candidates = preshapesInTurn(grasps, candidates);
       if (candidates.size() > screen_k) candidates.resize(screen_k);
       const Stopwatch screen_watch;

@@ -47,6 +47,9 @@ std::string settingsLine(const nlohmann::json& options) {
       for (const auto& [hand, b] : k["hand_budgets"].items()) {
         std::string part = fmt::format("{}'s own ranking budget: {} screened with {} samples", hand,
                                        b.value("screen_k", 0), b.value("screen_samples", 0));
+        if (b.contains("screen_by"))
+          part += b.value("screen_by", "") == "preshapes" ? ", each preshape's best in turn"
+                                                          : ", the best by epsilon";
         if (searched) part += fmt::format(", refined below r = {}", b.value("search_below_r", 0.0));
         parts.push_back(part);
       }

@@ -71,9 +71,13 @@ class DescriptionReader {
         // Its range is HandModel::setRankingBudget's to check.
         if (!value.is_number()) fail("ranking: 'refine_below_r' must be a number");
         budget.refine_below_r = value.get<double>() + 0.0;  // -0 read as 0
+      } else if (key == "screen_by") {
+        if (!value.is_string() || (value != "preshapes" && value != "epsilon"))
+          fail("ranking: 'screen_by' must be \"preshapes\" or \"epsilon\"");
+        budget.screen_preshapes_in_turn = value == "preshapes";
       } else {
         fail("ranking: unknown key '" + key +
-             "' (known: screen_grasps, screen_samples, refine_below_r)");
+             "' (known: screen_grasps, screen_samples, refine_below_r, screen_by)");
       }
     }
     return budget;

@@ -37,7 +37,8 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
           double spur_radius_factor, bool robustness, int robustness_samples,
           const std::string& robustness_variant, std::size_t robustness_top_k,
           std::optional<std::size_t> robustness_screen,
-          std::optional<int> robustness_screen_samples, const std::string& robustness_screen_by,
+          std::optional<int> robustness_screen_samples,
+          const std::optional<std::string>& robustness_screen_by,
           std::optional<double> robustness_mu, bool robust_refine,
           std::optional<double> robust_refine_below_r, bool centre_candidates,
           std::size_t surface_candidates, bool wrench_volume,
@@ -289,9 +290,7 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
       py::arg("robustness_variant") = std::string(evaluation::toString(ranking.robustness.variant)),
       py::arg("robustness_top_k") = ranking.top_k, py::arg("robustness_screen") = ranking.screen_k,
       py::arg("robustness_screen_samples") = ranking.screen_samples,
-      py::arg("robustness_screen_by") =
-          std::string(evaluation::toString(ranking.screen_candidates)),
-      py::arg("robustness_mu") = ranking.friction,
+      py::arg("robustness_screen_by") = py::none(), py::arg("robustness_mu") = ranking.friction,
       py::arg("robust_refine") = ranking.refinement.enabled,
       py::arg("robust_refine_below_r") = ranking.refinement.search_below_r,
       py::arg("centre_candidates") = planner.centre_candidates,
@@ -307,8 +306,9 @@ SkeletonPlannerParams / SurfacePlannerParams (no time limit: ``timeout_s=0``; th
 sets 30 s) and RobustRankingParams. ``max_hypotheses`` is the surface planner's. Robust ranking
 (docs/planning.md): ``robustness_screen`` grasps (0: all), each preshape's best by epsilon in turn
 (``robustness_screen_by='preshapes'``; 'epsilon': the best by epsilon over all) are screened with a
-cheap r from ``robustness_screen_samples`` executions each (None, for either: the hand's ranking
-budget, 60 and 10 unless its description says otherwise; the Shadow hand's 40 and 8), and the best ``robustness_top_k`` of them (0: all) get a robustness r from
+cheap r from ``robustness_screen_samples`` executions each (None, for any of the three: the hand's
+ranking budget, 60, 'preshapes' and 10 unless its description says otherwise; the Shadow hand's 40,
+'epsilon' and 8), and the best ``robustness_top_k`` of them (0: all) get a robustness r from
 ``robustness_samples`` perturbed executions (``robustness_variant`` 'paper', 'guarded', 'settled' or 'reference',
 friction ``robustness_mu`` or ``mu``, samples seeded by ``seed``) and are ranked first by r;
 ``robustness=False`` keeps the epsilon order. ``robust_refine`` searches near the most robust

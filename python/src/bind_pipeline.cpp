@@ -103,8 +103,9 @@ py::object run(const Cloud& cloud, const HandPtr& hand, const py::object& object
                const std::string& robustness_variant, std::size_t robustness_top_k,
                std::optional<std::size_t> robustness_screen,
                std::optional<int> robustness_screen_samples,
-               const std::string& robustness_screen_by, std::optional<double> robustness_mu,
-               bool robust_refine, std::optional<double> robust_refine_below_r) {
+               const std::optional<std::string>& robustness_screen_by,
+               std::optional<double> robustness_mu, bool robust_refine,
+               std::optional<double> robust_refine_below_r) {
   pipeline::RunParams p;
   p.robust_ranking =
       robustRankingParams(robustness, robustness_samples, robustness_variant, robustness_top_k,
@@ -319,8 +320,7 @@ ValueError with the command line's message.)doc");
         py::arg("robustness_top_k") = run_defaults.robust_ranking.top_k,
         py::arg("robustness_screen") = run_defaults.robust_ranking.screen_k,
         py::arg("robustness_screen_samples") = run_defaults.robust_ranking.screen_samples,
-        py::arg("robustness_screen_by") =
-            std::string(evaluation::toString(run_defaults.robust_ranking.screen_candidates)),
+        py::arg("robustness_screen_by") = py::none(),
         py::arg("robustness_mu") = run_defaults.robust_ranking.friction,
         py::arg("robust_refine") = run_defaults.robust_ranking.refinement.enabled,
         py::arg("robust_refine_below_r") = run_defaults.robust_ranking.refinement.search_below_r,

@@ -156,8 +156,8 @@ py::dict jointsDict(const grasping::HandModel& hand, const Eigen::VectorXd& q) {
 evaluation::RobustRankingParams robustRankingParams(
     bool robustness, int samples, const std::string& variant, std::size_t top_k,
     std::optional<std::size_t> screen_k, std::optional<int> screen_samples,
-    const std::string& screen_by, std::optional<double> mu, std::uint64_t seed, bool refine,
-    std::optional<double> refine_below_r) {
+    const std::optional<std::string>& screen_by, std::optional<double> mu, std::uint64_t seed,
+    bool refine, std::optional<double> refine_below_r) {
   if (samples < 1) throw InvalidArgument("robustness_samples: must be >= 1");
   if (screen_samples && *screen_samples < 1)
     throw InvalidArgument("robustness_screen_samples: must be >= 1");
@@ -173,7 +173,7 @@ evaluation::RobustRankingParams robustRankingParams(
   p.top_k = top_k;
   p.screen_k = screen_k;
   p.screen_samples = screen_samples;
-  p.screen_candidates = evaluation::parseScreenCandidates(screen_by);
+  if (screen_by) p.screen_candidates = evaluation::parseScreenCandidates(*screen_by);
   p.refinement.search_below_r = refine_below_r;
   p.friction = mu;
   p.refinement.enabled = refine;

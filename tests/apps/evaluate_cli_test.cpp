@@ -132,10 +132,13 @@ TEST(EvaluateCli, RecordsEachHandsOwnRankingBudget) {
   EXPECT_EQ(ranking["hand_budgets"]["shadow"]["screen_k"], 40) << ranking.dump();
   EXPECT_EQ(ranking["hand_budgets"]["shadow"]["screen_samples"], 8) << ranking.dump();
   EXPECT_DOUBLE_EQ(ranking["hand_budgets"]["shadow"]["search_below_r"].get<double>(), 0.5);
+  // Screening: each preshape's best in turn by default, the best by epsilon for the Shadow hand.
+  EXPECT_EQ(ranking["screen_by"], "preshapes") << ranking.dump();
+  EXPECT_EQ(ranking["hand_budgets"]["shadow"]["screen_by"], "epsilon") << ranking.dump();
   std::ifstream summary_file(out + "/summary.md");
   const std::string summary((std::istreambuf_iterator<char>(summary_file)), {});
-  EXPECT_NE(summary.find("shadow's own ranking budget: 40 screened with 8 samples, refined below "
-                         "r = 0.5"),
+  EXPECT_NE(summary.find("shadow's own ranking budget: 40 screened with 8 samples, the best by "
+                         "epsilon, refined below r = 0.5"),
             std::string::npos)
       << summary;
   // A batch from before the hands had budgets (no hand_budgets) ranked the Shadow hand with the

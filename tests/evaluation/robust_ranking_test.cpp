@@ -307,11 +307,13 @@ TEST(RobustRanking, UnsetBudgetsComeFromTheHandThenTheDefaults) {
   EXPECT_EQ(shadow.screen_k, 40u);
   EXPECT_EQ(shadow.screen_samples, 8);
   EXPECT_DOUBLE_EQ(shadow.search_below_r, 0.5);
+  EXPECT_EQ(shadow.screen_candidates, ScreenCandidates::kByPreScore);
   const RankingBudgetUsed armar =
       rankingBudgetFor(unset, grasping::resolveHand("armar3").rankingBudget());
   EXPECT_EQ(armar.screen_k, kDefaultScreenK);
   EXPECT_EQ(armar.screen_samples, kDefaultScreenSamples);
   EXPECT_DOUBLE_EQ(armar.search_below_r, kDefaultSearchBelowR);
+  EXPECT_EQ(armar.screen_candidates, kDefaultScreenCandidates);
   // One option given, the others left to the hand.
   RobustRankingParams one;
   one.screen_k = 60;
@@ -324,12 +326,14 @@ TEST(RobustRanking, UnsetBudgetsComeFromTheHandThenTheDefaults) {
   set.screen_k = 25;
   set.screen_samples = 5;
   set.refinement.search_below_r = 0.9;
+  set.screen_candidates = ScreenCandidates::kPreshapesInTurn;
   for (const char* hand : {"shadow", "armar3"}) {
     const RankingBudgetUsed used =
         rankingBudgetFor(set, grasping::resolveHand(hand).rankingBudget());
     EXPECT_EQ(used.screen_k, 25u) << hand;
     EXPECT_EQ(used.screen_samples, 5) << hand;
     EXPECT_DOUBLE_EQ(used.search_below_r, 0.9) << hand;
+    EXPECT_EQ(used.screen_candidates, ScreenCandidates::kPreshapesInTurn) << hand;
   }
 
   const Planned& p = cylinder();

@@ -254,13 +254,17 @@ TEST(HandModel, BadHandInputsNameTheFileAndTheProblem) {
 // budget (docs/hands.md, "Ranking budget"); the paper's other hands leave it to the ranking.
 TEST(HandModel, DescriptionsCarryTheirRankingBudget) {
   const RankingBudget shadow = resolveHand("shadow").rankingBudget();
-  ASSERT_TRUE(shadow.screen_grasps && shadow.screen_samples && shadow.refine_below_r);
+  ASSERT_TRUE(shadow.screen_grasps && shadow.screen_samples && shadow.refine_below_r &&
+              shadow.screen_preshapes_in_turn);
   EXPECT_EQ(*shadow.screen_grasps, 40u);
   EXPECT_EQ(*shadow.screen_samples, 8);
   EXPECT_DOUBLE_EQ(*shadow.refine_below_r, 0.5);
+  EXPECT_FALSE(*shadow.screen_preshapes_in_turn);  // "screen_by": "epsilon"
   for (const char* name : {"armar3", "sdh", "parallel_gripper"}) {
     const RankingBudget none = resolveHand(name).rankingBudget();
-    EXPECT_FALSE(none.screen_grasps || none.screen_samples || none.refine_below_r) << name;
+    EXPECT_FALSE(none.screen_grasps || none.screen_samples || none.refine_below_r ||
+                 none.screen_preshapes_in_turn)
+        << name;
   }
 
   const std::string dir = test::tempDir("ranking_budget");
@@ -280,6 +284,14 @@ TEST(HandModel, DescriptionsCarryTheirRankingBudget) {
   EXPECT_FALSE(partial.refine_below_r);
   EXPECT_EQ(loadHand(urdf, withRanking("{\"screen_grasps\": 0}")).rankingBudget().screen_grasps,
             0u);  // 0: screen every candidate
+  EXPECT_EQ(loadHand(urdf, withRanking("{\"screen_by\": \"preshapes\"}"))
+                .rankingBudget()
+                .screen_preshapes_in_turn,
+            true);
+  EXPECT_EQ(loadHand(urdf, withRanking("{\"screen_by\": \"epsilon\"}"))
+                .rankingBudget()
+                .screen_preshapes_in_turn,
+            false);
   const RankingBudget none = loadHand(urdf, withRanking("null")).rankingBudget();  // as absent
   EXPECT_FALSE(none.screen_grasps || none.screen_samples || none.refine_below_r);
   for (const auto& [ranking, problem] : std::vector<std::pair<std::string, std::string>>{
@@ -293,6 +305,8 @@ TEST(HandModel, DescriptionsCarryTheirRankingBudget) {
            {"{\"refine_below_r\": 1.5}", "ranking refine_below_r must be in [0, 1]"},
            {"{\"refine_below_r\": \"low\"}", "'refine_below_r' must be a number"},
            {"{\"screen_k\": 40}", "unknown key 'screen_k'"},
+           {"{\"screen_by\": \"random\"}", "'screen_by' must be \"preshapes\" or \"epsilon\""},
+           {"{\"screen_by\": true}", "'screen_by' must be \"preshapes\" or \"epsilon\""},
            {"[40]", "'ranking' must be an object"}}) {
     try {
       loadHand(urdf, withRanking(ranking));

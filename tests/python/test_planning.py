@@ -130,13 +130,13 @@ def test_plan_ranks_with_the_hands_budget_unless_told_otherwise(capsule):
     shadow = skelgrasp.hand("shadow")
     own = skelgrasp.plan(capsule, shadow, seed=1, max_grasps=4, robustness_samples=4)
     assert own.to_dict()["ranking"]["budget"] == {
-        "screen_grasps": 40, "screen_samples": 8, "screen_by": "preshapes",
+        "screen_grasps": 40, "screen_samples": 8, "screen_by": "epsilon",
         "refine_below_r": 0.5}
     given = skelgrasp.plan(capsule, shadow, seed=1, max_grasps=4, robustness_samples=4,
                            robustness_screen=60, robustness_screen_samples=10,
-                           robustness_screen_by="epsilon", robust_refine_below_r=0.7)
+                           robustness_screen_by="preshapes", robust_refine_below_r=0.7)
     assert given.to_dict()["ranking"]["budget"] == {
-        "screen_grasps": 60, "screen_samples": 10, "screen_by": "epsilon",
+        "screen_grasps": 60, "screen_samples": 10, "screen_by": "preshapes",
         "refine_below_r": 0.7}
     for bad in ({"robustness_screen_samples": 0}, {"robust_refine_below_r": 1.5},
                 {"robustness_screen_by": "random"}):

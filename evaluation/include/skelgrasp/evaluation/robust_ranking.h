@@ -52,6 +52,9 @@ enum class ScreenCandidates {
   kPreshapesInTurn,
 };
 
+// Since 2026-11-29 (the Shadow hand's description keeps the best by epsilon, docs/hands.md).
+inline constexpr ScreenCandidates kDefaultScreenCandidates = ScreenCandidates::kPreshapesInTurn;
+
 // "epsilon" or "preshapes" (the CLI's --robustness-screen-by); parse throws InvalidArgument for
 // anything else.
 ScreenCandidates parseScreenCandidates(const std::string& text);
@@ -70,7 +73,8 @@ struct RobustRankingParams {
   // kDefaultScreenK and kDefaultScreenSamples (rankingBudgetFor below).
   std::optional<std::size_t> screen_k;
   std::optional<int> screen_samples;
-  ScreenCandidates screen_candidates = ScreenCandidates::kPreshapesInTurn;
+  // Unset: the hand's ranking budget (its "screen_by"), else kDefaultScreenCandidates.
+  std::optional<ScreenCandidates> screen_candidates;
   // How screening saves samples without changing its choice: the top_k chosen, their order and
   // their screening r are those of full screening (kNone) under every setting (tested); only
   // which of the other candidates get a full screening r differs (the rest rank by pre-score, as
@@ -93,10 +97,11 @@ struct RankingBudgetUsed {
   std::size_t screen_k = kDefaultScreenK;
   int screen_samples = kDefaultScreenSamples;
   double search_below_r = kDefaultSearchBelowR;
-  ScreenCandidates screen_candidates = ScreenCandidates::kPreshapesInTurn;
+  ScreenCandidates screen_candidates = kDefaultScreenCandidates;
 };
 
-// Each of params' unset screen_k, screen_samples and refinement.search_below_r from a hand's
+// Each of params' unset screen_k, screen_samples, screen_candidates and refinement.search_below_r
+// from a hand's
 // ranking budget (HandModel::rankingBudget(); none: {}), else from the defaults. The one rule
 // (rankByRobustness applies it itself).
 RankingBudgetUsed rankingBudgetFor(const RobustRankingParams& params,

@@ -120,6 +120,9 @@ struct RankingBudget {
   std::optional<int> screen_samples;         // perturbed executions per screened candidate (>= 1)
   std::optional<double> refine_below_r;      // scored grasps searched for a more robust pose: r
                                              // below this, in [0, 1]
+  // Which grasps are screened: each preshape's best by epsilon in turn (true) or the best by
+  // epsilon over all (false); the description's "screen_by": "preshapes" | "epsilon".
+  std::optional<bool> screen_preshapes_in_turn;
 };
 
 class HandModel {
