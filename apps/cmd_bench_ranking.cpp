@@ -12,9 +12,9 @@
 // comparison is not of an exact shortcut but of a choice: `screen-by`, screening the best by
 // epsilon (old) or each preshape's best in turn (new, RobustRankingParams::screen_candidates); its
 // paths return different grasps, and the mean r of each path's scored grasps says which is worth
-// more. Both paths
-// run each hand's own ranking budget (since 2026-11-29 the Shadow hand's is smaller: its figures
-// from before are not comparable with later ones).
+// more. Both paths run each hand's own ranking budget (since 2026-11-29 the Shadow hand's is
+// smaller: its figures from before are not comparable with later ones), except that screen-by
+// sets each path's screening choice whatever the hand's description says.
 #include <fmt/format.h>
 #include <tbb/global_control.h>
 
@@ -199,7 +199,8 @@ int runBenchRanking(const BenchRankingArgs& args) {
         totals[hand.name()].first += old_s / args.repeat;
         totals[hand.name()].second += new_s / args.repeat;
         ratios[hand.name()].push_back(ratio);
-        // Every path screens the same candidates, fully or cut short.
+        // Every path screens as many candidates, fully or cut short (the same ones, but for
+        // screen-by).
         const std::size_t candidates = old_run.result.screened + old_run.result.screen_pruned;
         const double old_r = meanScoredR(old_run.result), new_r = meanScoredR(new_run.result);
         mean_rs[hand.name()].first.push_back(old_r);
@@ -232,14 +233,11 @@ int runBenchRanking(const BenchRankingArgs& args) {
         "{:<8} mean r of the scored grasps, median over the objects: old {:.3f}, new {:.3f}\n",
         hand, median(mean_rs[hand].first), median(mean_rs[hand].second));
   }
+  if (!args.json_out.empty()) writeJsonFile(args.json_out, {{"rows", rows}});
   // A choice, not a shortcut: the paths may differ, and the r above says how.
-  if (!exact) {
-    if (!args.json_out.empty()) writeJsonFile(args.json_out, {{"rows", rows}});
-    return kExitOk;
-  }
+  if (!exact) return kExitOk;
   std::cout << (all_same ? "every object: the same scored grasps with the same r\n"
                          : "SOME OBJECTS DIFFER in their scored grasps\n");
-  if (!args.json_out.empty()) writeJsonFile(args.json_out, {{"rows", rows}});
   return all_same ? kExitOk : kExitPathsDiffer;
 }
 

@@ -36,9 +36,9 @@ inline CLI::Option* addRobustnessVariantOption(CLI::App& cmd, std::string& varia
 inline CLI::Option* addScreenOption(CLI::App& cmd, std::optional<std::size_t>& screen_k) {
   return cmd
       .add_option("--robustness-screen", screen_k,
-                  fmt::format("Grasps screened with a cheap r to choose those scored, the best by "
-                              "epsilon (0 = all; none when at most --robustness-top-k; default: "
-                              "the hand's ranking budget, else {})",
+                  fmt::format("Grasps screened with a cheap r to choose those scored, which ones "
+                              "as --robustness-screen-by says (0 = all; none when at most "
+                              "--robustness-top-k; default: the hand's ranking budget, else {})",
                               evaluation::kDefaultScreenK))
       ->transform(countIn(0, kMaxCount));
 }
@@ -60,10 +60,11 @@ inline CLI::Option* addScreenByOption(CLI::App& cmd, std::optional<std::string>&
       .add_option("--robustness-screen-by", screen_by,
                   fmt::format("Which grasps are screened: preshapes (each preshape's best by "
                               "epsilon in turn, so every preshape the planner closed is screened) "
-                              "or epsilon (the best by epsilon over all; default: the hand's "
-                              "ranking budget, else {})",
+                              "or epsilon (the best by epsilon over all); only when screening "
+                              "runs (default: the hand's ranking budget, else {})",
                               evaluation::toString(evaluation::kDefaultScreenCandidates)))
-      ->check(CLI::IsMember({"preshapes", "epsilon"}));
+      ->check(CLI::IsMember({evaluation::toString(evaluation::ScreenCandidates::kPreshapesInTurn),
+                             evaluation::toString(evaluation::ScreenCandidates::kByPreScore)}));
 }
 
 // The option's value as the ranking's parameter (unset stays unset: the hand's).

@@ -163,6 +163,15 @@ TEST(Cli, PlanRecordsTheRankingBudgetItRanWith) {
   EXPECT_EQ(budget["screen_samples"], 8) << budget.dump();
   EXPECT_EQ(budget["screen_by"], "epsilon") << budget.dump();  // the Shadow hand's own
   EXPECT_DOUBLE_EQ(budget["refine_below_r"].get<double>(), 0.5);
+  // The option overrides the hand's choice of candidates.
+  const CliRun in_turn =
+      runCli("plan " + dir +
+                 "/capsule.ply --hand shadow --robustness-samples 4 "
+                 "--robustness-screen 12 --robustness-screen-by preshapes --out " +
+                 dir + "/in_turn.json",
+             dir);
+  ASSERT_EQ(in_turn.exit_code, 0) << in_turn.err;
+  EXPECT_EQ(readJsonFile(dir + "/in_turn.json")["ranking"]["budget"]["screen_by"], "preshapes");
 }
 
 TEST(Cli, PlanWritesTheDocumentedGraspsJson) {

@@ -154,6 +154,18 @@ TEST(EvaluateCli, RecordsEachHandsOwnRankingBudget) {
   resumed = runCli(args, dir);
   EXPECT_EQ(resumed.exit_code, 0) << resumed.err;
   EXPECT_NE(resumed.out.find("already done"), std::string::npos) << resumed.out;
+  // A batch from before screening took the preshapes in turn (no screen_by anywhere) screened by
+  // epsilon: it does not resume into the default, and resumes with --robustness-screen-by epsilon.
+  batch = written;
+  batch["options"]["ranking"].erase("screen_by");
+  batch["options"]["ranking"]["hand_budgets"]["shadow"].erase("screen_by");
+  std::ofstream(out + "/batch.json") << batch.dump(2);
+  resumed = runCli(args, dir);
+  EXPECT_EQ(resumed.exit_code, 2) << resumed.err;
+  EXPECT_NE(resumed.err.find("screen_by"), std::string::npos) << resumed.err;
+  resumed = runCli(args + " --robustness-screen-by epsilon", dir);
+  EXPECT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_NE(resumed.out.find("already done"), std::string::npos) << resumed.out;
 }
 
 TEST(EvaluateCli, ABatchKilledMidwayResumesToTheUninterruptedResults) {

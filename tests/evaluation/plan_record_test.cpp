@@ -21,7 +21,7 @@ RobustRankingResult someRanking() {
   ranking.scoring_s = 0.5;
   ranking.refinement_s = 0.125;
   ranking.enabled = true;
-  ranking.budget = {40, 8, 0.5};
+  ranking.budget = {40, 8, 0.5, ScreenCandidates::kByPreScore};
   return ranking;
 }
 
@@ -36,6 +36,7 @@ TEST(PlanRecord, RankingRecordCarriesTheCountsAndTheParts) {
   EXPECT_DOUBLE_EQ(record["refinement_s"].get<double>(), 0.125);
   EXPECT_EQ(record["budget"]["screen_grasps"], 40);
   EXPECT_EQ(record["budget"]["screen_samples"], 8);
+  EXPECT_EQ(record["budget"]["screen_by"], "epsilon");
   EXPECT_DOUBLE_EQ(record["budget"]["refine_below_r"].get<double>(), 0.5);
 }
 

@@ -6,6 +6,8 @@
 #include <memory>
 #include <string>
 
+#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/evaluation/robust_ranking.h"
 #include "skelgrasp/grasping/planners.h"
 #include "skelgrasp/skeleton/extraction.h"
 
@@ -29,6 +31,21 @@ inline Planned planOn(const std::string& hand, TriangleMesh mesh, std::size_t ma
   p.params.timeout_s = 60;
   p.plan = grasping::planSkeletonGrasps(p.hand, *p.object, skel.skeleton, p.params);
   return p;
+}
+
+// A 70 mm cylinder, 200 mm long, planned once for ARMAR-III (8 grasps), shared by the tests.
+inline const Planned& cylinder() {
+  static const Planned planned = planOn("armar3", primitives::makeCylinder(0.035, 0.2, 48, 10), 8);
+  return planned;
+}
+
+// Scores the best top_k by epsilon, without screening.
+inline RobustRankingParams fewSamples(int samples, std::size_t top_k) {
+  RobustRankingParams params;
+  params.robustness.samples = samples;
+  params.top_k = top_k;
+  params.screen_k = top_k;
+  return params;
 }
 
 }  // namespace skelgrasp::evaluation::test_fixtures

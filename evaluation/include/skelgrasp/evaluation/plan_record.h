@@ -30,7 +30,7 @@ PlanTiming planTimingOf(const skeleton::SkeletonTimings* skeleton, double planni
 
 // {"screened", "screen_pruned", "scored", "refined", "screening_s", "scoring_s", "refinement_s"}
 // of a ranking (RobustRankingResult's members of those names), and "budget": {"screen_grasps",
-// "screen_samples", "refine_below_r"} (RankingBudgetUsed: what it ran with).
+// "screen_samples", "screen_by", "refine_below_r"} (RankingBudgetUsed: what it ran with).
 nlohmann::json rankingRecordJson(const RobustRankingResult& ranking);
 
 // {"regularise_s", "skeleton_s" (null without a skeleton), "planning_s", "ranking_s", "total_s"}.

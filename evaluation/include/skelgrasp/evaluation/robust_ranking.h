@@ -64,7 +64,8 @@ struct RobustRankingParams {
   bool enabled = true;  // false: the grasps keep the pre-score order and get no robustness
   // The grasps scored: the best top_k by the screening (below); 0 scores all of them.
   std::size_t top_k = kDefaultRobustTopK;
-  // Screening: the best screen_k grasps by the pre-score (epsilon x trust; 0: all of them) get a
+  // Screening: screen_k grasps (0: all of them; which ones: screen_candidates, by the pre-score
+  // epsilon x trust) get a
   // cheap r from screen_samples perturbed executions, and the top_k are chosen by it. The
   // pre-score alone says little about robustness (epsilon favours fingertip pinches that fall
   // apart under pose error), so screening more candidates than are scored is what lifts the r of
@@ -73,7 +74,11 @@ struct RobustRankingParams {
   // kDefaultScreenK and kDefaultScreenSamples (rankingBudgetFor below).
   std::optional<std::size_t> screen_k;
   std::optional<int> screen_samples;
-  // Unset: the hand's ranking budget (its "screen_by"), else kDefaultScreenCandidates.
+  // Unset: the hand's ranking budget (its "screen_by"), else kDefaultScreenCandidates. Applies
+  // only when screening runs (screen_k above top_k); without it the top_k by pre-score are scored.
+  // The candidates keep their turn order, so where screening scores tie, the earlier turn goes
+  // first (a preshape's better grasp before another preshape's next one), not the larger epsilon:
+  // ties then spread the scored grasps over the preshapes, which is what taking turns is for.
   std::optional<ScreenCandidates> screen_candidates;
   // How screening saves samples without changing its choice: the top_k chosen, their order and
   // their screening r are those of full screening (kNone) under every setting (tested); only
@@ -129,7 +134,8 @@ struct RobustRankingResult {
 // params.screen_candidates, each preshape's best by pre-score in turn or the best by pre-score),
 // scores the best `params.top_k` of them by robustness and re-ranks all grasps:
 //  * pre-score = epsilon x trust[i] (trust empty: 1; scans: 1 - w + w x observed contact ratio);
-//  * screening score = screening r x trust[i]; the top_k by it (ties: pre-score) are scored;
+//  * screening score = screening r x trust[i]; the top_k by it (ties: the earlier candidate, in
+//    pre-score order or, with preshapes in turn, in turn order) are scored;
 //  * rank score of a scored grasp = r x trust[i]; of a screened one that is not scored = its
 //    screening score (kInOrder or kNone; best-first screening gives none, so those rank by
 //    pre-score); of the others (beyond screen_k, screening pruned, or ranking disabled) = its

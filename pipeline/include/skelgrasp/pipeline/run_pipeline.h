@@ -69,7 +69,8 @@ struct RunParams {
   // Trust of a grasp = 1 - w + w * observed contact ratio: a grasp whose contacts lie on surface
   // the sensor saw is trusted more than one on filled-in surface. Ranking score (robust ranking,
   // evaluation/robust_ranking.h): r * trust for the grasps scored for robustness (the best
-  // robust_ranking.top_k by epsilon * trust), ranked first; epsilon * trust for the others (all of
+  // robust_ranking.top_k by screening, whose candidates are chosen by epsilon * trust), ranked
+  // first; epsilon * trust for the others (all of
   // them with robust_ranking.enabled = false, the ranking before robustness).
   double observed_weight = 0.5;
   // The seed of r is robust_ranking.robustness.seed; the robustness is judged on the object alone
