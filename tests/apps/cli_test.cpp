@@ -580,7 +580,8 @@ TEST(Cli, BenchRankingComparesEachShortcutOffAndOnOnTheSameGrasps) {
             std::string::npos)
       << screen_by.out;
   EXPECT_NE(screen_by.out.find("mean r of the scored grasps"), std::string::npos) << screen_by.out;
-  for (const auto& r : readJsonFile(dir + "/s.json")["rows"]) {
+  const auto screen_by_rows = readJsonFile(dir + "/s.json");  // kept: the loop reads into it
+  for (const auto& r : screen_by_rows["rows"]) {
     for (const char* key : {"old_mean_r", "new_mean_r"}) {
       EXPECT_GT(r[key].get<double>(), 0.0) << key;
       EXPECT_LE(r[key].get<double>(), 1.0) << key;
