@@ -253,22 +253,6 @@ grasping::GraspRobustness graspRobustness(const RobustnessResult& result,
   return r;
 }
 
-ScreenCandidates parseScreenCandidates(const std::string& text) {
-  if (text == "epsilon") return ScreenCandidates::kByPreScore;
-  if (text == "preshapes") return ScreenCandidates::kPreshapesInTurn;
-  throw InvalidArgument("unknown screening candidates '" + text + "' (use epsilon or preshapes)");
-}
-
-const char* toString(ScreenCandidates candidates) {
-  switch (candidates) {
-    case ScreenCandidates::kByPreScore:
-      return "epsilon";
-    case ScreenCandidates::kPreshapesInTurn:
-      return "preshapes";
-  }
-  return "?";
-}
-
 RankingBudgetUsed rankingBudgetFor(const RobustRankingParams& params,
                                    const grasping::RankingBudget& hand_budget) {
   RankingBudgetUsed used;
@@ -277,13 +261,8 @@ RankingBudgetUsed rankingBudgetFor(const RobustRankingParams& params,
       params.screen_samples.value_or(hand_budget.screen_samples.value_or(kDefaultScreenSamples));
   used.search_below_r = params.refinement.search_below_r.value_or(
       hand_budget.refine_below_r.value_or(kDefaultSearchBelowR));
-  if (params.screen_candidates) {
-    used.screen_candidates = *params.screen_candidates;
-  } else if (hand_budget.screen_preshapes_in_turn) {
-    used.screen_candidates = *hand_budget.screen_preshapes_in_turn
-                                 ? ScreenCandidates::kPreshapesInTurn
-                                 : ScreenCandidates::kByPreScore;
-  }
+  used.screen_candidates = params.screen_candidates.value_or(
+      hand_budget.screen_candidates.value_or(kDefaultScreenCandidates));
   return used;
 }
 

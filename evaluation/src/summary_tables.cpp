@@ -11,6 +11,13 @@ double robustnessThroughput(std::size_t grasps, double seconds) {
   return seconds > 0 ? grasps / seconds : 0.0;
 }
 
+// How screening chose its candidates, in words, from batch.json's "screen_by" (an older batch has
+// none: it screened the best by epsilon).
+std::string screeningWords(const std::string& screen_by) {
+  return screen_by == toString(ScreenCandidates::kPreshapesInTurn) ? "each preshape's best in turn"
+                                                                   : "the best by epsilon";
+}
+
 // What every number below depends on and a reader of two summaries must tell apart: friction,
 // contact model and how r was sampled. Read from batch.json's options (batch_setup.cpp); a key
 // it lacks (an older batch) leaves its part out.
@@ -37,9 +44,7 @@ std::string settingsLine(const nlohmann::json& options) {
     parts.push_back(
         fmt::format("robust ranking: {} screened ({}) with {} samples, the best {} scored "
                     "with {}",
-                    k.value("screen_k", 0),
-                    k.value("screen_by", "epsilon") == "preshapes" ? "each preshape's best in turn"
-                                                                   : "the best by epsilon",
+                    k.value("screen_k", 0), screeningWords(k.value("screen_by", "epsilon")),
                     k.value("screen_samples", 0), k.value("top_k", 0), k.value("samples", 0)));
     if (k.contains("hand_budgets") && k["hand_budgets"].is_object()) {
       // The search bar means nothing when the search is off.
@@ -47,9 +52,7 @@ std::string settingsLine(const nlohmann::json& options) {
       for (const auto& [hand, b] : k["hand_budgets"].items()) {
         std::string part = fmt::format("{}'s own ranking budget: {} screened with {} samples", hand,
                                        b.value("screen_k", 0), b.value("screen_samples", 0));
-        if (b.contains("screen_by"))
-          part += b.value("screen_by", "") == "preshapes" ? ", each preshape's best in turn"
-                                                          : ", the best by epsilon";
+        if (b.contains("screen_by")) part += ", " + screeningWords(b.value("screen_by", ""));
         if (searched) part += fmt::format(", refined below r = {}", b.value("search_below_r", 0.0));
         parts.push_back(part);
       }

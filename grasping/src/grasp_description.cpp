@@ -72,9 +72,13 @@ class DescriptionReader {
         if (!value.is_number()) fail("ranking: 'refine_below_r' must be a number");
         budget.refine_below_r = value.get<double>() + 0.0;  // -0 read as 0
       } else if (key == "screen_by") {
-        if (!value.is_string() || (value != "preshapes" && value != "epsilon"))
-          fail("ranking: 'screen_by' must be \"preshapes\" or \"epsilon\"");
-        budget.screen_preshapes_in_turn = value == "preshapes";
+        const char* problem = "ranking: 'screen_by' must be \"preshapes\" or \"epsilon\"";
+        if (!value.is_string()) fail(problem);
+        try {
+          budget.screen_candidates = parseScreenCandidates(value.get<std::string>());
+        } catch (const InvalidArgument&) {
+          fail(problem);
+        }
       } else {
         fail("ranking: unknown key '" + key +
              "' (known: screen_grasps, screen_samples, refine_below_r, screen_by)");

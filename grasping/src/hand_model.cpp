@@ -181,6 +181,22 @@ void HandModel::setDescription(std::vector<Finger> fingers, std::vector<int> pal
   }
 }
 
+ScreenCandidates parseScreenCandidates(const std::string& text) {
+  if (text == "epsilon") return ScreenCandidates::kByPreScore;
+  if (text == "preshapes") return ScreenCandidates::kPreshapesInTurn;
+  throw InvalidArgument("unknown screening candidates '" + text + "' (use epsilon or preshapes)");
+}
+
+const char* toString(ScreenCandidates candidates) {
+  switch (candidates) {
+    case ScreenCandidates::kByPreScore:
+      return "epsilon";
+    case ScreenCandidates::kPreshapesInTurn:
+      return "preshapes";
+  }
+  return "?";
+}
+
 void HandModel::setRankingBudget(RankingBudget budget) {
   if (budget.screen_samples && *budget.screen_samples < 1)
     throw InvalidArgument("hand '" + name_ + "': ranking screen_samples must be >= 1");

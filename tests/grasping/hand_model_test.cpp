@@ -255,15 +255,15 @@ TEST(HandModel, BadHandInputsNameTheFileAndTheProblem) {
 TEST(HandModel, DescriptionsCarryTheirRankingBudget) {
   const RankingBudget shadow = resolveHand("shadow").rankingBudget();
   ASSERT_TRUE(shadow.screen_grasps && shadow.screen_samples && shadow.refine_below_r &&
-              shadow.screen_preshapes_in_turn);
+              shadow.screen_candidates);
   EXPECT_EQ(*shadow.screen_grasps, 40u);
   EXPECT_EQ(*shadow.screen_samples, 8);
   EXPECT_DOUBLE_EQ(*shadow.refine_below_r, 0.5);
-  EXPECT_FALSE(*shadow.screen_preshapes_in_turn);  // "screen_by": "epsilon"
+  EXPECT_EQ(*shadow.screen_candidates, ScreenCandidates::kByPreScore);  // "screen_by": "epsilon"
   for (const char* name : {"armar3", "sdh", "parallel_gripper"}) {
     const RankingBudget none = resolveHand(name).rankingBudget();
     EXPECT_FALSE(none.screen_grasps || none.screen_samples || none.refine_below_r ||
-                 none.screen_preshapes_in_turn)
+                 none.screen_candidates)
         << name;
   }
 
@@ -286,12 +286,11 @@ TEST(HandModel, DescriptionsCarryTheirRankingBudget) {
             0u);  // 0: screen every candidate
   EXPECT_EQ(loadHand(urdf, withRanking("{\"screen_by\": \"preshapes\"}"))
                 .rankingBudget()
-                .screen_preshapes_in_turn,
-            true);
-  EXPECT_EQ(loadHand(urdf, withRanking("{\"screen_by\": \"epsilon\"}"))
-                .rankingBudget()
-                .screen_preshapes_in_turn,
-            false);
+                .screen_candidates,
+            ScreenCandidates::kPreshapesInTurn);
+  EXPECT_EQ(
+      loadHand(urdf, withRanking("{\"screen_by\": \"epsilon\"}")).rankingBudget().screen_candidates,
+      ScreenCandidates::kByPreScore);
   const RankingBudget none = loadHand(urdf, withRanking("null")).rankingBudget();  // as absent
   EXPECT_FALSE(none.screen_grasps || none.screen_samples || none.refine_below_r);
   for (const auto& [ranking, problem] : std::vector<std::pair<std::string, std::string>>{

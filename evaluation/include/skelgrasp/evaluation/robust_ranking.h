@@ -39,26 +39,14 @@ enum class ScreeningPruning {
   kBestFirst,
 };
 
-// Which grasps screening looks at (screen_k of them).
-enum class ScreenCandidates {
-  // The best by pre-score (epsilon x trust) over all grasps (the default until 2026-11-29).
-  kByPreScore,
-  // The best by pre-score of each preshape in turn (the preshape with the best grasp first, then
-  // the next best, ...), so that every preshape the planner closed is screened. Epsilon is
-  // comparable within a preshape, not across them: a power tripod's three fingertips reach a
-  // larger epsilon on a ball than a narrow tripod's, yet slip more under pose error (on the SDH's
-  // tennis ball the 60 best epsilons were all power tripods, r 0.73 at best, while 167 narrow
-  // tripods reached up to 0.92; docs/results.md, "Screening every preshape").
-  kPreshapesInTurn,
-};
+// Which grasps screening looks at (screen_k of them); a hand's description may choose
+// (grasping::RankingBudget::screen_candidates).
+using grasping::parseScreenCandidates;
+using grasping::ScreenCandidates;
+using grasping::toString;
 
 // Since 2026-11-29 (the Shadow hand's description keeps the best by epsilon, docs/hands.md).
 inline constexpr ScreenCandidates kDefaultScreenCandidates = ScreenCandidates::kPreshapesInTurn;
-
-// "epsilon" or "preshapes" (the CLI's --robustness-screen-by); parse throws InvalidArgument for
-// anything else.
-ScreenCandidates parseScreenCandidates(const std::string& text);
-const char* toString(ScreenCandidates candidates);
 
 struct RobustRankingParams {
   bool enabled = true;  // false: the grasps keep the pre-score order and get no robustness

@@ -111,6 +111,25 @@ struct ClosingDefaults {
   double torsional_friction_m = 0;
 };
 
+// Which grasps the robust ranking screens (evaluation/robust_ranking.h, RobustRankingParams::
+// screen_candidates).
+enum class ScreenCandidates {
+  // The best by pre-score (epsilon x trust) over all grasps (the default until 2026-11-29).
+  kByPreScore,
+  // The best by pre-score of each preshape in turn (the preshape with the best grasp first, then
+  // the next best, ...), so that every preshape the planner closed is screened. Epsilon is
+  // comparable within a preshape, not across them: a power tripod's three fingertips reach a
+  // larger epsilon on a ball than a narrow tripod's, yet slip more under pose error (on the SDH's
+  // tennis ball the 60 best epsilons were all power tripods, r 0.73 at best, while 167 narrow
+  // tripods reached up to 0.92; docs/results.md, "Screening every preshape").
+  kPreshapesInTurn,
+};
+
+// "epsilon" or "preshapes" (the description's "screen_by", the CLI's --robustness-screen-by);
+// parse throws InvalidArgument for anything else.
+ScreenCandidates parseScreenCandidates(const std::string& text);
+const char* toString(ScreenCandidates candidates);
+
 // The robust ranking's budget for a hand (evaluation/robust_ranking.h), where the ranking's
 // parameters leave it to the hand. A hand whose perturbed executions cost more screens and
 // searches less, so that ranking one object stays within a few seconds; unset fields take the
@@ -120,9 +139,7 @@ struct RankingBudget {
   std::optional<int> screen_samples;         // perturbed executions per screened candidate (>= 1)
   std::optional<double> refine_below_r;      // scored grasps searched for a more robust pose: r
                                              // below this, in [0, 1]
-  // Which grasps are screened: each preshape's best by epsilon in turn (true) or the best by
-  // epsilon over all (false); the description's "screen_by": "preshapes" | "epsilon".
-  std::optional<bool> screen_preshapes_in_turn;
+  std::optional<ScreenCandidates> screen_candidates;  // the description's "screen_by"
 };
 
 class HandModel {
