@@ -8,13 +8,15 @@
 // grid (DistanceFieldParams::skip_empty_cells); `jump-order`, the fast closing's jump attempts
 // stopping at the first link that allows no step (ClosingParams::jump_stops_at_blocking_link);
 // `refusals`, the fast closing's later passes not testing again a refused step while the fingers it
-// was tested against stand where they stood (ClosingParams::skip_repeated_refusals). One
-// comparison is not of an exact shortcut but of a choice: `screen-by`, screening the best by
+// was tested against stand where they stood (ClosingParams::skip_repeated_refusals). Two
+// comparisons are not of an exact shortcut but of a choice: `screen-by`, screening the best by
 // epsilon (old) or each preshape's best in turn (new, RobustRankingParams::screen_candidates); its
 // paths return different grasps, and the mean r of each path's scored grasps says which is worth
 // more. Both paths run each hand's own ranking budget (since 2026-11-29 the Shadow hand's is
 // smaller: its figures from before are not comparable with later ones), except that screen-by
-// sets each path's screening choice whatever the hand's description says.
+// sets each path's screening choice whatever the hand's description says. `confirm` is a choice
+// too: the screening's contenders without (old) or with (new) the default confirmation samples
+// (RobustRankingParams::confirm_samples), whatever the hand's budget says.
 #include <fmt/format.h>
 #include <tbb/global_control.h>
 
@@ -57,7 +59,8 @@ enum class Shortcut {
   kCellSkipping,
   kJumpOrder,
   kRefusals,
-  kScreenBy  // not exact: the two paths may score different grasps
+  kScreenBy,  // not exact: the two paths may score different grasps
+  kConfirm    // not exact either
 };
 
 // --compare's names: the option admits these (CLI::IsMember on the keys) and the run looks its
@@ -70,7 +73,8 @@ const std::map<std::string, Shortcut>& shortcutsByName() {
       {"cell-skipping", Shortcut::kCellSkipping},
       {"jump-order", Shortcut::kJumpOrder},
       {"refusals", Shortcut::kRefusals},
-      {"screen-by", Shortcut::kScreenBy}};
+      {"screen-by", Shortcut::kScreenBy},
+      {"confirm", Shortcut::kConfirm}};
   return names;
 }
 
@@ -109,6 +113,9 @@ PathRun rankOnce(const grasping::HandModel& hand, const grasping::GraspObject& o
     case Shortcut::kScreenBy:
       params.screen_candidates = new_path ? evaluation::ScreenCandidates::kPreshapesInTurn
                                           : evaluation::ScreenCandidates::kByPreScore;
+      break;
+    case Shortcut::kConfirm:
+      params.confirm_samples = new_path ? evaluation::kDefaultConfirmSamples : 0;
       break;
   }
   PathRun run;
@@ -152,7 +159,7 @@ int runBenchRanking(const BenchRankingArgs& args) {
   std::cout << fmt::format("comparing {}: old path ({}) against new path ({})\n", args.compare,
                            shortcut == Shortcut::kScreenBy ? "epsilon" : "off",
                            shortcut == Shortcut::kScreenBy ? "preshapes" : "on");
-  const bool exact = shortcut != Shortcut::kScreenBy;
+  const bool exact = shortcut != Shortcut::kScreenBy && shortcut != Shortcut::kConfirm;
   std::cout << fmt::format("{:<32} {:<8} {:>6} {:>8} {:>7} {:>7} {:>7} {:>6} {:>6} {:>6}\n",
                            "object", "hand", "cands", "pruned", "old_s", "new_s", "ratio", "same",
                            "old_r", "new_r");
@@ -264,8 +271,9 @@ void registerBenchRankingCommand(CLI::App& app, Action& action) {
                   "exact box gap skips empty cells), jump-order (the fast closing's jump "
                   "attempts stop at the first link that allows no step) or refusals (later passes "
                   "do not test again a refused step while the fingers it was tested against "
-                  "stand where they stood); or screen-by, not exact: screening the best by "
-                  "epsilon against each preshape's best in turn, the two paths' r compared")
+                  "stand where they stood); or, not exact, the two paths' r compared: screen-by "
+                  "(screening the best by epsilon against each preshape's best in turn) or "
+                  "confirm (the screening's contenders without and with confirmation samples)")
       ->check(CLI::IsMember(shortcutsByName()))
       ->capture_default_str();
   cmd->add_option("--json", args->json_out, "Also write the rows as JSON");

@@ -65,6 +65,7 @@ struct EvaluateArgs {
   std::optional<std::size_t> screen_k;  // unset: each hand's ranking budget
   std::optional<int> screen_samples;
   std::optional<std::string> screen_by;  // unset: each hand's ranking budget
+  std::optional<int> confirm_samples;    // unset: each hand's ranking budget
   RobustRefineOptions refine;
 };
 
@@ -134,6 +135,7 @@ int runEvaluate(const EvaluateArgs& a) {
   p.ranking.screen_k = a.screen_k;
   p.ranking.screen_samples = a.screen_samples;
   p.ranking.screen_candidates = screenCandidates(a.screen_by);
+  p.ranking.confirm_samples = a.confirm_samples;
   a.refine.applyTo(p.ranking.refinement);
   p.load.units = parseLengthUnit(a.units);
   p.seed = a.seed;
@@ -193,6 +195,7 @@ void registerEvaluateCommands(CLI::App& app, Action& action) {
   addScreenOption(*cmd, a->screen_k);
   addScreenSamplesOption(*cmd, a->screen_samples);
   addScreenByOption(*cmd, a->screen_by);
+  addConfirmSamplesOption(*cmd, a->confirm_samples);
   a->refine.addTo(*cmd);
   cmd->add_flag("--reference-compat", a->reference_compat,
                 "Quality as the reference code (docs/hands.md)");

@@ -47,7 +47,8 @@ std::string rankingBudget(const grasping::HandModel& hand) {
   const auto used = evaluation::rankingBudgetFor({}, hand.rankingBudget());
   // Screening by epsilon over all is the exception since 2026-11-29: said only there.
   return fmt::format(
-      "{}x{}{}, r<{:g}", used.screen_k, used.screen_samples,
+      "{}x{}{}{}, r<{:g}", used.screen_k, used.screen_samples,
+      used.confirm_samples > 0 ? fmt::format("+{}", used.confirm_samples) : std::string(),
       used.screen_candidates == evaluation::ScreenCandidates::kByPreScore ? " by eps" : "",
       used.search_below_r);
 }
@@ -70,11 +71,12 @@ int runHands() {
   }
   std::cout << "DOF = actuated drives while closing; joints = joints those drives move; contacts = "
                "point, or soft fingers with their torsional friction (--torsional-friction); "
-               "ranking = the robust ranking's budget: candidates screened x samples each (each "
-               "preshape's best by epsilon in turn, or \"by eps\": the best by epsilon over all), "
-               "and the r below which scored grasps are searched for a more robust pose "
-               "(--robustness-screen, --robustness-screen-samples, --robustness-screen-by, "
-               "--robust-refine-below-r); "
+               "ranking = the robust ranking's budget: candidates screened x samples each "
+               "(+N: the contenders' confirmation samples; each preshape's best by epsilon in "
+               "turn, or \"by eps\": the best by epsilon over all), and the r below which scored "
+               "grasps are searched for a more robust pose (--robustness-screen, "
+               "--robustness-screen-samples, --robustness-confirm-samples, "
+               "--robustness-screen-by, --robust-refine-below-r); "
                "preshapes = those of the grasp description, with the largest object a preshape "
                "for small objects is closed on\n";
   return kExitOk;

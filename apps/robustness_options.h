@@ -53,6 +53,18 @@ inline CLI::Option* addScreenSamplesOption(CLI::App& cmd, std::optional<int>& sc
       ->transform(countIn(1, kMaxRankingSamples));
 }
 
+// --robustness-confirm-samples, the same on every command that ranks by robustness.
+inline CLI::Option* addConfirmSamplesOption(CLI::App& cmd, std::optional<int>& confirm_samples) {
+  return cmd
+      .add_option(
+          "--robustness-confirm-samples", confirm_samples,
+          fmt::format("More perturbed executions for the best {} x --robustness-top-k "
+                      "screened grasps before the top k are chosen (0 = none; default: "
+                      "the hand's ranking budget, else {})",
+                      evaluation::kConfirmCandidatesPerScored, evaluation::kDefaultConfirmSamples))
+      ->transform(countIn(0, kMaxRankingSamples));
+}
+
 // --robustness-screen-by, the same on every command that ranks by robustness.
 // No shown default: unset means the hand's ranking budget.
 inline CLI::Option* addScreenByOption(CLI::App& cmd, std::optional<std::string>& screen_by) {
@@ -137,6 +149,7 @@ struct RobustnessOptions {
   std::optional<std::size_t> screen_k;   // unset: the hand's ranking budget
   std::optional<int> screen_samples;     // unset: the hand's ranking budget
   std::optional<std::string> screen_by;  // unset: the hand's ranking budget
+  std::optional<int> confirm_samples;    // unset: the hand's ranking budget
   std::optional<double> mu;              // unset: the planner's --mu
   RobustRefineOptions refine;
 
@@ -154,6 +167,7 @@ struct RobustnessOptions {
     addScreenOption(cmd, screen_k);
     addScreenSamplesOption(cmd, screen_samples);
     addScreenByOption(cmd, screen_by);
+    addConfirmSamplesOption(cmd, confirm_samples);
     // No shown default: unset means the planner's friction.
     cmd.add_option("--robustness-mu", mu, "Friction coefficient of r (default: --mu)")
         ->check(finiteIn(0, kMaxFriction));
@@ -168,6 +182,7 @@ struct RobustnessOptions {
     p.screen_k = screen_k;
     p.screen_samples = screen_samples;
     p.screen_candidates = screenCandidates(screen_by);
+    p.confirm_samples = confirm_samples;
     p.robustness.samples = samples;
     p.robustness.variant = evaluation::parseRobustnessVariant(variant);
     p.robustness.seed = seed;

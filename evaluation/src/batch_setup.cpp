@@ -111,11 +111,15 @@ nlohmann::json rankingOptions(const RobustRankingParams& r,
   // screened the best by epsilon, so it resumes only into that.
   if (recorded.screen_candidates != ScreenCandidates::kByPreScore)
     options["screen_by"] = toString(recorded.screen_candidates);
+  // Since 2026-11-29 (later) the screening's contenders run more samples before the choice; a
+  // batch from before ran none, so it resumes only into that.
+  if (recorded.confirm_samples != 0) options["confirm_samples"] = recorded.confirm_samples;
   for (const auto& hand : hands) {
     const RankingBudgetUsed own = rankingBudgetFor(r, hand.rankingBudget());
     if (own.screen_k != recorded.screen_k || own.screen_samples != recorded.screen_samples ||
         own.search_below_r != recorded.search_below_r ||
-        own.screen_candidates != recorded.screen_candidates) {
+        own.screen_candidates != recorded.screen_candidates ||
+        own.confirm_samples != recorded.confirm_samples) {
       options["hand_budgets"][hand.name()] = {{"screen_k", own.screen_k},
                                               {"screen_samples", own.screen_samples},
                                               {"search_below_r", own.search_below_r}};
@@ -123,6 +127,8 @@ nlohmann::json rankingOptions(const RobustRankingParams& r,
       // stays as it was.
       if (own.screen_candidates != recorded.screen_candidates)
         options["hand_budgets"][hand.name()]["screen_by"] = toString(own.screen_candidates);
+      if (own.confirm_samples != recorded.confirm_samples)
+        options["hand_budgets"][hand.name()]["confirm_samples"] = own.confirm_samples;
     }
   }
   return options;

@@ -42,6 +42,7 @@ PlanTiming planTimingOf(const skeleton::SkeletonTimings* skeleton, double planni
 nlohmann::json rankingRecordJson(const RobustRankingResult& ranking) {
   return {{"screened", ranking.screened},
           {"screen_pruned", ranking.screen_pruned},
+          {"confirmed", ranking.confirmed},
           {"scored", ranking.scored},
           {"refined", ranking.refined},
           {"screening_s", ranking.screening_s},
@@ -51,6 +52,7 @@ nlohmann::json rankingRecordJson(const RobustRankingResult& ranking) {
            {{"screen_grasps", ranking.budget.screen_k},
             {"screen_samples", ranking.budget.screen_samples},
             {"screen_by", toString(ranking.budget.screen_candidates)},
+            {"confirm_samples", ranking.budget.confirm_samples},
             {"refine_below_r", ranking.budget.search_below_r}}}};
 }
 

@@ -109,6 +109,7 @@ std::optional<int> holdsToBeat(double bar, double trust, int samples) {
 struct Screening {
   std::vector<std::size_t> chosen;  // indices into `candidates`
   std::vector<double> scores;       // their screening scores (r x trust)
+  std::vector<int> holds;           // their samples that held
   std::size_t finished = 0;         // candidates that ran every sample, the chosen included
 };
 Screening screenBestFirst(grasping::GraspSimulator& simulator,
@@ -150,6 +151,7 @@ Screening screenBestFirst(grasping::GraspSimulator& simulator,
     if (run[queue.top().candidate] == samples) {
       out.chosen.push_back(queue.top().candidate);
       out.scores.push_back(queue.top().bound);
+      out.holds.push_back(holds[queue.top().candidate]);
       queue.pop();
       continue;
     }
@@ -200,11 +202,53 @@ Screening screenInOrder(grasping::GraspSimulator& simulator,
     if (r.gave_up) continue;
     out.chosen.push_back(c);
     out.scores.push_back(r.score * trust[c]);
+    out.holds.push_back(r.force_closure);
     best_scores.push(out.scores.back());
     if (best_scores.size() > top_k) best_scores.pop();
   }
   out.finished = out.chosen.size();
   return out;
+}
+
+// Confirmation (RobustRankingParams::confirm_samples) of a screening: its best `picked` by score
+// (ties: the earlier candidate, which is best-first screening's own order) each run
+// `confirm_samples` more samples of the screening stream (sample indices screen.samples on: the
+// ones a screening with that many more samples would run) and score holds over all their samples
+// x trust. `screening` is reordered: the confirmed first, in that order, then the others (only the
+// in-order screenings have others), and the count confirmed is returned; the caller chooses the
+// top_k from the confirmed.
+std::size_t confirmScreening(grasping::GraspSimulator& simulator,
+                             const std::vector<grasping::Grasp>& grasps,
+                             const std::vector<std::size_t>& candidates,
+                             const std::vector<double>& trust, const RobustnessParams& screen,
+                             int confirm_samples, std::size_t picked, Screening& screening) {
+  std::vector<std::size_t> order(screening.chosen.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    if (screening.scores[a] != screening.scores[b])
+      return screening.scores[a] > screening.scores[b];
+    return screening.chosen[a] < screening.chosen[b];
+  });
+  Screening sorted;
+  sorted.finished = screening.finished;
+  for (std::size_t k : order) {
+    sorted.chosen.push_back(screening.chosen[k]);
+    sorted.scores.push_back(screening.scores[k]);
+    sorted.holds.push_back(screening.holds[k]);
+  }
+  RobustnessParams longer = screen;
+  longer.samples = screen.samples + confirm_samples;
+  const std::size_t confirmed = std::min(picked, sorted.chosen.size());
+  for (std::size_t k = 0; k < confirmed; ++k) {
+    const std::size_t c = sorted.chosen[k];
+    const int more = evaluateRobustnessSamples(simulator, grasps[candidates[c]], longer,
+                                               kScreenStream, screen.samples, longer.samples)
+                         .force_closure;
+    sorted.holds[k] += more;
+    sorted.scores[k] = static_cast<double>(sorted.holds[k]) / longer.samples * trust[c];
+  }
+  screening = std::move(sorted);
+  return confirmed;
 }
 
 // `candidates` (best first) reordered so that the preshapes take turns: the best of each preshape
@@ -263,6 +307,8 @@ RankingBudgetUsed rankingBudgetFor(const RobustRankingParams& params,
       hand_budget.refine_below_r.value_or(kDefaultSearchBelowR));
   used.screen_candidates = params.screen_candidates.value_or(
       hand_budget.screen_candidates.value_or(kDefaultScreenCandidates));
+  used.confirm_samples =
+      params.confirm_samples.value_or(hand_budget.confirm_samples.value_or(kDefaultConfirmSamples));
   return used;
 }
 
@@ -283,6 +329,8 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
     throw InvalidArgument("robust ranking: need at least one robustness sample");
   if (params.enabled && params.screen_samples && *params.screen_samples < 1)
     throw InvalidArgument("robust ranking: need at least one screening sample");
+  if (params.confirm_samples && *params.confirm_samples < 0)
+    throw InvalidArgument("robust ranking: confirm_samples must be >= 0");
   if (params.friction && !(std::isfinite(*params.friction) && *params.friction >= 0))
     throw InvalidArgument("robust ranking: friction must be finite and >= 0");
   if (const auto& bar = params.refinement.search_below_r; bar && !(*bar >= 0 && *bar <= 1))
@@ -330,11 +378,16 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
       // Best-first gives only the chosen a screening score: which others ran all their samples
       // depends on the thread count, and the order returned must not. The others rank by
       // pre-score.
-      const Screening screening =
+      const int confirm_samples = out.budget.confirm_samples;
+      const std::size_t picked = confirm_samples > 0 ? kConfirmCandidatesPerScored * top_k : top_k;
+      Screening screening =
           params.screening_pruning == ScreeningPruning::kBestFirst
-              ? screenBestFirst(simulator, grasps, candidates, trusts, screen, top_k)
-              : screenInOrder(simulator, grasps, candidates, trusts, screen, top_k,
+              ? screenBestFirst(simulator, grasps, candidates, trusts, screen, picked)
+              : screenInOrder(simulator, grasps, candidates, trusts, screen, picked,
                               params.screening_pruning == ScreeningPruning::kInOrder);
+      if (confirm_samples > 0)
+        out.confirmed = confirmScreening(simulator, grasps, candidates, trusts, screen,
+                                         confirm_samples, picked, screening);
       std::vector<std::size_t> contenders;
       for (std::size_t k = 0; k < screening.chosen.size(); ++k) {
         const std::size_t i = candidates[screening.chosen[k]];
@@ -345,10 +398,15 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
       out.screened = screening.finished;
       out.screen_pruned = candidates.size() - screening.finished;
       // Chosen best first, or in pre-score order: a stable sort breaks ties of screening score
-      // by pre-score either way.
+      // by pre-score either way. After a confirmation the top_k come from the confirmed (first,
+      // in the screening's order), so they and the others are sorted apart.
       candidates = std::move(contenders);
-      std::stable_sort(candidates.begin(), candidates.end(),
-                       [&](std::size_t a, std::size_t b) { return rank_score[a] > rank_score[b]; });
+      const auto by_score = [&](std::size_t a, std::size_t b) {
+        return rank_score[a] > rank_score[b];
+      };
+      const auto confirmed_end = candidates.begin() + static_cast<std::ptrdiff_t>(out.confirmed);
+      std::stable_sort(candidates.begin(), confirmed_end, by_score);
+      std::stable_sort(confirmed_end, candidates.end(), by_score);
       out.screening_s = screen_watch.seconds();
     }
     if (candidates.size() > top_k) candidates.resize(top_k);

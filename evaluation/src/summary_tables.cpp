@@ -18,6 +18,14 @@ std::string screeningWords(const std::string& screen_by) {
                                                                    : "the best by epsilon";
 }
 
+// The confirmation of the screening's choice, in words, from batch.json's "confirm_samples" (an
+// older batch has none: it confirmed nothing).
+std::string confirmationWords(int confirm_samples, std::size_t top_k) {
+  if (confirm_samples <= 0) return "";
+  return fmt::format(", the best {} of them confirmed with {} more",
+                     kConfirmCandidatesPerScored * top_k, confirm_samples);
+}
+
 // What every number below depends on and a reader of two summaries must tell apart: friction,
 // contact model and how r was sampled. Read from batch.json's options (batch_setup.cpp); a key
 // it lacks (an older batch) leaves its part out.
@@ -41,11 +49,12 @@ std::string settingsLine(const nlohmann::json& options) {
   }
   if (options.contains("ranking")) {
     const auto& k = options["ranking"];
-    parts.push_back(
-        fmt::format("robust ranking: {} screened ({}) with {} samples, the best {} scored "
-                    "with {}",
-                    k.value("screen_k", 0), screeningWords(k.value("screen_by", "epsilon")),
-                    k.value("screen_samples", 0), k.value("top_k", 0), k.value("samples", 0)));
+    parts.push_back(fmt::format(
+        "robust ranking: {} screened ({}) with {} samples{}, the best {} scored with {}",
+        k.value("screen_k", 0), screeningWords(k.value("screen_by", "epsilon")),
+        k.value("screen_samples", 0),
+        confirmationWords(k.value("confirm_samples", 0), k.value("top_k", std::size_t{0})),
+        k.value("top_k", 0), k.value("samples", 0)));
     if (k.contains("hand_budgets") && k["hand_budgets"].is_object()) {
       // The search bar means nothing when the search is off.
       const bool searched = !k.contains("refinement") || k["refinement"].value("enabled", true);
@@ -53,6 +62,12 @@ std::string settingsLine(const nlohmann::json& options) {
         std::string part = fmt::format("{}'s own ranking budget: {} screened with {} samples", hand,
                                        b.value("screen_k", 0), b.value("screen_samples", 0));
         if (b.contains("screen_by")) part += ", " + screeningWords(b.value("screen_by", ""));
+        if (b.contains("confirm_samples")) {
+          const int confirm_samples = b.value("confirm_samples", 0);
+          part += confirm_samples > 0
+                      ? confirmationWords(confirm_samples, k.value("top_k", std::size_t{0}))
+                      : std::string(", no confirmation");
+        }
         if (searched) part += fmt::format(", refined below r = {}", b.value("search_below_r", 0.0));
         parts.push_back(part);
       }

@@ -67,6 +67,9 @@ class DescriptionReader {
       } else if (key == "screen_samples") {
         budget.screen_samples =
             static_cast<int>(count(value, 1, kMaxBudgetSamples, "screen_samples"));
+      } else if (key == "confirm_samples") {
+        budget.confirm_samples =
+            static_cast<int>(count(value, 0, kMaxBudgetSamples, "confirm_samples"));
       } else if (key == "refine_below_r") {
         // Its range is HandModel::setRankingBudget's to check.
         if (!value.is_number()) fail("ranking: 'refine_below_r' must be a number");
@@ -81,7 +84,8 @@ class DescriptionReader {
         }
       } else {
         fail("ranking: unknown key '" + key +
-             "' (known: screen_grasps, screen_samples, refine_below_r, screen_by)");
+             "' (known: screen_grasps, screen_samples, confirm_samples, refine_below_r, "
+             "screen_by)");
       }
     }
     return budget;

@@ -200,6 +200,8 @@ const char* toString(ScreenCandidates candidates) {
 void HandModel::setRankingBudget(RankingBudget budget) {
   if (budget.screen_samples && *budget.screen_samples < 1)
     throw InvalidArgument("hand '" + name_ + "': ranking screen_samples must be >= 1");
+  if (budget.confirm_samples && *budget.confirm_samples < 0)
+    throw InvalidArgument("hand '" + name_ + "': ranking confirm_samples must be >= 0");
   if (budget.refine_below_r && !(*budget.refine_below_r >= 0 && *budget.refine_below_r <= 1))
     throw InvalidArgument("hand '" + name_ + "': ranking refine_below_r must be in [0, 1]");
   ranking_budget_ = budget;

@@ -39,8 +39,8 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
           std::optional<std::size_t> robustness_screen,
           std::optional<int> robustness_screen_samples,
           const std::optional<std::string>& robustness_screen_by,
-          std::optional<double> robustness_mu, bool robust_refine,
-          std::optional<double> robust_refine_below_r, bool centre_candidates,
+          std::optional<int> robustness_confirm_samples, std::optional<double> robustness_mu,
+          bool robust_refine, std::optional<double> robust_refine_below_r, bool centre_candidates,
           std::size_t surface_candidates, bool wrench_volume,
           std::optional<double> torsional_friction, const std::string& contact_patch,
           bool alternative_preshapes) {
@@ -58,10 +58,10 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
   skeleton_params.regularisation.offset_divisor = offset_divisor;
   skeleton_params.spur_radius_factor = spur_radius_factor;
 
-  const auto ranking =
-      robustRankingParams(robustness, robustness_samples, robustness_variant, robustness_top_k,
-                          robustness_screen, robustness_screen_samples, robustness_screen_by,
-                          robustness_mu, seed, robust_refine, robust_refine_below_r);
+  const auto ranking = robustRankingParams(
+      robustness, robustness_samples, robustness_variant, robustness_top_k, robustness_screen,
+      robustness_screen_samples, robustness_screen_by, robustness_confirm_samples, robustness_mu,
+      seed, robust_refine, robust_refine_below_r);
   Plan out;
   out.hand = hand;
   out.object = mesh.name;
@@ -290,7 +290,9 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
       py::arg("robustness_variant") = std::string(evaluation::toString(ranking.robustness.variant)),
       py::arg("robustness_top_k") = ranking.top_k, py::arg("robustness_screen") = ranking.screen_k,
       py::arg("robustness_screen_samples") = ranking.screen_samples,
-      py::arg("robustness_screen_by") = py::none(), py::arg("robustness_mu") = ranking.friction,
+      py::arg("robustness_screen_by") = py::none(),
+      py::arg("robustness_confirm_samples") = ranking.confirm_samples,
+      py::arg("robustness_mu") = ranking.friction,
       py::arg("robust_refine") = ranking.refinement.enabled,
       py::arg("robust_refine_below_r") = ranking.refinement.search_below_r,
       py::arg("centre_candidates") = planner.centre_candidates,
@@ -308,7 +310,9 @@ sets 30 s) and RobustRankingParams. ``max_hypotheses`` is the surface planner's.
 (``robustness_screen_by='preshapes'``; 'epsilon': the best by epsilon over all) are screened with a
 cheap r from ``robustness_screen_samples`` executions each (None, for any of the three: the hand's
 ranking budget, 60, 'preshapes' and 10 unless its description says otherwise; the Shadow hand's 40,
-'epsilon' and 8), and the best ``robustness_top_k`` of them (0: all) get a robustness r from
+'epsilon' and 8); the best 2 x ``robustness_top_k`` of those run ``robustness_confirm_samples``
+more executions each (None: the hand's, 10 unless its description says otherwise; the SDH's
+and the Shadow hand's 0; 0: none) before the best ``robustness_top_k`` of them (0: all) get a robustness r from
 ``robustness_samples`` perturbed executions (``robustness_variant`` 'paper', 'guarded', 'settled' or 'reference',
 friction ``robustness_mu`` or ``mu``, samples seeded by ``seed``) and are ranked first by r;
 ``robustness=False`` keeps the epsilon order. ``robust_refine`` searches near the most robust

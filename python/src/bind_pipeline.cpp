@@ -104,13 +104,13 @@ py::object run(const Cloud& cloud, const HandPtr& hand, const py::object& object
                std::optional<std::size_t> robustness_screen,
                std::optional<int> robustness_screen_samples,
                const std::optional<std::string>& robustness_screen_by,
-               std::optional<double> robustness_mu, bool robust_refine,
-               std::optional<double> robust_refine_below_r) {
+               std::optional<int> robustness_confirm_samples, std::optional<double> robustness_mu,
+               bool robust_refine, std::optional<double> robust_refine_below_r) {
   pipeline::RunParams p;
-  p.robust_ranking =
-      robustRankingParams(robustness, robustness_samples, robustness_variant, robustness_top_k,
-                          robustness_screen, robustness_screen_samples, robustness_screen_by,
-                          robustness_mu, seed, robust_refine, robust_refine_below_r);
+  p.robust_ranking = robustRankingParams(
+      robustness, robustness_samples, robustness_variant, robustness_top_k, robustness_screen,
+      robustness_screen_samples, robustness_screen_by, robustness_confirm_samples, robustness_mu,
+      seed, robust_refine, robust_refine_below_r);
   p.reconstruction.ingest.filters.voxel_leaf_m = voxel_leaf_m;
   p.reconstruction.ingest.scene.plane = perception::parsePlaneRequirement(plane);
   p.reconstruction.ingest.scene.target = targetOf(objects);
@@ -321,6 +321,7 @@ ValueError with the command line's message.)doc");
         py::arg("robustness_screen") = run_defaults.robust_ranking.screen_k,
         py::arg("robustness_screen_samples") = run_defaults.robust_ranking.screen_samples,
         py::arg("robustness_screen_by") = py::none(),
+        py::arg("robustness_confirm_samples") = run_defaults.robust_ranking.confirm_samples,
         py::arg("robustness_mu") = run_defaults.robust_ranking.friction,
         py::arg("robust_refine") = run_defaults.robust_ranking.refinement.enabled,
         py::arg("robust_refine_below_r") = run_defaults.robust_ranking.refinement.search_below_r,

@@ -156,11 +156,14 @@ py::dict jointsDict(const grasping::HandModel& hand, const Eigen::VectorXd& q) {
 evaluation::RobustRankingParams robustRankingParams(
     bool robustness, int samples, const std::string& variant, std::size_t top_k,
     std::optional<std::size_t> screen_k, std::optional<int> screen_samples,
-    const std::optional<std::string>& screen_by, std::optional<double> mu, std::uint64_t seed,
-    bool refine, std::optional<double> refine_below_r) {
+    const std::optional<std::string>& screen_by, std::optional<int> confirm_samples,
+    std::optional<double> mu, std::uint64_t seed, bool refine,
+    std::optional<double> refine_below_r) {
   if (samples < 1) throw InvalidArgument("robustness_samples: must be >= 1");
   if (screen_samples && *screen_samples < 1)
     throw InvalidArgument("robustness_screen_samples: must be >= 1");
+  if (confirm_samples && *confirm_samples < 0)
+    throw InvalidArgument("robustness_confirm_samples: must be >= 0");
   if (refine_below_r && !(*refine_below_r >= 0 && *refine_below_r <= 1))
     throw InvalidArgument("robust_refine_below_r: must be in [0, 1]");
   if (mu && !(std::isfinite(*mu) && *mu >= 0))
@@ -174,6 +177,7 @@ evaluation::RobustRankingParams robustRankingParams(
   p.screen_k = screen_k;
   p.screen_samples = screen_samples;
   if (screen_by) p.screen_candidates = evaluation::parseScreenCandidates(*screen_by);
+  p.confirm_samples = confirm_samples;
   p.refinement.search_below_r = refine_below_r;
   p.friction = mu;
   p.refinement.enabled = refine;

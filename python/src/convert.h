@@ -93,15 +93,18 @@ py::object fromJson(const nlohmann::json& j);
 
 // The robust ranking of plan() and run() from their keyword arguments (as the CLI's
 // --no-robustness, --robustness-samples, --robustness-variant, --robustness-top-k,
-// --robustness-screen, --robustness-screen-samples, --robustness-screen-by, --robustness-mu,
+// --robustness-screen, --robustness-screen-samples, --robustness-screen-by,
+// --robustness-confirm-samples, --robustness-mu,
 // --no-robust-refine and --robust-refine-below-r; the budget's unset values are the hand's);
 // `seed` also seeds the robustness samples. Throws InvalidArgument for samples or screen_samples <
-// 1, refine_below_r outside [0, 1], an unknown variant or an unknown screen_by.
+// 1, confirm_samples < 0, refine_below_r outside [0, 1], an unknown variant or an unknown
+// screen_by.
 evaluation::RobustRankingParams robustRankingParams(
     bool robustness, int samples, const std::string& variant, std::size_t top_k,
     std::optional<std::size_t> screen_k, std::optional<int> screen_samples,
-    const std::optional<std::string>& screen_by, std::optional<double> mu, std::uint64_t seed,
-    bool refine, std::optional<double> refine_below_r);
+    const std::optional<std::string>& screen_by, std::optional<int> confirm_samples,
+    std::optional<double> mu, std::uint64_t seed, bool refine,
+    std::optional<double> refine_below_r);
 
 // Contacts as a list of {point, normal, link, palm} dicts (Grasp.contacts, CloseResult.contacts).
 py::list contactsList(const std::vector<grasping::Contact>& contacts);

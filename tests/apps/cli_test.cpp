@@ -86,10 +86,12 @@ TEST(Cli, HandsListsTheFourBuiltInHands) {
       EXPECT_NE(line.find(" point "), std::string::npos) << line;
     if (line.rfind("parallel_gripper", 0) == 0)
       EXPECT_NE(line.find(" soft 2.5 mm "), std::string::npos) << line;
-    // Each hand's ranking budget: the Shadow hand's own, the defaults for the others.
+    // Each hand's ranking budget: the Shadow hand's and the SDH's own, the defaults for the others.
     if (line.rfind("shadow", 0) == 0)
       EXPECT_NE(line.find(" 40x8 by eps, r<0.5 "), std::string::npos) << line;
-    if (line.rfind("armar3", 0) == 0 || line.rfind("sdh", 0) == 0)
+    if (line.rfind("armar3", 0) == 0)
+      EXPECT_NE(line.find(" 60x10+10, r<0.7 "), std::string::npos) << line;
+    if (line.rfind("sdh", 0) == 0)  // no confirmation
       EXPECT_NE(line.find(" 60x10, r<0.7 "), std::string::npos) << line;
     // The SDH's preshape for small objects says how small.
     if (line.rfind("sdh", 0) == 0)
@@ -162,16 +164,22 @@ TEST(Cli, PlanRecordsTheRankingBudgetItRanWith) {
   EXPECT_EQ(budget["screen_grasps"], 12) << budget.dump();
   EXPECT_EQ(budget["screen_samples"], 8) << budget.dump();
   EXPECT_EQ(budget["screen_by"], "epsilon") << budget.dump();  // the Shadow hand's own
+  EXPECT_EQ(budget["confirm_samples"], 0) << budget.dump();    // the Shadow hand's own
   EXPECT_DOUBLE_EQ(budget["refine_below_r"].get<double>(), 0.5);
   // The option overrides the hand's choice of candidates.
-  const CliRun in_turn =
-      runCli("plan " + dir +
-                 "/capsule.ply --hand shadow --robustness-samples 4 "
-                 "--robustness-screen 12 --robustness-screen-by preshapes --out " +
-                 dir + "/in_turn.json",
-             dir);
+  const CliRun in_turn = runCli("plan " + dir +
+                                    "/capsule.ply --hand shadow --robustness-samples 4 "
+                                    "--robustness-screen 12 --robustness-screen-by preshapes "
+                                    "--robustness-confirm-samples 5 --out " +
+                                    dir + "/in_turn.json",
+                                dir);
   ASSERT_EQ(in_turn.exit_code, 0) << in_turn.err;
-  EXPECT_EQ(readJsonFile(dir + "/in_turn.json")["ranking"]["budget"]["screen_by"], "preshapes");
+  const auto given = readJsonFile(dir + "/in_turn.json")["ranking"];
+  EXPECT_EQ(given["budget"]["screen_by"], "preshapes");
+  EXPECT_EQ(given["budget"]["confirm_samples"], 5);
+  // Confirmed: the best 2 x top_k (20) of the 12 screened, so all that screening chose.
+  EXPECT_GT(given["confirmed"].get<int>(), 0) << given.dump();
+  EXPECT_LE(given["confirmed"].get<int>(), 12) << given.dump();
 }
 
 TEST(Cli, PlanWritesTheDocumentedGraspsJson) {
@@ -587,6 +595,14 @@ TEST(Cli, BenchRankingComparesEachShortcutOffAndOnOnTheSameGrasps) {
       EXPECT_LE(r[key].get<double>(), 1.0) << key;
     }
   }
+  // So is the confirmation: both paths run and report their r.
+  const auto confirm =
+      test::runCli("bench ranking " + dir + "/box.ply --hands sdh --compare confirm", dir);
+  ASSERT_EQ(confirm.exit_code, 0) << confirm.err;
+  EXPECT_NE(confirm.out.find("comparing confirm: old path (off) against new path (on)"),
+            std::string::npos)
+      << confirm.out;
+  EXPECT_NE(confirm.out.find("mean r of the scored grasps"), std::string::npos) << confirm.out;
   const auto empty = test::runCli("bench ranking " + dir + "/nothing_here", dir);
   EXPECT_EQ(empty.exit_code, 2);
 }

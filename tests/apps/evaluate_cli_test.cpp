@@ -128,7 +128,11 @@ TEST(EvaluateCli, RecordsEachHandsOwnRankingBudget) {
   EXPECT_EQ(ranking["screen_samples"], 10) << ranking.dump();
   EXPECT_DOUBLE_EQ(ranking["refinement"]["search_below_r"].get<double>(), 0.7);
   ASSERT_TRUE(ranking.contains("hand_budgets")) << ranking.dump();
-  EXPECT_FALSE(ranking["hand_budgets"].contains("sdh")) << ranking.dump();
+  // The SDH's own budget differs only in its confirmation (none), so that is all it records
+  // besides the three fields every hand budget records.
+  EXPECT_EQ(ranking["hand_budgets"]["sdh"]["confirm_samples"], 0) << ranking.dump();
+  EXPECT_EQ(ranking["hand_budgets"]["sdh"]["screen_k"], 60) << ranking.dump();
+  EXPECT_FALSE(ranking["hand_budgets"]["sdh"].contains("screen_by")) << ranking.dump();
   EXPECT_EQ(ranking["hand_budgets"]["shadow"]["screen_k"], 40) << ranking.dump();
   EXPECT_EQ(ranking["hand_budgets"]["shadow"]["screen_samples"], 8) << ranking.dump();
   EXPECT_DOUBLE_EQ(ranking["hand_budgets"]["shadow"]["search_below_r"].get<double>(), 0.5);
@@ -138,7 +142,16 @@ TEST(EvaluateCli, RecordsEachHandsOwnRankingBudget) {
   std::ifstream summary_file(out + "/summary.md");
   const std::string summary((std::istreambuf_iterator<char>(summary_file)), {});
   EXPECT_NE(summary.find("shadow's own ranking budget: 40 screened with 8 samples, the best by "
-                         "epsilon, refined below r = 0.5"),
+                         "epsilon, no confirmation, refined below r = 0.5"),
+            std::string::npos)
+      << summary;
+  EXPECT_NE(summary.find("with 10 samples, the best 20 of them confirmed with 10 more, the best 10 "
+                         "scored with 50"),
+            std::string::npos)
+      << summary;
+  EXPECT_EQ(ranking["confirm_samples"], 10) << ranking.dump();
+  EXPECT_EQ(ranking["hand_budgets"]["shadow"]["confirm_samples"], 0) << ranking.dump();
+  EXPECT_NE(summary.find("sdh's own ranking budget: 60 screened with 10 samples, no confirmation"),
             std::string::npos)
       << summary;
   // A batch from before the hands had budgets (no hand_budgets) ranked the Shadow hand with the
@@ -164,6 +177,19 @@ TEST(EvaluateCli, RecordsEachHandsOwnRankingBudget) {
   EXPECT_EQ(resumed.exit_code, 2) << resumed.err;
   EXPECT_NE(resumed.err.find("screen_by"), std::string::npos) << resumed.err;
   resumed = runCli(args + " --robustness-screen-by epsilon", dir);
+  EXPECT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_NE(resumed.out.find("already done"), std::string::npos) << resumed.out;
+  // A batch from before the screening's contenders were confirmed (no confirm_samples anywhere)
+  // does not resume into the default, and resumes with --robustness-confirm-samples 0.
+  batch = written;
+  batch["options"]["ranking"].erase("confirm_samples");
+  batch["options"]["ranking"]["hand_budgets"]["shadow"].erase("confirm_samples");
+  batch["options"]["ranking"]["hand_budgets"].erase("sdh");
+  std::ofstream(out + "/batch.json") << batch.dump(2);
+  resumed = runCli(args, dir);
+  EXPECT_EQ(resumed.exit_code, 2) << resumed.err;
+  EXPECT_NE(resumed.err.find("confirm_samples"), std::string::npos) << resumed.err;
+  resumed = runCli(args + " --robustness-confirm-samples 0", dir);
   EXPECT_EQ(resumed.exit_code, 0) << resumed.err;
   EXPECT_NE(resumed.out.find("already done"), std::string::npos) << resumed.out;
 }

@@ -110,6 +110,10 @@ INSTANTIATE_TEST_SUITE_P(
                     "evaluate --objects {dir}/objects --robust-ranking "
                     "--robustness-screen-samples 0 --out {dir}/out",
                     "--robustness-screen-samples: 0 is outside [1, "},
+        BadCliInput{"confirm_samples_negative",
+                    "evaluate --objects {dir}/objects --robust-ranking "
+                    "--robustness-confirm-samples -1 --out {dir}/out",
+                    "--robustness-confirm-samples"},
         BadCliInput{"screen_by", "plan {dir}/box.ply --robustness-screen-by random --out {dir}/out",
                     "--robustness-screen-by: random not in {preshapes,epsilon}"},
         BadCliInput{"shard", "evaluate --objects {dir}/objects --shard 1x/4 --out {dir}/out",

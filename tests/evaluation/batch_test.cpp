@@ -177,7 +177,8 @@ TEST_F(BatchTest, RobustRankingRecordsTheReturnedGraspsRAndIsPartOfTheOptions) {
             std::string::npos)
       << summary;
   EXPECT_NE(summary.find("robust ranking: 4 screened (each preshape's best in turn) with 4 "
-                         "samples, the best 2 scored with 6"),
+                         "samples, the best 4 of them confirmed with 10 more, the best 2 scored "
+                         "with 6"),
             std::string::npos)
       << summary;
   EXPECT_EQ(readJsonFile(out + "/batch.json")["options"]["ranking"]["top_k"], 2);

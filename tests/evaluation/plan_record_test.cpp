@@ -14,6 +14,7 @@ RobustRankingResult someRanking() {
   RobustRankingResult ranking;
   ranking.screened = 7;
   ranking.screen_pruned = 3;
+  ranking.confirmed = 4;
   ranking.scored = 5;
   ranking.refined = 2;
   ranking.time_s = 1.0;
@@ -21,7 +22,7 @@ RobustRankingResult someRanking() {
   ranking.scoring_s = 0.5;
   ranking.refinement_s = 0.125;
   ranking.enabled = true;
-  ranking.budget = {40, 8, 0.5, ScreenCandidates::kByPreScore};
+  ranking.budget = {40, 8, 0.5, ScreenCandidates::kByPreScore, 6};
   return ranking;
 }
 
@@ -29,6 +30,7 @@ TEST(PlanRecord, RankingRecordCarriesTheCountsAndTheParts) {
   const nlohmann::json record = rankingRecordJson(someRanking());
   EXPECT_EQ(record["screened"], 7);
   EXPECT_EQ(record["screen_pruned"], 3);
+  EXPECT_EQ(record["confirmed"], 4);
   EXPECT_EQ(record["scored"], 5);
   EXPECT_EQ(record["refined"], 2);
   EXPECT_DOUBLE_EQ(record["screening_s"].get<double>(), 0.25);
@@ -37,6 +39,7 @@ TEST(PlanRecord, RankingRecordCarriesTheCountsAndTheParts) {
   EXPECT_EQ(record["budget"]["screen_grasps"], 40);
   EXPECT_EQ(record["budget"]["screen_samples"], 8);
   EXPECT_EQ(record["budget"]["screen_by"], "epsilon");
+  EXPECT_EQ(record["budget"]["confirm_samples"], 6);
   EXPECT_DOUBLE_EQ(record["budget"]["refine_below_r"].get<double>(), 0.5);
 }
 

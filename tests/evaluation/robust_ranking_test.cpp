@@ -143,11 +143,14 @@ TEST(RobustRanking, ScreeningChoosesTheScoredGraspsByAScreeningROnItsOwnSamples)
 
 // Pruned screening, in pre-score order or best-first, chooses the grasps full screening chooses:
 // the same scored grasps in the same order with the same r, with and without trust factors; only
-// screening samples are saved. Best-first gives a screening score to the chosen only.
+// screening samples are saved. Best-first gives a screening score to the chosen only: the scored
+// and, with a confirmation, the confirmed (twice top_k in all).
 void expectPruningChoosesAsFullScreening(const Planned& p, const std::vector<double>& trust,
-                                         ScreenCandidates candidates, const std::string& what) {
+                                         ScreenCandidates candidates, int confirm_samples,
+                                         const std::string& what) {
   auto params = fewSamples(12, 3);
   params.screen_candidates = candidates;
+  params.confirm_samples = confirm_samples;
   params.screen_k = 0;  // every grasp is a candidate
   params.screen_samples = 10;
   params.refinement.enabled = false;
@@ -172,14 +175,30 @@ void expectPruningChoosesAsFullScreening(const Planned& p, const std::vector<dou
     }
     // Every grasp is still returned; best-first ranks the rest by pre-score (epsilon x trust).
     ASSERT_EQ(pruned.grasps.size(), full.grasps.size()) << how;
+    const std::size_t confirmed =
+        confirm_samples > 0 ? std::min(kConfirmCandidatesPerScored * 3, pruned.grasps.size()) : 0;
+    EXPECT_EQ(pruned.confirmed, confirmed) << how;
+    EXPECT_EQ(full.confirmed, confirmed) << how;
     if (pruning == ScreeningPruning::kBestFirst) {
+      // The confirmed that are not scored next, by their score over all their screening samples
+      // (a whole number of holds out of 10 + confirm_samples, x trust).
+      const std::size_t rest = std::max<std::size_t>(3, confirmed);
+      for (std::size_t i = 3; i < rest; ++i) {
+        const std::size_t input = pruned.order[i];
+        const double t = trust.empty() ? 1.0 : trust[input];
+        const double holds = pruned.scores[i] / t * (10 + confirm_samples);
+        EXPECT_NEAR(holds, std::round(holds), 1e-9) << how << " rank " << i;
+        if (i > 3) {
+          EXPECT_GE(pruned.scores[i - 1], pruned.scores[i]) << how << " rank " << i;
+        }
+      }
       // The rest by pre-score, epsilon x trust, the planner's order on ties.
-      for (std::size_t i = 3; i < pruned.grasps.size(); ++i) {
+      for (std::size_t i = rest; i < pruned.grasps.size(); ++i) {
         const std::size_t input = pruned.order[i];
         EXPECT_EQ(pruned.scores[i],
                   p.plan.grasps[input].epsilon * (trust.empty() ? 1.0 : trust[input]))
             << how << " rank " << i;
-        if (i > 3) {
+        if (i > rest) {
           EXPECT_GE(pruned.scores[i - 1], pruned.scores[i]) << how << " rank " << i;
           if (pruned.scores[i - 1] == pruned.scores[i]) {
             EXPECT_LT(pruned.order[i - 1], input) << how << " rank " << i;
@@ -206,14 +225,17 @@ TEST(RobustRanking, PrunedScreeningChoosesTheGraspsFullScreeningChooses) {
       if (p.plan.grasps.size() < 4) continue;
       const std::string what = name + " " + hand;
       // Each way of choosing the candidates, once without and once with trust factors.
-      expectPruningChoosesAsFullScreening(p, {}, ScreenCandidates::kPreshapesInTurn, what);
+      expectPruningChoosesAsFullScreening(p, {}, ScreenCandidates::kPreshapesInTurn, 0, what);
+      expectPruningChoosesAsFullScreening(p, {}, ScreenCandidates::kPreshapesInTurn,
+                                          kDefaultConfirmSamples, what + " confirmed");
       // Trust factors between 0.5 and 1 (seeded): the bar is on r x trust.
       std::mt19937 rng(11);
       std::uniform_real_distribution<double> factor(0.5, 1.0);
       std::vector<double> trust(p.plan.grasps.size());
       for (double& t : trust) t = factor(rng);
       expectPruningChoosesAsFullScreening(p, trust, ScreenCandidates::kByPreScore,
-                                          what + " with trust, by epsilon");
+                                          kDefaultConfirmSamples,
+                                          what + " with trust, by epsilon, confirmed");
       auto params = fewSamples(4, 3);
       params.screen_k = 0;
       params.refinement.enabled = false;

@@ -255,15 +255,21 @@ TEST(HandModel, BadHandInputsNameTheFileAndTheProblem) {
 TEST(HandModel, DescriptionsCarryTheirRankingBudget) {
   const RankingBudget shadow = resolveHand("shadow").rankingBudget();
   ASSERT_TRUE(shadow.screen_grasps && shadow.screen_samples && shadow.refine_below_r &&
-              shadow.screen_candidates);
+              shadow.screen_candidates && shadow.confirm_samples);
   EXPECT_EQ(*shadow.screen_grasps, 40u);
   EXPECT_EQ(*shadow.screen_samples, 8);
   EXPECT_DOUBLE_EQ(*shadow.refine_below_r, 0.5);
   EXPECT_EQ(*shadow.screen_candidates, ScreenCandidates::kByPreScore);  // "screen_by": "epsilon"
-  for (const char* name : {"armar3", "sdh", "parallel_gripper"}) {
+  EXPECT_EQ(*shadow.confirm_samples, 0);                                // no confirmation
+  // The SDH's says only that it confirms nothing (docs/hands.md, "Ranking budget").
+  const RankingBudget sdh = resolveHand("sdh").rankingBudget();
+  EXPECT_FALSE(sdh.screen_grasps || sdh.screen_samples || sdh.refine_below_r ||
+               sdh.screen_candidates);
+  EXPECT_EQ(sdh.confirm_samples, 0);
+  for (const char* name : {"armar3", "parallel_gripper"}) {
     const RankingBudget none = resolveHand(name).rankingBudget();
     EXPECT_FALSE(none.screen_grasps || none.screen_samples || none.refine_below_r ||
-                 none.screen_candidates)
+                 none.screen_candidates || none.confirm_samples)
         << name;
   }
 
@@ -291,6 +297,8 @@ TEST(HandModel, DescriptionsCarryTheirRankingBudget) {
   EXPECT_EQ(
       loadHand(urdf, withRanking("{\"screen_by\": \"epsilon\"}")).rankingBudget().screen_candidates,
       ScreenCandidates::kByPreScore);
+  EXPECT_EQ(loadHand(urdf, withRanking("{\"confirm_samples\": 6}")).rankingBudget().confirm_samples,
+            6);
   const RankingBudget none = loadHand(urdf, withRanking("null")).rankingBudget();  // as absent
   EXPECT_FALSE(none.screen_grasps || none.screen_samples || none.refine_below_r);
   for (const auto& [ranking, problem] : std::vector<std::pair<std::string, std::string>>{
@@ -306,6 +314,8 @@ TEST(HandModel, DescriptionsCarryTheirRankingBudget) {
            {"{\"screen_k\": 40}", "unknown key 'screen_k'"},
            {"{\"screen_by\": \"random\"}", "'screen_by' must be \"preshapes\" or \"epsilon\""},
            {"{\"screen_by\": true}", "'screen_by' must be \"preshapes\" or \"epsilon\""},
+           {"{\"confirm_samples\": -1}", "'confirm_samples' must be a whole number in [0, "},
+           {"{\"confirm_samples\": 2.5}", "'confirm_samples' must be a whole number in [0, "},
            {"[40]", "'ranking' must be an object"}}) {
     try {
       loadHand(urdf, withRanking(ranking));

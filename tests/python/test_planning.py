@@ -131,15 +131,16 @@ def test_plan_ranks_with_the_hands_budget_unless_told_otherwise(capsule):
     own = skelgrasp.plan(capsule, shadow, seed=1, max_grasps=4, robustness_samples=4)
     assert own.to_dict()["ranking"]["budget"] == {
         "screen_grasps": 40, "screen_samples": 8, "screen_by": "epsilon",
-        "refine_below_r": 0.5}
+        "confirm_samples": 0, "refine_below_r": 0.5}
     given = skelgrasp.plan(capsule, shadow, seed=1, max_grasps=4, robustness_samples=4,
                            robustness_screen=60, robustness_screen_samples=10,
-                           robustness_screen_by="preshapes", robust_refine_below_r=0.7)
+                           robustness_screen_by="preshapes", robustness_confirm_samples=10,
+                           robust_refine_below_r=0.7)
     assert given.to_dict()["ranking"]["budget"] == {
         "screen_grasps": 60, "screen_samples": 10, "screen_by": "preshapes",
-        "refine_below_r": 0.7}
+        "confirm_samples": 10, "refine_below_r": 0.7}
     for bad in ({"robustness_screen_samples": 0}, {"robust_refine_below_r": 1.5},
-                {"robustness_screen_by": "random"}):
+                {"robustness_screen_by": "random"}, {"robustness_confirm_samples": -1}):
         with pytest.raises(ValueError):
             skelgrasp.plan(capsule, shadow, **bad)
 

@@ -20,6 +20,10 @@ inline constexpr std::size_t kDefaultRobustTopK = 10;
 inline constexpr int kDefaultRankingSamples = 50;
 inline constexpr std::size_t kDefaultScreenK = 60;
 inline constexpr int kDefaultScreenSamples = 10;
+// Confirmation (RobustRankingParams::confirm_samples): the best kConfirmCandidatesPerScored x top_k
+// by screening get this many more screening samples before the top_k are chosen.
+inline constexpr int kDefaultConfirmSamples = 10;
+inline constexpr std::size_t kConfirmCandidatesPerScored = 2;
 
 inline RobustnessParams defaultRankingRobustness() {
   RobustnessParams params;
@@ -68,6 +72,15 @@ struct RobustRankingParams {
   // first (a preshape's better grasp before another preshape's next one), not the larger epsilon:
   // ties then spread the scored grasps over the preshapes, which is what taking turns is for.
   std::optional<ScreenCandidates> screen_candidates;
+  // Confirmation (0: none): screening picks the best kConfirmCandidatesPerScored x top_k, each of
+  // them runs confirm_samples more screening samples (the same stream's next ones), and the top_k
+  // are chosen by all of their screening samples (ties: the screening's order). Why: from 10
+  // samples a grasp that holds in 7 of 10 executions shows 10 of 10 one time in 35, so among 60
+  // candidates the best by screening include lucky ones; a second look at the contenders only
+  // costs a fraction of screening every candidate with more samples, and takes most of its gain
+  // (docs/results.md, "Confirming the screening's choice"). Unset: the hand's ranking budget (its
+  // "confirm_samples"), else kDefaultConfirmSamples. Applies only when screening runs.
+  std::optional<int> confirm_samples;
   // How screening saves samples without changing its choice: the top_k chosen, their order and
   // their screening r are those of full screening (kNone) under every setting (tested); only
   // which of the other candidates get a full screening r differs (the rest rank by pre-score, as
@@ -91,12 +104,12 @@ struct RankingBudgetUsed {
   int screen_samples = kDefaultScreenSamples;
   double search_below_r = kDefaultSearchBelowR;
   ScreenCandidates screen_candidates = kDefaultScreenCandidates;
+  int confirm_samples = kDefaultConfirmSamples;
 };
 
-// Each of params' unset screen_k, screen_samples, screen_candidates and refinement.search_below_r
-// from a hand's
-// ranking budget (HandModel::rankingBudget(); none: {}), else from the defaults. The one rule
-// (rankByRobustness applies it itself).
+// Each of params' unset screen_k, screen_samples, screen_candidates, confirm_samples and
+// refinement.search_below_r from a hand's ranking budget (HandModel::rankingBudget(); none: {}),
+// else from the defaults. The one rule (rankByRobustness applies it itself).
 RankingBudgetUsed rankingBudgetFor(const RobustRankingParams& params,
                                    const grasping::RankingBudget& hand_budget = {});
 
@@ -110,6 +123,8 @@ struct RobustRankingResult {
   // Candidates that ran every screening sample (0 without screening); with best-first screening
   // this count, and screen_pruned, may depend on the thread count (the grasps returned do not).
   std::size_t screened = 0;
+  // Screened candidates that ran the confirmation's samples too (0 without confirmation).
+  std::size_t confirmed = 0;
   std::size_t screen_pruned = 0;  // candidates whose screening stopped short (screening_pruning)
   std::size_t scored = 0;         // grasps that got a robustness
   std::size_t refined = 0;        // scored grasps replaced by a more robust pose
@@ -123,11 +138,14 @@ struct RobustRankingResult {
 // scores the best `params.top_k` of them by robustness and re-ranks all grasps:
 //  * pre-score = epsilon x trust[i] (trust empty: 1; scans: 1 - w + w x observed contact ratio);
 //  * screening score = screening r x trust[i]; the top_k by it (ties: the earlier candidate, in
-//    pre-score order or, with preshapes in turn, in turn order) are scored;
+//    pre-score order or, with preshapes in turn, in turn order) are scored; with a confirmation
+//    (budget confirm_samples > 0) the best kConfirmCandidatesPerScored x top_k by it run that many
+//    more screening samples, their screening r is over all their samples, and the top_k are
+//    chosen from them (ties: the first screening's order);
 //  * rank score of a scored grasp = r x trust[i]; of a screened one that is not scored = its
-//    screening score (kInOrder or kNone; best-first screening gives none, so those rank by
-//    pre-score); of the others (beyond screen_k, screening pruned, or ranking disabled) = its
-//    pre-score;
+//    screening score (the confirmed ones; with kInOrder or kNone the others too; best-first
+//    screening gives the others none, so those rank by pre-score); of the others (beyond screen_k,
+//    screening pruned, or ranking disabled) = its pre-score;
 //  * refinement (params.refinement.enabled): of the best params.refinement.max_grasps scored
 //    grasps by rank score, those with r below the budget's search_below_r are searched for
 //    more robust poses (robust_refinement.h, own stream
@@ -136,9 +154,9 @@ struct RobustRankingResult {
 //    scored on the scoring samples; its rank score is r x trust[i] of the input grasp (the caller
 //    may recompute the trust of a moved grasp's contacts). Every searched grasp's robustness
 //    records the search and the check (GraspRobustness::refinement);
-//  * order: scored grasps first by rank score, ties by pre-score; then the screened ones (not with
-//    best-first screening), then the rest, each by rank score (the planner's order when trust is
-//    empty). The sort is stable.
+//  * order: scored grasps first by rank score, ties by pre-score; then the screened ones (with
+//    best-first screening the confirmed ones only), then the rest, each by rank score (the
+//    planner's order when trust is empty). The sort is stable.
 // Only scored grasps carry a robustness (Grasp::robustness): the screening r, from a handful of
 // samples, is used for choosing and not reported.
 // Common random numbers: every grasp is scored with evaluateRobustness(..., grasp_index = 0) and

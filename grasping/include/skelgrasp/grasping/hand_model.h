@@ -140,6 +140,7 @@ struct RankingBudget {
   std::optional<double> refine_below_r;      // scored grasps searched for a more robust pose: r
                                              // below this, in [0, 1]
   std::optional<ScreenCandidates> screen_candidates;  // the description's "screen_by"
+  std::optional<int> confirm_samples;  // more screening samples for the contenders (>= 0)
 };
 
 class HandModel {
