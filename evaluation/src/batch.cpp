@@ -302,6 +302,8 @@ void checkBatchParams(const BatchParams& p) {
   if (p.ranking.enabled && (p.ranking.robustness.samples < 1 ||
                             (p.ranking.screen_samples && *p.ranking.screen_samples < 1)))
     throw InvalidArgument("robust ranking needs at least one sample and one screening sample");
+  if (p.ranking.enabled && p.ranking.confirm_samples && *p.ranking.confirm_samples < 0)
+    throw InvalidArgument("robust ranking: confirm_samples must be >= 0");
 }
 
 // The files a batch writes into its directory (and nothing else there).

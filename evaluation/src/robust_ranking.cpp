@@ -329,7 +329,7 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
     throw InvalidArgument("robust ranking: need at least one robustness sample");
   if (params.enabled && params.screen_samples && *params.screen_samples < 1)
     throw InvalidArgument("robust ranking: need at least one screening sample");
-  if (params.confirm_samples && *params.confirm_samples < 0)
+  if (params.enabled && params.confirm_samples && *params.confirm_samples < 0)
     throw InvalidArgument("robust ranking: confirm_samples must be >= 0");
   if (params.friction && !(std::isfinite(*params.friction) && *params.friction >= 0))
     throw InvalidArgument("robust ranking: friction must be finite and >= 0");
@@ -451,10 +451,10 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
   }
   out.time_s = watch.seconds();
   log().debug(
-      "robust ranking: {} of {} grasps screened ({} pruned), {} scored, {} refined in {:.2f} s "
-      "(screening {:.2f} s, scoring {:.2f} s, refinement {:.2f} s)",
-      out.screened, n, out.screen_pruned, out.scored, out.refined, out.time_s, out.screening_s,
-      out.scoring_s, out.refinement_s);
+      "robust ranking: {} of {} grasps screened ({} pruned, {} confirmed), {} scored, {} refined "
+      "in {:.2f} s (screening {:.2f} s, scoring {:.2f} s, refinement {:.2f} s)",
+      out.screened, n, out.screen_pruned, out.confirmed, out.scored, out.refined, out.time_s,
+      out.screening_s, out.scoring_s, out.refinement_s);
   return out;
 }
 

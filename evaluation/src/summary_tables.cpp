@@ -21,7 +21,7 @@ std::string screeningWords(const std::string& screen_by) {
 // The confirmation of the screening's choice, in words, from batch.json's "confirm_samples" (an
 // older batch has none: it confirmed nothing).
 std::string confirmationWords(int confirm_samples, std::size_t top_k) {
-  if (confirm_samples <= 0) return "";
+  if (confirm_samples <= 0 || top_k == 0) return "";
   return fmt::format(", the best {} of them confirmed with {} more",
                      kConfirmCandidatesPerScored * top_k, confirm_samples);
 }

@@ -3,12 +3,14 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <limits>
 #include <map>
 #include <numeric>
 #include <random>
+#include <set>
 #include <utility>
 
 #include "planned_object.h"
@@ -98,9 +100,11 @@ TEST(RobustRanking, ScreeningChoosesTheScoredGraspsByAScreeningROnItsOwnSamples)
   params.refinement.enabled = false;
   params.screening_pruning = ScreeningPruning::kNone;
   params.screen_candidates = ScreenCandidates::kByPreScore;
+  params.confirm_samples = 0;  // the choice by the first look alone (confirmation: below)
   const auto result =
       rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params);
   EXPECT_EQ(result.screened, 6u);
+  EXPECT_EQ(result.confirmed, 0u);
   ASSERT_EQ(result.scored, 2u);
   grasping::GraspSimulator sim(p.hand, *p.object);
   const RobustnessParams rp = judgedAs(p, params);
@@ -137,6 +141,70 @@ TEST(RobustRanking, ScreeningChoosesTheScoredGraspsByAScreeningROnItsOwnSamples)
   EXPECT_EQ(
       rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params).screened, 0u);
   params.screen_samples = 0;
+  EXPECT_THROW(rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params),
+               InvalidArgument);
+}
+
+// Confirmation, checked against an independent count: the best 2 x top_k by the first look (ties:
+// the earlier candidate) run the confirmation's samples, the top_k scored are the best of them by
+// all their screening samples, the other confirmed rank by that score and the rest of the screened
+// by the first look's. A larger pose error than the paper's spreads the r apart.
+TEST(RobustRanking, ConfirmationChoosesTheScoredGraspsByAllTheirScreeningSamples) {
+  const Planned& p = cylinder();
+  ASSERT_GE(p.plan.grasps.size(), 6u);
+  auto params = fewSamples(12, 2);
+  params.screen_k = 6;
+  params.screen_samples = 8;
+  params.confirm_samples = 4;
+  params.robustness.seed = 3;
+  params.robustness.position_sigma_m = 0.03;
+  params.robustness.orientation_sigma_rad = 0.3;
+  params.refinement.enabled = false;
+  params.screening_pruning = ScreeningPruning::kNone;
+  params.screen_candidates = ScreenCandidates::kByPreScore;
+  const auto result =
+      rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params);
+  ASSERT_EQ(result.scored, 2u);
+  EXPECT_EQ(result.confirmed, 4u);
+  EXPECT_EQ(result.budget.confirm_samples, 4);
+
+  // The candidates: the six best by epsilon, the planner's order on ties.
+  std::vector<std::size_t> candidates(p.plan.grasps.size());
+  std::iota(candidates.begin(), candidates.end(), 0);
+  std::stable_sort(candidates.begin(), candidates.end(), [&](std::size_t a, std::size_t b) {
+    return p.plan.grasps[a].epsilon > p.plan.grasps[b].epsilon;
+  });
+  candidates.resize(6);
+  grasping::GraspSimulator sim(p.hand, *p.object);
+  RobustnessParams first = judgedAs(p, params), all = first;
+  first.samples = 8;
+  all.samples = 12;
+  std::map<std::size_t, double> first_r, all_r;
+  for (std::size_t i : candidates) {
+    first_r[i] = evaluateRobustness(sim, p.plan.grasps[i], first, 1).score;
+    all_r[i] = evaluateRobustness(sim, p.plan.grasps[i], all, 1).score;
+  }
+  std::vector<std::size_t> confirmed = candidates;
+  std::stable_sort(confirmed.begin(), confirmed.end(),
+                   [&](std::size_t a, std::size_t b) { return first_r[a] > first_r[b]; });
+  confirmed.resize(4);
+  std::vector<std::size_t> scored = confirmed;
+  std::stable_sort(scored.begin(), scored.end(),
+                   [&](std::size_t a, std::size_t b) { return all_r[a] > all_r[b]; });
+  scored.resize(2);
+  std::set<std::size_t> returned_scored = {result.order[0], result.order[1]};
+  EXPECT_EQ(returned_scored, std::set<std::size_t>(scored.begin(), scored.end()));
+  for (std::size_t rank = 2; rank < result.order.size(); ++rank) {
+    const std::size_t i = result.order[rank];
+    if (!first_r.count(i)) continue;  // not a candidate: ranks by epsilon
+    const bool was_confirmed = std::find(confirmed.begin(), confirmed.end(), i) != confirmed.end();
+    EXPECT_DOUBLE_EQ(result.scores[rank], was_confirmed ? all_r[i] : first_r[i]) << rank;
+  }
+  // The first look and all samples disagree somewhere, so the check above has teeth.
+  bool differ = false;
+  for (std::size_t i : candidates) differ = differ || first_r[i] != all_r[i];
+  EXPECT_TRUE(differ);
+  params.confirm_samples = -1;
   EXPECT_THROW(rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params),
                InvalidArgument);
 }

@@ -28,9 +28,10 @@ struct PlanTiming {
 PlanTiming planTimingOf(const skeleton::SkeletonTimings* skeleton, double planning_s,
                         double ranking_s);
 
-// {"screened", "screen_pruned", "scored", "refined", "screening_s", "scoring_s", "refinement_s"}
-// of a ranking (RobustRankingResult's members of those names), and "budget": {"screen_grasps",
-// "screen_samples", "screen_by", "refine_below_r"} (RankingBudgetUsed: what it ran with).
+// {"screened", "screen_pruned", "confirmed", "scored", "refined", "screening_s", "scoring_s",
+// "refinement_s"} of a ranking (RobustRankingResult's members of those names), and "budget":
+// {"screen_grasps", "screen_samples", "screen_by", "confirm_samples", "refine_below_r"}
+// (RankingBudgetUsed: what it ran with, or would have where no screening ran).
 nlohmann::json rankingRecordJson(const RobustRankingResult& ranking);
 
 // {"regularise_s", "skeleton_s" (null without a skeleton), "planning_s", "ranking_s", "total_s"}.

@@ -33,13 +33,15 @@ inline RobustnessParams defaultRankingRobustness() {
 
 enum class ScreeningPruning {
   kNone,  // every candidate gets its full screening r
-  // Candidates in pre-score order; once top_k are screened, a later one must hold in more samples
-  // than the lowest of the best top_k so far (ties go to the earlier candidate), and its samples
-  // stop when too many have failed for that (the default until 2026-11-28).
+  // Candidates in pre-score order; once top_k (with a confirmation: the count it confirms, here
+  // and below) are screened, a later one must hold in more samples than the lowest of the best
+  // top_k so far (ties go to the earlier candidate), and its samples stop when too many have
+  // failed for that (the default until 2026-11-28).
   kInOrder,
   // One sample at a time, always of the candidate whose score could still be highest (holds so
   // far plus samples left; ties to the earlier candidate); a candidate whose samples are all run
-  // and whose score is at least every other's bound is chosen. Stops when top_k are chosen.
+  // and whose score is at least every other's bound is chosen. Stops when top_k (with a
+  // confirmation: the count it confirms) are chosen.
   kBestFirst,
 };
 
@@ -57,8 +59,8 @@ struct RobustRankingParams {
   // The grasps scored: the best top_k by the screening (below); 0 scores all of them.
   std::size_t top_k = kDefaultRobustTopK;
   // Screening: screen_k grasps (0: all of them; which ones: screen_candidates, by the pre-score
-  // epsilon x trust) get a
-  // cheap r from screen_samples perturbed executions, and the top_k are chosen by it. The
+  // epsilon x trust) get a cheap r from screen_samples perturbed executions, and the top_k are
+  // chosen by it (or by the confirmation, confirm_samples below). The
   // pre-score alone says little about robustness (epsilon favours fingertip pinches that fall
   // apart under pose error), so screening more candidates than are scored is what lifts the r of
   // the returned grasps. No screening when screen_k (0 read as all) is at most top_k.
@@ -81,10 +83,11 @@ struct RobustRankingParams {
   // (docs/results.md, "Confirming the screening's choice"). Unset: the hand's ranking budget (its
   // "confirm_samples"), else kDefaultConfirmSamples. Applies only when screening runs.
   std::optional<int> confirm_samples;
-  // How screening saves samples without changing its choice: the top_k chosen, their order and
-  // their screening r are those of full screening (kNone) under every setting (tested); only
-  // which of the other candidates get a full screening r differs (the rest rank by pre-score, as
-  // unscreened grasps do). `skelgrasp bench ranking` compares them.
+  // How screening saves samples without changing its choice: the top_k chosen (with a
+  // confirmation: the candidates confirmed), their order and their screening r are those of full
+  // screening (kNone) under every setting (tested); only which of the other candidates get a full
+  // screening r differs (the rest rank by pre-score, as unscreened grasps do). `skelgrasp bench
+  // ranking` compares them.
   ScreeningPruning screening_pruning = ScreeningPruning::kBestFirst;
   // Samples, variant, pose error sigmas and seed of r. Its `quality` and `closing` are NOT used:
   // r is judged as the planner judged the grasp (rankByRobustness's `planner` argument), with the
