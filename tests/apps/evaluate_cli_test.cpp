@@ -167,31 +167,37 @@ TEST(EvaluateCli, RecordsEachHandsOwnRankingBudget) {
   resumed = runCli(args, dir);
   EXPECT_EQ(resumed.exit_code, 0) << resumed.err;
   EXPECT_NE(resumed.out.find("already done"), std::string::npos) << resumed.out;
-  // A batch from before screening took the preshapes in turn (no screen_by anywhere) screened by
-  // epsilon: it does not resume into the default, and resumes with --robustness-screen-by epsilon.
-  batch = written;
-  batch["options"]["ranking"].erase("screen_by");
-  batch["options"]["ranking"]["hand_budgets"]["shadow"].erase("screen_by");
-  std::ofstream(out + "/batch.json") << batch.dump(2);
-  resumed = runCli(args, dir);
-  EXPECT_EQ(resumed.exit_code, 2) << resumed.err;
-  EXPECT_NE(resumed.err.find("screen_by"), std::string::npos) << resumed.err;
-  resumed = runCli(args + " --robustness-screen-by epsilon", dir);
-  EXPECT_EQ(resumed.exit_code, 0) << resumed.err;
-  EXPECT_NE(resumed.out.find("already done"), std::string::npos) << resumed.out;
-  // A batch from before the screening's contenders were confirmed (no confirm_samples anywhere)
-  // does not resume into the default, and resumes with --robustness-confirm-samples 0.
-  batch = written;
-  batch["options"]["ranking"].erase("confirm_samples");
-  batch["options"]["ranking"]["hand_budgets"]["shadow"].erase("confirm_samples");
-  batch["options"]["ranking"]["hand_budgets"].erase("sdh");
-  std::ofstream(out + "/batch.json") << batch.dump(2);
-  resumed = runCli(args, dir);
-  EXPECT_EQ(resumed.exit_code, 2) << resumed.err;
-  EXPECT_NE(resumed.err.find("confirm_samples"), std::string::npos) << resumed.err;
-  resumed = runCli(args + " --robustness-confirm-samples 0", dir);
-  EXPECT_EQ(resumed.exit_code, 0) << resumed.err;
-  EXPECT_NE(resumed.out.find("already done"), std::string::npos) << resumed.out;
+  // A batch from before a ranking option was recorded (`forget` takes its record out of the
+  // ranking's options) does not resume into the default, the refusal naming `key`, and resumes
+  // with `old_ranking`, the option that gives the ranking it was started with.
+  const auto expectOldBatchResumesOnlyWith = [&](const auto& forget, const std::string& key,
+                                                 const std::string& old_ranking) {
+    auto old = written;
+    forget(old["options"]["ranking"]);
+    std::ofstream(out + "/batch.json") << old.dump(2);
+    CliRun again = runCli(args, dir);
+    EXPECT_EQ(again.exit_code, 2) << again.err;
+    EXPECT_NE(again.err.find(key), std::string::npos) << again.err;
+    again = runCli(args + " " + old_ranking, dir);
+    EXPECT_EQ(again.exit_code, 0) << again.err;
+    EXPECT_NE(again.out.find("already done"), std::string::npos) << again.out;
+  };
+  // Before screening took the preshapes in turn (no screen_by anywhere) it screened by epsilon.
+  expectOldBatchResumesOnlyWith(
+      [](nlohmann::json& ranking) {
+        ranking.erase("screen_by");
+        ranking["hand_budgets"]["shadow"].erase("screen_by");
+      },
+      "screen_by", "--robustness-screen-by epsilon");
+  // Before the screening's contenders were confirmed (no confirm_samples anywhere, and no SDH
+  // budget) nothing was confirmed.
+  expectOldBatchResumesOnlyWith(
+      [](nlohmann::json& ranking) {
+        ranking.erase("confirm_samples");
+        ranking["hand_budgets"]["shadow"].erase("confirm_samples");
+        ranking["hand_budgets"].erase("sdh");
+      },
+      "confirm_samples", "--robustness-confirm-samples 0");
 }
 
 TEST(EvaluateCli, ABatchKilledMidwayResumesToTheUninterruptedResults) {
