@@ -299,11 +299,7 @@ void checkBatchParams(const BatchParams& p) {
     nonNegative(*p.quality.torsional_friction_m, "torsional friction");
   if (p.quality.cone_edges < 3) throw InvalidArgument("friction cones need at least 3 edges");
   if (p.robustness.samples < 1) throw InvalidArgument("robustness needs at least one sample");
-  if (p.ranking.enabled && (p.ranking.robustness.samples < 1 ||
-                            (p.ranking.screen_samples && *p.ranking.screen_samples < 1)))
-    throw InvalidArgument("robust ranking needs at least one sample and one screening sample");
-  if (p.ranking.enabled && p.ranking.confirm_samples && *p.ranking.confirm_samples < 0)
-    throw InvalidArgument("robust ranking: confirm_samples must be >= 0");
+  checkRobustRankingParams(p.ranking);
 }
 
 // The files a batch writes into its directory (and nothing else there).

@@ -312,6 +312,19 @@ RankingBudgetUsed rankingBudgetFor(const RobustRankingParams& params,
   return used;
 }
 
+void checkRobustRankingParams(const RobustRankingParams& params) {
+  if (params.enabled && params.robustness.samples < 1)
+    throw InvalidArgument("robust ranking: need at least one robustness sample");
+  if (params.enabled && params.screen_samples && *params.screen_samples < 1)
+    throw InvalidArgument("robust ranking: need at least one screening sample");
+  if (params.enabled && params.confirm_samples && *params.confirm_samples < 0)
+    throw InvalidArgument("robust ranking: confirm_samples must be >= 0");
+  if (params.friction && !(std::isfinite(*params.friction) && *params.friction >= 0))
+    throw InvalidArgument("robust ranking: friction must be finite and >= 0");
+  if (const auto& bar = params.refinement.search_below_r; bar && !(*bar >= 0 && *bar <= 1))
+    throw InvalidArgument("robust ranking: refinement's search_below_r must be in [0, 1]");
+}
+
 RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
                                      const grasping::GraspObject& object,
                                      std::vector<grasping::Grasp> grasps,
@@ -325,16 +338,7 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
     if (!(std::isfinite(t) && t >= 0))
       throw InvalidArgument("robust ranking: trust factors must be finite and >= 0");
   }
-  if (params.enabled && params.robustness.samples < 1)
-    throw InvalidArgument("robust ranking: need at least one robustness sample");
-  if (params.enabled && params.screen_samples && *params.screen_samples < 1)
-    throw InvalidArgument("robust ranking: need at least one screening sample");
-  if (params.enabled && params.confirm_samples && *params.confirm_samples < 0)
-    throw InvalidArgument("robust ranking: confirm_samples must be >= 0");
-  if (params.friction && !(std::isfinite(*params.friction) && *params.friction >= 0))
-    throw InvalidArgument("robust ranking: friction must be finite and >= 0");
-  if (const auto& bar = params.refinement.search_below_r; bar && !(*bar >= 0 && *bar <= 1))
-    throw InvalidArgument("robust ranking: refinement's search_below_r must be in [0, 1]");
+  checkRobustRankingParams(params);
   Stopwatch watch;
   RobustRankingResult out;
   out.enabled = params.enabled;

@@ -58,10 +58,28 @@ TEST_F(BatchTest, ShardsTogetherGiveExactlyTheUnshardedResults) {
 }
 
 TEST_F(BatchTest, RejectsBadParameters) {
-  auto p = params(test::tempDir("batch_bad"));
+  const std::string dir = test::tempDir("batch_bad");
+  auto p = params(dir);
   p.shard_index = 2;
   p.shard_count = 2;
   EXPECT_THROW(runBatch(p), InvalidArgument);
+  // The ranking's own mistakes are refused before any work starts, as the ranking refuses them
+  // (checkRobustRankingParams): nothing is written.
+  const auto bad_rankings = {
+      +[](RobustRankingParams& r) { r.confirm_samples = -1; },
+      +[](RobustRankingParams& r) { r.screen_samples = 0; },
+      +[](RobustRankingParams& r) { r.robustness.samples = 0; },
+      +[](RobustRankingParams& r) { r.refinement.search_below_r = 1.5; },
+      +[](RobustRankingParams& r) { r.friction = -0.1; },
+  };
+  for (const auto spoil : bad_rankings) {
+    auto q = params(dir);
+    q.ranking.enabled = true;
+    spoil(q.ranking);
+    EXPECT_THROW(runBatch(q), InvalidArgument);
+    EXPECT_FALSE(std::filesystem::exists(dir + "/batch.json"));
+    EXPECT_FALSE(std::filesystem::exists(dir + "/runs.jsonl"));
+  }
 }
 
 TEST(PlannerTest, NamesRoundTripAndUnknownNamesAreRefused) {

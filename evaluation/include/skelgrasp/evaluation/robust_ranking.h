@@ -110,6 +110,12 @@ struct RankingBudgetUsed {
   int confirm_samples = kDefaultConfirmSamples;
 };
 
+// Throws InvalidArgument for a caller's mistake in `params`: fewer than one robustness or
+// screening sample, confirm_samples below 0 (these only when ranking is enabled), a friction that
+// is not a finite number >= 0, or the refinement's search_below_r outside [0, 1]. rankByRobustness
+// checks its params with it; a batch checks its ranking with it before any work starts.
+void checkRobustRankingParams(const RobustRankingParams& params);
+
 // Each of params' unset screen_k, screen_samples, screen_candidates, confirm_samples and
 // refinement.search_below_r from a hand's ranking budget (HandModel::rankingBudget(); none: {}),
 // else from the defaults. The one rule (rankByRobustness applies it itself).
