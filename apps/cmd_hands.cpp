@@ -49,7 +49,10 @@ std::string rankingBudget(const grasping::HandModel& hand) {
   return fmt::format(
       "{}x{}{}{}, r<{:g}", used.screen_k, used.screen_samples,
       used.confirm_samples > 0 ? fmt::format("+{}", used.confirm_samples) : std::string(),
-      used.screen_candidates == evaluation::ScreenCandidates::kByPreScore ? " by eps" : "",
+      used.screen_candidates == evaluation::ScreenCandidates::kByPreScore ? " by eps"
+      : used.screen_candidates == evaluation::ScreenCandidates::kPreshapesInTurnByTravel
+          ? " by travel"
+          : "",
       used.search_below_r);
 }
 

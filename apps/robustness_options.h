@@ -71,12 +71,16 @@ inline CLI::Option* addScreenByOption(CLI::App& cmd, std::optional<std::string>&
   return cmd
       .add_option("--robustness-screen-by", screen_by,
                   fmt::format("Which grasps are screened: preshapes (each preshape's best by "
-                              "epsilon in turn, so every preshape the planner closed is screened) "
-                              "or epsilon (the best by epsilon over all); only when screening "
-                              "runs (default: the hand's ranking budget, else {})",
+                              "epsilon in turn, so every preshape the planner closed is screened), "
+                              "travel (each preshape's in turn too, but its grasps by their least "
+                              "finger travel from the preshape, the largest first) or epsilon (the "
+                              "best by epsilon over all); only when screening runs (default: the "
+                              "hand's ranking budget, else {})",
                               evaluation::toString(evaluation::kDefaultScreenCandidates)))
-      ->check(CLI::IsMember({evaluation::toString(evaluation::ScreenCandidates::kPreshapesInTurn),
-                             evaluation::toString(evaluation::ScreenCandidates::kByPreScore)}));
+      ->check(CLI::IsMember(
+          {evaluation::toString(evaluation::ScreenCandidates::kPreshapesInTurn),
+           evaluation::toString(evaluation::ScreenCandidates::kPreshapesInTurnByTravel),
+           evaluation::toString(evaluation::ScreenCandidates::kByPreScore)}));
 }
 
 // The option's value as the ranking's parameter (unset stays unset: the hand's).

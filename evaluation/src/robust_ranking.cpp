@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numeric>
 #include <optional>
@@ -275,7 +276,33 @@ std::vector<std::size_t> preshapesInTurn(const std::vector<grasping::Grasp>& gra
   return in_turn;
 }
 
+// `candidates` with the larger least finger travel first (stable: pre-score order on ties).
+void sortByLeastFingerTravel(const grasping::HandModel& hand,
+                             const std::vector<grasping::Grasp>& grasps,
+                             std::vector<std::size_t>& candidates) {
+  std::vector<std::pair<double, std::size_t>> keyed;
+  keyed.reserve(candidates.size());
+  for (std::size_t i : candidates) keyed.emplace_back(leastFingerTravel(hand, grasps[i]), i);
+  std::stable_sort(keyed.begin(), keyed.end(),
+                   [](const auto& a, const auto& b) { return a.first > b.first; });
+  for (std::size_t k = 0; k < keyed.size(); ++k) candidates[k] = keyed[k].second;
+}
+
 }  // namespace
+
+double leastFingerTravel(const grasping::HandModel& hand, const grasping::Grasp& grasp) {
+  const Eigen::VectorXd& open = hand.preshape(grasp.preshape).joints;
+  if (grasp.joints.size() != open.size())
+    throw InvalidArgument("least finger travel: the grasp's joints are not the hand's");
+  double least = std::numeric_limits<double>::infinity();
+  for (const auto& finger : hand.fingers()) {
+    double travel = 0;
+    for (const auto& drive : finger.drives)
+      travel += std::abs(grasp.joints[drive.joint] - open[drive.joint]);
+    least = std::min(least, travel);
+  }
+  return hand.fingers().empty() ? 0.0 : least;
+}
 
 grasping::GraspRobustness graspRobustness(const RobustnessResult& result,
                                           const RobustnessParams& params) {
@@ -371,7 +398,9 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
     for (std::size_t i : by_pre)
       if (!grasps[i].contacts.empty()) candidates.push_back(i);
     if (screen_k > top_k) {
-      if (out.budget.screen_candidates == ScreenCandidates::kPreshapesInTurn)
+      if (out.budget.screen_candidates == ScreenCandidates::kPreshapesInTurnByTravel)
+        sortByLeastFingerTravel(hand, grasps, candidates);
+      if (out.budget.screen_candidates != ScreenCandidates::kByPreScore)
         candidates = preshapesInTurn(grasps, candidates);
       if (candidates.size() > screen_k) candidates.resize(screen_k);
       const Stopwatch screen_watch;

@@ -14,8 +14,11 @@ double robustnessThroughput(std::size_t grasps, double seconds) {
 // How screening chose its candidates, in words, from batch.json's "screen_by" (an older batch has
 // none: it screened the best by epsilon).
 std::string screeningWords(const std::string& screen_by) {
-  return screen_by == toString(ScreenCandidates::kPreshapesInTurn) ? "each preshape's best in turn"
-                                                                   : "the best by epsilon";
+  if (screen_by == toString(ScreenCandidates::kPreshapesInTurn))
+    return "each preshape's best in turn";
+  if (screen_by == toString(ScreenCandidates::kPreshapesInTurnByTravel))
+    return "each preshape's best by finger travel in turn";
+  return "the best by epsilon";
 }
 
 // The confirmation of the screening's choice, in words, from batch.json's "confirm_samples" (an

@@ -184,7 +184,9 @@ void HandModel::setDescription(std::vector<Finger> fingers, std::vector<int> pal
 ScreenCandidates parseScreenCandidates(const std::string& text) {
   if (text == "epsilon") return ScreenCandidates::kByPreScore;
   if (text == "preshapes") return ScreenCandidates::kPreshapesInTurn;
-  throw InvalidArgument("unknown screening candidates '" + text + "' (use epsilon or preshapes)");
+  if (text == "travel") return ScreenCandidates::kPreshapesInTurnByTravel;
+  throw InvalidArgument("unknown screening candidates '" + text +
+                        "' (use epsilon, preshapes or travel)");
 }
 
 const char* toString(ScreenCandidates candidates) {
@@ -193,6 +195,8 @@ const char* toString(ScreenCandidates candidates) {
       return "epsilon";
     case ScreenCandidates::kPreshapesInTurn:
       return "preshapes";
+    case ScreenCandidates::kPreshapesInTurnByTravel:
+      return "travel";
   }
   return "?";
 }

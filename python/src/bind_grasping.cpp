@@ -307,7 +307,8 @@ or 'surface' (surface-normal baseline). Deterministic for a seed. The defaults a
 SkeletonPlannerParams / SurfacePlannerParams (no time limit: ``timeout_s=0``; the command line
 sets 30 s) and RobustRankingParams. ``max_hypotheses`` is the surface planner's. Robust ranking
 (docs/planning.md): ``robustness_screen`` grasps (0: all), each preshape's best by epsilon in turn
-(``robustness_screen_by='preshapes'``; 'epsilon': the best by epsilon over all) are screened with a
+(``robustness_screen_by='preshapes'``; 'travel': each preshape's by least finger travel in turn;
+'epsilon': the best by epsilon over all) are screened with a
 cheap r from ``robustness_screen_samples`` executions each (None, for any of the three: the hand's
 ranking budget, 60, 'preshapes' and 10 unless its description says otherwise; the Shadow hand's 40,
 'epsilon' and 8); the best 2 x ``robustness_top_k`` of those run ``robustness_confirm_samples``

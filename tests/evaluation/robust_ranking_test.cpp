@@ -296,6 +296,8 @@ TEST(RobustRanking, PrunedScreeningChoosesTheGraspsFullScreeningChooses) {
       expectPruningChoosesAsFullScreening(p, {}, ScreenCandidates::kPreshapesInTurn, 0, what);
       expectPruningChoosesAsFullScreening(p, {}, ScreenCandidates::kPreshapesInTurn,
                                           kDefaultConfirmSamples, what + " confirmed");
+      expectPruningChoosesAsFullScreening(p, {}, ScreenCandidates::kPreshapesInTurnByTravel, 0,
+                                          what + " by travel");
       // Trust factors between 0.5 and 1 (seeded): the bar is on r x trust.
       std::mt19937 rng(11);
       std::uniform_real_distribution<double> factor(0.5, 1.0);
@@ -319,6 +321,33 @@ TEST(RobustRanking, PrunedScreeningChoosesTheGraspsFullScreeningChooses) {
   // Each pruning happens at all on these objects (else the comparison above says nothing).
   EXPECT_GT(pruned_any, 0u);
   EXPECT_GT(best_first_pruned_any, 0u);
+}
+
+// The least finger travel is the smallest, over the fingers, of the summed joint change of a
+// finger's drives from the preshape: 0 for a grasp closed where it opened, and the thumb's 0.25 rad
+// here, where the other two fingers travelled 0.3 and 0.4 rad.
+TEST(RobustRanking, LeastFingerTravelIsTheSmallestFingerTravelFromThePreshape) {
+  const grasping::HandModel sdh = grasping::resolveHand("sdh");
+  grasping::Grasp grasp;
+  grasp.preshape = "power";
+  grasp.joints = sdh.preshape("power").joints;
+  EXPECT_EQ(leastFingerTravel(sdh, grasp), 0.0);
+  std::map<std::string, const grasping::Finger*> fingers;
+  for (const auto& finger : sdh.fingers()) fingers[finger.name] = &finger;
+  ASSERT_EQ(fingers.size(), 3u);
+  for (const char* name : {"finger1", "finger2", "thumb"}) {
+    ASSERT_TRUE(fingers.count(name)) << name;
+    ASSERT_EQ(fingers[name]->drives.size(), 2u) << name;  // proximal, distal
+  }
+  grasp.joints[fingers["finger1"]->drives[0].joint] += 0.3;
+  grasp.joints[fingers["finger2"]->drives[0].joint] -= 0.2;  // a change either way is travel
+  grasp.joints[fingers["finger2"]->drives[1].joint] += 0.2;
+  grasp.joints[fingers["thumb"]->drives[1].joint] += 0.25;
+  EXPECT_NEAR(leastFingerTravel(sdh, grasp), 0.25, 1e-12);
+  grasp.joints.conservativeResize(grasp.joints.size() - 1);
+  EXPECT_THROW(leastFingerTravel(sdh, grasp), InvalidArgument);
+  grasp.preshape = "no such preshape";
+  EXPECT_THROW(leastFingerTravel(sdh, grasp), InvalidArgument);
 }
 
 TEST(RobustRanking, DisabledKeepsTheEpsilonOrderWithoutRobustness) {

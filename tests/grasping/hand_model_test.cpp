@@ -297,6 +297,12 @@ TEST(HandModel, DescriptionsCarryTheirRankingBudget) {
   EXPECT_EQ(
       loadHand(urdf, withRanking("{\"screen_by\": \"epsilon\"}")).rankingBudget().screen_candidates,
       ScreenCandidates::kByPreScore);
+  EXPECT_EQ(
+      loadHand(urdf, withRanking("{\"screen_by\": \"travel\"}")).rankingBudget().screen_candidates,
+      ScreenCandidates::kPreshapesInTurnByTravel);
+  for (const auto candidates : {ScreenCandidates::kByPreScore, ScreenCandidates::kPreshapesInTurn,
+                                ScreenCandidates::kPreshapesInTurnByTravel})
+    EXPECT_EQ(parseScreenCandidates(toString(candidates)), candidates);
   EXPECT_EQ(loadHand(urdf, withRanking("{\"confirm_samples\": 6}")).rankingBudget().confirm_samples,
             6);
   const RankingBudget none = loadHand(urdf, withRanking("null")).rankingBudget();  // as absent
@@ -312,8 +318,10 @@ TEST(HandModel, DescriptionsCarryTheirRankingBudget) {
            {"{\"refine_below_r\": 1.5}", "ranking refine_below_r must be in [0, 1]"},
            {"{\"refine_below_r\": \"low\"}", "'refine_below_r' must be a number"},
            {"{\"screen_k\": 40}", "unknown key 'screen_k'"},
-           {"{\"screen_by\": \"random\"}", "'screen_by' must be \"preshapes\" or \"epsilon\""},
-           {"{\"screen_by\": true}", "'screen_by' must be \"preshapes\" or \"epsilon\""},
+           {"{\"screen_by\": \"random\"}",
+            "'screen_by' must be \"preshapes\", \"epsilon\" or \"travel\""},
+           {"{\"screen_by\": true}",
+            "'screen_by' must be \"preshapes\", \"epsilon\" or \"travel\""},
            {"{\"confirm_samples\": -1}", "'confirm_samples' must be a whole number in [0, "},
            {"{\"confirm_samples\": 2.5}", "'confirm_samples' must be a whole number in [0, "},
            {"[40]", "'ranking' must be an object"}}) {

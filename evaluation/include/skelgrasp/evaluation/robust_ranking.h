@@ -51,6 +51,14 @@ using grasping::parseScreenCandidates;
 using grasping::ScreenCandidates;
 using grasping::toString;
 
+// A clearance of a closed grasp (ScreenCandidates::kPreshapesInTurnByTravel's order): the least,
+// over the hand's fingers, of the finger's travel from the grasp's preshape to its closed
+// configuration, the summed absolute change of its drives' joints (radians for revolute joints).
+// A grasp whose every finger closed some way before it touched has room for a pose error; one
+// with a finger already at the object in the preshape has none. Throws InvalidArgument when the
+// grasp's joints are not the hand's or its preshape is unknown.
+double leastFingerTravel(const grasping::HandModel& hand, const grasping::Grasp& grasp);
+
 // Since 2026-11-29 (the Shadow hand's description keeps the best by epsilon, docs/hands.md).
 inline constexpr ScreenCandidates kDefaultScreenCandidates = ScreenCandidates::kPreshapesInTurn;
 
