@@ -41,19 +41,28 @@ std::string contactModel(const grasping::HandModel& hand) {
   return torsion_m > 0 ? fmt::format("soft {:.1f} mm", 1000 * torsion_m) : std::string("point");
 }
 
+// How a hand's screening takes its candidates, said only where it is not each preshape's best by
+// epsilon in turn (the default since 2026-11-29).
+const char* screenOrderSuffix(evaluation::ScreenCandidates candidates) {
+  switch (candidates) {
+    case evaluation::ScreenCandidates::kPreshapesInTurn:
+      return "";
+    case evaluation::ScreenCandidates::kByPreScore:
+      return " by eps";
+    case evaluation::ScreenCandidates::kPreshapesInTurnByTravel:
+      return " by travel";
+  }
+  return "";
+}
+
 // The robust ranking's budget for the hand unless options say otherwise: candidates screened x
 // samples each, and the r below which scored grasps are searched.
 std::string rankingBudget(const grasping::HandModel& hand) {
   const auto used = evaluation::rankingBudgetFor({}, hand.rankingBudget());
-  // Screening by epsilon over all is the exception since 2026-11-29: said only there.
   return fmt::format(
       "{}x{}{}{}, r<{:g}", used.screen_k, used.screen_samples,
       used.confirm_samples > 0 ? fmt::format("+{}", used.confirm_samples) : std::string(),
-      used.screen_candidates == evaluation::ScreenCandidates::kByPreScore ? " by eps"
-      : used.screen_candidates == evaluation::ScreenCandidates::kPreshapesInTurnByTravel
-          ? " by travel"
-          : "",
-      used.search_below_r);
+      screenOrderSuffix(used.screen_candidates), used.search_below_r);
 }
 
 int runHands() {
@@ -76,7 +85,8 @@ int runHands() {
                "point, or soft fingers with their torsional friction (--torsional-friction); "
                "ranking = the robust ranking's budget: candidates screened x samples each "
                "(+N: the contenders' confirmation samples; each preshape's best by epsilon in "
-               "turn, or \"by eps\": the best by epsilon over all), and the r below which scored "
+               "turn, \"by eps\": the best by epsilon over all, \"by travel\": each "
+               "preshape's by least finger travel in turn), and the r below which scored "
                "grasps are searched for a more robust pose (--robustness-screen, "
                "--robustness-screen-samples, --robustness-confirm-samples, "
                "--robustness-screen-by, --robust-refine-below-r); "

@@ -77,10 +77,7 @@ inline CLI::Option* addScreenByOption(CLI::App& cmd, std::optional<std::string>&
                               "best by epsilon over all); only when screening runs (default: the "
                               "hand's ranking budget, else {})",
                               evaluation::toString(evaluation::kDefaultScreenCandidates)))
-      ->check(CLI::IsMember(
-          {evaluation::toString(evaluation::ScreenCandidates::kPreshapesInTurn),
-           evaluation::toString(evaluation::ScreenCandidates::kPreshapesInTurnByTravel),
-           evaluation::toString(evaluation::ScreenCandidates::kByPreScore)}));
+      ->check(CLI::IsMember(grasping::screenCandidateNames()));
 }
 
 // The option's value as the ranking's parameter (unset stays unset: the hand's).

@@ -75,8 +75,7 @@ class DescriptionReader {
         if (!value.is_number()) fail("ranking: 'refine_below_r' must be a number");
         budget.refine_below_r = value.get<double>() + 0.0;  // -0 read as 0
       } else if (key == "screen_by") {
-        const char* problem =
-            "ranking: 'screen_by' must be \"preshapes\", \"epsilon\" or \"travel\"";
+        const std::string problem = "ranking: 'screen_by' must be " + screenCandidateChoices();
         if (!value.is_string()) fail(problem);
         try {
           budget.screen_candidates = parseScreenCandidates(value.get<std::string>());

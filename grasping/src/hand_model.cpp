@@ -1,6 +1,7 @@
 #include "skelgrasp/grasping/hand_model.h"
 
 #include <deque>
+#include <utility>
 
 #include "skelgrasp/common/error.h"
 
@@ -181,23 +182,45 @@ void HandModel::setDescription(std::vector<Finger> fingers, std::vector<int> pal
   }
 }
 
+namespace {
+// Every screening order with its name, in the order the names are offered: the one table the
+// parser, toString, the descriptions' and the command line's choices read.
+constexpr std::pair<ScreenCandidates, const char*> kScreenCandidateNames[] = {
+    {ScreenCandidates::kPreshapesInTurn, "preshapes"},
+    {ScreenCandidates::kByPreScore, "epsilon"},
+    {ScreenCandidates::kPreshapesInTurnByTravel, "travel"},
+};
+}  // namespace
+
+const std::vector<std::string>& screenCandidateNames() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> all;
+    for (const auto& [candidates, name] : kScreenCandidateNames) all.emplace_back(name);
+    return all;
+  }();
+  return names;
+}
+
+std::string screenCandidateChoices() {
+  const auto& names = screenCandidateNames();
+  std::string choices;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (i > 0) choices += i + 1 == names.size() ? " or " : ", ";
+    choices += "\"" + names[i] + "\"";
+  }
+  return choices;
+}
+
 ScreenCandidates parseScreenCandidates(const std::string& text) {
-  if (text == "epsilon") return ScreenCandidates::kByPreScore;
-  if (text == "preshapes") return ScreenCandidates::kPreshapesInTurn;
-  if (text == "travel") return ScreenCandidates::kPreshapesInTurnByTravel;
-  throw InvalidArgument("unknown screening candidates '" + text +
-                        "' (use epsilon, preshapes or travel)");
+  for (const auto& [candidates, name] : kScreenCandidateNames)
+    if (text == name) return candidates;
+  throw InvalidArgument("unknown screening candidates '" + text + "' (use " +
+                        screenCandidateChoices() + ")");
 }
 
 const char* toString(ScreenCandidates candidates) {
-  switch (candidates) {
-    case ScreenCandidates::kByPreScore:
-      return "epsilon";
-    case ScreenCandidates::kPreshapesInTurn:
-      return "preshapes";
-    case ScreenCandidates::kPreshapesInTurnByTravel:
-      return "travel";
-  }
+  for (const auto& [known, name] : kScreenCandidateNames)
+    if (known == candidates) return name;
   return "?";
 }
 

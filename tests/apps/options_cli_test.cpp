@@ -115,7 +115,7 @@ INSTANTIATE_TEST_SUITE_P(
                     "--robustness-confirm-samples -1 --out {dir}/out",
                     "--robustness-confirm-samples"},
         BadCliInput{"screen_by", "plan {dir}/box.ply --robustness-screen-by random --out {dir}/out",
-                    "--robustness-screen-by: random not in {preshapes,travel,epsilon}"},
+                    "--robustness-screen-by: random not in {preshapes,epsilon,travel}"},
         BadCliInput{"shard", "evaluate --objects {dir}/objects --shard 1x/4 --out {dir}/out",
                     "--shard '1x/4'"},
         // Item 3: thread and job counts.

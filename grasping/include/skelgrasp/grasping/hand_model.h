@@ -137,6 +137,11 @@ enum class ScreenCandidates {
 // parse throws InvalidArgument for anything else.
 ScreenCandidates parseScreenCandidates(const std::string& text);
 const char* toString(ScreenCandidates candidates);
+// Every ScreenCandidates' name ("preshapes", "epsilon", "travel"), for a caller offering the
+// choice; and the same as a phrase for an error message: "\"preshapes\", \"epsilon\" or
+// \"travel\"".
+const std::vector<std::string>& screenCandidateNames();
+std::string screenCandidateChoices();
 
 // The robust ranking's budget for a hand (evaluation/robust_ranking.h), where the ranking's
 // parameters leave it to the hand. A hand whose perturbed executions cost more screens and
