@@ -66,7 +66,7 @@ std::string rankingBudget(const grasping::HandModel& hand) {
 }
 
 int runHands() {
-  std::cout << fmt::format("{:<18} {:>7} {:>6} {:>7}  {:<13}  {:<18}  {}\n", "hand", "fingers",
+  std::cout << fmt::format("{:<18} {:>7} {:>6} {:>7}  {:<13}  {:<26}  {}\n", "hand", "fingers",
                            "DOF", "joints", "contacts", "ranking", "preshapes");
   for (const auto& name : grasping::builtinHandNames()) {
     const auto hand = grasping::loadBuiltinHand(name);
@@ -77,7 +77,7 @@ int runHands() {
       if (preshape.max_object_length_m)
         preshapes += fmt::format(" (<= {:g} mm)", 1000 * *preshape.max_object_length_m);
     }
-    std::cout << fmt::format("{:<18} {:>7} {:>6} {:>7}  {:<13}  {:<18}  {}   ({})\n", name,
+    std::cout << fmt::format("{:<18} {:>7} {:>6} {:>7}  {:<13}  {:<26}  {}   ({})\n", name,
                              hand.fingers().size(), hand.numDrives(), hand.numMovingJoints(),
                              contactModel(hand), rankingBudget(hand), preshapes, hand.title());
   }

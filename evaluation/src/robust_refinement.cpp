@@ -24,7 +24,7 @@ constexpr double kSamePoseAngleRad = 1e-3;
 
 // The preshapes the search may switch a grasp with preshape `current` to: the hand's "power" and
 // "precision" other than `current`, its own type's first (an alternative such as the SDH's
-// "spherical" may go back to "power"), each type only where the hand does it. Not the
+// "claw" may go back to "power"), each type only where the hand does it. Not the
 // alternatives: the planners already closed them at every pose of their type, and over the 58
 // YCB meshes switching to them cost the SDH 1.2 s of ranking per object for no gain in r
 // (docs/results.md).

@@ -328,8 +328,8 @@ own model, point contacts for the built-in hands), in planning and in r. ``conta
 'corners' lets a link touching over an area push through its patch's corners, 'centre' through its
 centre only (the reference's model; implied by ``reference_compat``). ``alternative_preshapes``
 (skeleton planner) also closes every pose with the hand's alternative preshapes of its grasp type,
-the SDH's 'spherical', 'claw', 'precision_tripod' and (small objects only) 'narrow_tripod'
-tripods (docs/hands.md); False or ``reference_compat``: 'power' and
+the SDH's 'claw', 'precision_tripod' and (small objects only) 'narrow_tripod' tripods and its
+'lateral_power' and 'lateral_precision' grips (docs/hands.md); False or ``reference_compat``: 'power' and
 'precision' only. A mesh the skeleton stage cannot process raises ValueError.)doc");
 
   m.def(

@@ -128,11 +128,11 @@ TEST(EvaluateCli, RecordsEachHandsOwnRankingBudget) {
   EXPECT_EQ(ranking["screen_samples"], 10) << ranking.dump();
   EXPECT_DOUBLE_EQ(ranking["refinement"]["search_below_r"].get<double>(), 0.7);
   ASSERT_TRUE(ranking.contains("hand_budgets")) << ranking.dump();
-  // The SDH's own budget differs only in its confirmation (none), so that is all it records
-  // besides the three fields every hand budget records.
-  EXPECT_EQ(ranking["hand_budgets"]["sdh"]["confirm_samples"], 0) << ranking.dump();
+  // The SDH's own budget differs only in its screening order (by finger travel), so that is all
+  // it records besides the three fields every hand budget records.
+  EXPECT_EQ(ranking["hand_budgets"]["sdh"]["screen_by"], "travel") << ranking.dump();
   EXPECT_EQ(ranking["hand_budgets"]["sdh"]["screen_k"], 60) << ranking.dump();
-  EXPECT_FALSE(ranking["hand_budgets"]["sdh"].contains("screen_by")) << ranking.dump();
+  EXPECT_FALSE(ranking["hand_budgets"]["sdh"].contains("confirm_samples")) << ranking.dump();
   EXPECT_EQ(ranking["hand_budgets"]["shadow"]["screen_k"], 40) << ranking.dump();
   EXPECT_EQ(ranking["hand_budgets"]["shadow"]["screen_samples"], 8) << ranking.dump();
   EXPECT_DOUBLE_EQ(ranking["hand_budgets"]["shadow"]["search_below_r"].get<double>(), 0.5);
@@ -151,7 +151,8 @@ TEST(EvaluateCli, RecordsEachHandsOwnRankingBudget) {
       << summary;
   EXPECT_EQ(ranking["confirm_samples"], 10) << ranking.dump();
   EXPECT_EQ(ranking["hand_budgets"]["shadow"]["confirm_samples"], 0) << ranking.dump();
-  EXPECT_NE(summary.find("sdh's own ranking budget: 60 screened with 10 samples, no confirmation"),
+  EXPECT_NE(summary.find("sdh's own ranking budget: 60 screened with 10 samples, each preshape's "
+                         "best by finger travel in turn, refined below r = 0.7"),
             std::string::npos)
       << summary;
   // A batch from before the hands had budgets (no hand_budgets) ranked the Shadow hand with the
@@ -182,20 +183,21 @@ TEST(EvaluateCli, RecordsEachHandsOwnRankingBudget) {
     EXPECT_EQ(again.exit_code, 0) << again.err;
     EXPECT_NE(again.out.find("already done"), std::string::npos) << again.out;
   };
-  // Before screening took the preshapes in turn (no screen_by anywhere) it screened by epsilon.
+  // Before screening took the preshapes in turn (no screen_by anywhere) it screened by epsilon,
+  // and the SDH had no budget of its own.
   expectOldBatchResumesOnlyWith(
       [](nlohmann::json& ranking) {
         ranking.erase("screen_by");
         ranking["hand_budgets"]["shadow"].erase("screen_by");
+        ranking["hand_budgets"].erase("sdh");
       },
       "screen_by", "--robustness-screen-by epsilon");
-  // Before the screening's contenders were confirmed (no confirm_samples anywhere, and no SDH
-  // budget) nothing was confirmed.
+  // A batch whose record names no confirmation (no confirm_samples anywhere, as before the
+  // screening's contenders were confirmed) confirmed nothing.
   expectOldBatchResumesOnlyWith(
       [](nlohmann::json& ranking) {
         ranking.erase("confirm_samples");
         ranking["hand_budgets"]["shadow"].erase("confirm_samples");
-        ranking["hand_budgets"].erase("sdh");
       },
       "confirm_samples", "--robustness-confirm-samples 0");
 }

@@ -141,8 +141,8 @@ TEST_F(BatchTest, HandsClosingAlternativePreshapesAreRecorded) {
   runBatch(p);
   EXPECT_EQ(readJsonFile(out + "/batch.json")["options"]["alternative_preshapes"],
             (nlohmann::json{{"sdh",
-                             {"claw", "narrow_tripod (objects up to 0.07 m)", "precision_tripod",
-                              "spherical"}}}));
+                             {"claw", "lateral_power", "lateral_precision",
+                              "narrow_tripod (objects up to 0.07 m)", "precision_tripod"}}}));
   p.alternative_preshapes = false;
   try {
     runBatch(p);

@@ -168,7 +168,8 @@ TEST(FallbackPlanner, CentreCandidatesAddPowerAndPrecisionGraspsAboutTheCentre) 
   EXPECT_GT(with.result.summary.hypotheses, without.result.summary.hypotheses);
 }
 
-// Alternative preshapes (the SDH's tripods "spherical", "claw" and "precision_tripod"): every pose
+// Alternative preshapes (the SDH's tripods "claw" and "precision_tripod" and its lateral grips
+// "lateral_power" and "lateral_precision"): every pose
 // closed with a hand's power or precision preshape is also closed with that type's alternatives, by
 // the skeleton strategies and the centre candidates alike; the grasps of the main preshapes stay
 // exactly as without them, and switching them off or asking for the reference's quality leaves
@@ -210,10 +211,12 @@ TEST(FallbackPlanner, AlternativePreshapesOnlyAddGraspsOfTheirOwnPreshape) {
     EXPECT_EQ(g.type, sdh.preshape(g.preshape).grasp_type) << g.preshape;
     strategies[g.preshape].insert(isFallbackStrategy(g.strategy) ? "centre" : "skeleton");
   }
-  EXPECT_EQ(strategies["spherical"], (std::set<std::string>{"centre", "skeleton"}));
-  // The claw wraps the 6 cm capsule about its middle only (no skeleton pose holds).
+  // The fingertip grips hold the 6 cm capsule at skeleton poses and about its middle; the claw and
+  // the lateral power grip wrap it about its middle only (no skeleton pose holds).
+  EXPECT_EQ(strategies["precision_tripod"], (std::set<std::string>{"centre", "skeleton"}));
+  EXPECT_EQ(strategies["lateral_precision"], (std::set<std::string>{"centre", "skeleton"}));
   EXPECT_EQ(strategies["claw"].count("centre"), 1u);
-  EXPECT_EQ(strategies["precision_tripod"].count("centre"), 1u);
+  EXPECT_EQ(strategies["lateral_power"].count("centre"), 1u);
   const auto alternative_grasps =
       std::count_if(with.result.grasps.begin(), with.result.grasps.end(), alternative);
   EXPECT_EQ(with.result.grasps.size(),

@@ -111,24 +111,26 @@ TEST(HandModel, PlannersCloseEachTypesPreshapeThenItsAlternatives) {
     return out;
   };
   using Names = std::vector<std::string>;
-  EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPower)), (Names{"power", "claw", "spherical"}));
+  EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPower)),
+            (Names{"power", "claw", "lateral_power"}));
   EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPower, false)), (Names{"power"}));
   EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPrecision)),
-            (Names{"precision", "narrow_tripod", "precision_tripod"}));
+            (Names{"precision", "lateral_precision", "narrow_tripod", "precision_tripod"}));
   EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPrecision, false)), (Names{"precision"}));
   // The narrow tripod is for small objects: left out for an object larger than its limit.
   ASSERT_TRUE(sdh.preshape("narrow_tripod").max_object_length_m);
   const double limit_m = *sdh.preshape("narrow_tripod").max_object_length_m;
   EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPrecision, true, limit_m)),
-            (Names{"precision", "narrow_tripod", "precision_tripod"}));
+            (Names{"precision", "lateral_precision", "narrow_tripod", "precision_tripod"}));
   EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPrecision, true, limit_m + 1e-3)),
-            (Names{"precision", "precision_tripod"}));
+            (Names{"precision", "lateral_precision", "precision_tripod"}));
   EXPECT_EQ(names(sdh.plannerPreshapes(GraspType::kPower, true, 10 * limit_m)),
-            (Names{"power", "claw", "spherical"}));
+            (Names{"power", "claw", "lateral_power"}));
   for (const auto& [name, preshape] : sdh.preshapes())
     EXPECT_EQ(preshape.max_object_length_m.has_value(), name == "narrow_tripod") << name;
-  EXPECT_EQ(sdh.preshape("spherical").grasp_type, GraspType::kPower);
   EXPECT_EQ(sdh.preshape("claw").grasp_type, GraspType::kPower);
+  EXPECT_EQ(sdh.preshape("lateral_power").grasp_type, GraspType::kPower);
+  EXPECT_EQ(sdh.preshape("lateral_precision").grasp_type, GraspType::kPrecision);
   EXPECT_EQ(sdh.preshape("precision").grasp_type, GraspType::kPrecision);
   EXPECT_EQ(sdh.preshape("precision_tripod").grasp_type, GraspType::kPrecision);
   EXPECT_EQ(sdh.preshape("narrow_tripod").grasp_type, GraspType::kPrecision);
@@ -140,11 +142,11 @@ TEST(HandModel, PlannersCloseEachTypesPreshapeThenItsAlternatives) {
   }
 }
 
-// The SDH's tripods (spherical, claw, precision_tripod, narrow_tripod) turn fingers 1 and 2 by 60
+// The SDH's tripods (claw, precision_tripod, narrow_tripod) turn fingers 1 and 2 by 60
 // degrees about their bases. The three finger bases lie on a circle about the palm axis (the fact
 // sheet's 38.1 mm), so then every finger closes towards that axis (a tripod, 120 degrees apart); in
 // the power preshape fingers 1 and 2 close side by side towards the thumb's side.
-TEST(HandModel, SdhTripodPreshapesCloseEveryFingerTowardsThePalmAxis) {
+TEST(HandModel, SdhTripodsCloseTowardsThePalmAxisAndLateralGripsAgainstEachOther) {
   const HandModel sdh = loadBuiltinHand("sdh");
   const auto closingDirections = [&](const Preshape& preshape) {
     std::vector<Eigen::Vector2d> out;
@@ -163,7 +165,7 @@ TEST(HandModel, SdhTripodPreshapesCloseEveryFingerTowardsThePalmAxis) {
     }
     return out;
   };
-  for (const char* tripod : {"spherical", "claw", "precision_tripod", "narrow_tripod"}) {
+  for (const char* tripod : {"claw", "precision_tripod", "narrow_tripod"}) {
     const auto directions = closingDirections(sdh.preshape(tripod));
     for (std::size_t f = 0; f < 3; ++f)
       EXPECT_GT(directions[2 * f].dot(directions[2 * f + 1]), std::cos(2 * kPi / 180))
@@ -172,6 +174,13 @@ TEST(HandModel, SdhTripodPreshapesCloseEveryFingerTowardsThePalmAxis) {
   const auto power = closingDirections(sdh.preshape("power"));
   EXPECT_GT(power[0].dot(power[2]), std::cos(2 * kPi / 180));   // fingers 1 and 2 parallel
   EXPECT_LT(power[0].dot(power[4]), -std::cos(2 * kPi / 180));  // against the thumb
+  // The lateral grips turn fingers 1 and 2 by 90 degrees, the joint's limit: they close against
+  // each other, and the thumb closes across the line between them.
+  for (const char* lateral : {"lateral_power", "lateral_precision"}) {
+    const auto directions = closingDirections(sdh.preshape(lateral));
+    EXPECT_LT(directions[0].dot(directions[2]), -std::cos(2 * kPi / 180)) << lateral;
+    EXPECT_LT(std::abs(directions[0].dot(directions[4])), std::sin(2 * kPi / 180)) << lateral;
+  }
 }
 
 TEST(HandModel, LoadsFromFilesThroughTheSamePathAsBuiltIns) {
@@ -261,11 +270,11 @@ TEST(HandModel, DescriptionsCarryTheirRankingBudget) {
   EXPECT_DOUBLE_EQ(*shadow.refine_below_r, 0.5);
   EXPECT_EQ(*shadow.screen_candidates, ScreenCandidates::kByPreScore);  // "screen_by": "epsilon"
   EXPECT_EQ(*shadow.confirm_samples, 0);                                // no confirmation
-  // The SDH's says only that it confirms nothing (docs/hands.md, "Ranking budget").
+  // The SDH's says only that it screens by finger travel (docs/hands.md, "Ranking budget").
   const RankingBudget sdh = resolveHand("sdh").rankingBudget();
   EXPECT_FALSE(sdh.screen_grasps || sdh.screen_samples || sdh.refine_below_r ||
-               sdh.screen_candidates);
-  EXPECT_EQ(sdh.confirm_samples, 0);
+               sdh.confirm_samples);
+  EXPECT_EQ(sdh.screen_candidates, ScreenCandidates::kPreshapesInTurnByTravel);
   for (const char* name : {"armar3", "parallel_gripper"}) {
     const RankingBudget none = resolveHand(name).rankingBudget();
     EXPECT_FALSE(none.screen_grasps || none.screen_samples || none.refine_below_r ||

@@ -174,26 +174,28 @@ def test_surface_candidates_join_the_skeleton_planners_pool(capsule):
 
 
 def test_alternative_preshapes_is_a_keyword_of_plan(capsule, sdh, capsule_plan):
-    # The SDH's tripods ("spherical" and "claw", power preshapes, and "precision_tripod") are
-    # closed wherever the main preshape of their type is; "narrow_tripod" only on small objects
-    # (70 mm in the SDH's description), and the capsule is 160 mm long.
+    # The SDH's alternatives ("claw" and "lateral_power", power preshapes, "precision_tripod" and
+    # "lateral_precision") are closed wherever the main preshape of their type is;
+    # "narrow_tripod" only on small objects (70 mm in the SDH's description), and the capsule is
+    # 160 mm long.
     assert "alternative_preshapes: bool = True" in skelgrasp.plan.__doc__
     with_alternatives = skelgrasp.plan(capsule, sdh, seed=1, robustness=False)
     plain = skelgrasp.plan(capsule, sdh, seed=1, robustness=False, alternative_preshapes=False)
     reference = skelgrasp.plan(capsule, sdh, seed=1, robustness=False, reference_compat=True)
     grasps = with_alternatives.to_dict()["grasps"]
-    spherical = [g for g in grasps if g["preshape"] == "spherical"]
+    lateral_power = [g for g in grasps if g["preshape"] == "lateral_power"]
+    lateral_precision = [g for g in grasps if g["preshape"] == "lateral_precision"]
     claw = [g for g in grasps if g["preshape"] == "claw"]
     tripod = [g for g in grasps if g["preshape"] == "precision_tripod"]
-    assert spherical and all(g["type"] == "power" for g in spherical)
+    assert lateral_power and all(g["type"] == "power" for g in lateral_power)
     assert claw and all(g["type"] == "power" for g in claw)
     assert tripod and all(g["type"] == "precision" for g in tripod)
+    assert lateral_precision and all(g["type"] == "precision" for g in lateral_precision)
     assert sdh.preshape_length_limits == {"narrow_tripod": 0.07}
     assert skelgrasp.hand("armar3").preshape_length_limits == {}
     assert not [g for g in grasps if g["preshape"] == "narrow_tripod"]
-    assert len(with_alternatives.grasps) == len(plain.grasps) + len(spherical) + len(claw) + len(
-        tripod
-    )
+    alternatives = lateral_power + lateral_precision + claw + tripod
+    assert len(with_alternatives.grasps) == len(plain.grasps) + len(alternatives)
     for result in (plain, reference):
         assert {g["preshape"] for g in result.to_dict()["grasps"]} <= {"power", "precision"}
 
