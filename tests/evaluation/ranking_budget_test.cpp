@@ -26,7 +26,7 @@ using test_fixtures::planOn;
 // preshape gets fewer places than another only when it has no grasp left. Whatever the order of
 // the grasps given.
 TEST(RobustRanking, ScreeningTakesEachPreshapesBestGraspsInTurn) {
-  // A 60 mm ball: the SDH closes its power, precision and all three tripods on it.
+  // A 60 mm ball: the SDH closes its power, precision and alternative preshapes on it.
   const Planned p = planOn("sdh", primitives::makeSphere(0.03), 0);
   const std::size_t n = p.plan.grasps.size();
   std::map<std::string, std::vector<double>> epsilons;  // of each preshape, all its grasps
@@ -37,6 +37,9 @@ TEST(RobustRanking, ScreeningTakesEachPreshapesBestGraspsInTurn) {
   params.screen_samples = 2;
   params.refinement.enabled = false;
   params.screening_pruning = ScreeningPruning::kNone;  // every candidate keeps its screening score
+  // The order under test, and no confirmation, whatever the SDH's own budget says.
+  params.screen_candidates = ScreenCandidates::kPreshapesInTurn;
+  params.confirm_samples = 0;
   // The input in reverse too: the candidates may not depend on where a grasp stands.
   std::vector<grasping::Grasp> reversed(p.plan.grasps.rbegin(), p.plan.grasps.rend());
   for (const std::vector<grasping::Grasp>* grasps :

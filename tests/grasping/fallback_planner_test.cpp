@@ -428,9 +428,9 @@ TEST(FallbackPlanner, TopStrategyComesFromAboveWhenThereIsASupportPlane) {
   const PlanResult r = planFallbackGrasps(hand, object, params);
   const FallbackStrategyParams& sp = params.strategies;
   const std::size_t poses = sp.top_rolls + sp.top_tilted_azimuths * sp.top_tilted_rolls;
-  // Precision, power and the SDH's alternatives of each (its tripods: two of power, one of
-  // precision).
-  EXPECT_EQ(r.summary.poses, 5 * poses);
+  // Precision, power and the SDH's alternatives of each (of power its claw and lateral grip, of
+  // precision its tripod and lateral pinch; the narrow tripod is for smaller objects).
+  EXPECT_EQ(r.summary.poses, 6 * poses);
   EXPECT_GE(r.grasps.size(), kWantedGrasps);
   expectSound(r, hand, object);
   const double steepest = std::cos(sp.top_tilt_rad) - 1e-9;
