@@ -1,6 +1,7 @@
 // summary.csv and summary.md of a batch (docs/evaluation.md).
 #include <fmt/format.h>
 
+#include "skelgrasp/common/error.h"
 #include "summary.h"
 
 namespace skelgrasp::evaluation::internal {
@@ -12,13 +13,23 @@ double robustnessThroughput(std::size_t grasps, double seconds) {
 }
 
 // How screening chose its candidates, in words, from batch.json's "screen_by" (an older batch has
-// none: it screened the best by epsilon).
+// none: the caller passes "epsilon"). A switch, so that a new order cannot go without its words.
 std::string screeningWords(const std::string& screen_by) {
-  if (screen_by == toString(ScreenCandidates::kPreshapesInTurn))
-    return "each preshape's best in turn";
-  if (screen_by == toString(ScreenCandidates::kPreshapesInTurnByTravel))
-    return "each preshape's best by finger travel in turn";
-  return "the best by epsilon";
+  ScreenCandidates candidates{};
+  try {
+    candidates = parseScreenCandidates(screen_by);
+  } catch (const InvalidArgument&) {
+    return "screened by '" + screen_by + "'";  // a batch.json from a newer build
+  }
+  switch (candidates) {
+    case ScreenCandidates::kByPreScore:
+      return "the best by epsilon";
+    case ScreenCandidates::kPreshapesInTurn:
+      return "each preshape's best in turn";
+    case ScreenCandidates::kPreshapesInTurnByTravel:
+      return "each preshape's best by finger travel in turn";
+  }
+  return "screened by '" + screen_by + "'";
 }
 
 // The confirmation of the screening's choice, in words, from batch.json's "confirm_samples" (an

@@ -310,8 +310,8 @@ sets 30 s) and RobustRankingParams. ``max_hypotheses`` is the surface planner's.
 (``robustness_screen_by='preshapes'``; 'travel': each preshape's by least finger travel in turn;
 'epsilon': the best by epsilon over all) are screened with a
 cheap r from ``robustness_screen_samples`` executions each (None, for any of the three: the hand's
-ranking budget, 60, 'preshapes' and 10 unless its description says otherwise; the Shadow hand's 40,
-'epsilon' and 8); the best 2 x ``robustness_top_k`` of those run ``robustness_confirm_samples``
+ranking budget, 60, 'preshapes' and 10 unless its description says otherwise; the SDH's
+'travel'; the Shadow hand's 40, 'epsilon' and 8); the best 2 x ``robustness_top_k`` of those run ``robustness_confirm_samples``
 more executions each (None: the hand's, 10 unless its description says otherwise; the SDH's
 and the Shadow hand's 0; 0: none) before the best ``robustness_top_k`` of them (0: all) get a robustness r from
 ``robustness_samples`` perturbed executions (``robustness_variant`` 'paper', 'guarded', 'settled' or 'reference',
@@ -329,8 +329,8 @@ own model, point contacts for the built-in hands), in planning and in r. ``conta
 centre only (the reference's model; implied by ``reference_compat``). ``alternative_preshapes``
 (skeleton planner) also closes every pose with the hand's alternative preshapes of its grasp type,
 the SDH's 'claw', 'precision_tripod' and (small objects only) 'narrow_tripod' tripods and its
-'lateral_power' and 'lateral_precision' grips (docs/hands.md); False or ``reference_compat``: 'power' and
-'precision' only. A mesh the skeleton stage cannot process raises ValueError.)doc");
+'lateral_power' and 'lateral_precision' grips (docs/hands.md); False or ``reference_compat``:
+'power' and 'precision' only. A mesh the skeleton stage cannot process raises ValueError.)doc");
 
   m.def(
       "render_plan",

@@ -145,7 +145,8 @@ TEST(HandModel, PlannersCloseEachTypesPreshapeThenItsAlternatives) {
 // The SDH's tripods (claw, precision_tripod, narrow_tripod) turn fingers 1 and 2 by 60
 // degrees about their bases. The three finger bases lie on a circle about the palm axis (the fact
 // sheet's 38.1 mm), so then every finger closes towards that axis (a tripod, 120 degrees apart); in
-// the power preshape fingers 1 and 2 close side by side towards the thumb's side.
+// the power preshape fingers 1 and 2 close side by side towards the thumb's side; in its lateral
+// grips (90 degrees) they close against each other.
 TEST(HandModel, SdhTripodsCloseTowardsThePalmAxisAndLateralGripsAgainstEachOther) {
   const HandModel sdh = loadBuiltinHand("sdh");
   const auto closingDirections = [&](const Preshape& preshape) {

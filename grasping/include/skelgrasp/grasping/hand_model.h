@@ -128,7 +128,8 @@ enum class ScreenCandidates {
   // clearance, whose rank correlation with r on the SDH's kept grasps is 0.43 at the median YCB
   // object against epsilon's 0.09. Over three seeds it lifted the SDH's top-10 r by about half a
   // point at the same time and lowered ARMAR-III's a little (docs/results.md, "Four more ways to
-  // choose the SDH's grasps"); no hand's default yet.
+  // choose the SDH's grasps"); the SDH's since 2026-11-30, with its lateral grips and
+  // confirmation (docs/results.md, "The SDH's lateral grips").
   kPreshapesInTurnByTravel,
 };
 
