@@ -168,16 +168,22 @@ class ObjectEvaluator {
       result.grasps = std::move(ranked.grasps);
       ranking.scored = ranked.scored;
       ranking.time_s = ranked.time_s;
-      double sum = 0;
+      double sum = 0, sum_unrefined = 0;
       for (const auto& g : result.grasps) {
         if (!g.robustness) continue;
         sum += g.robustness->r;
+        sum_unrefined +=
+            g.robustness->refinement ? g.robustness->refinement->r_before : g.robustness->r;
         ranking.samples += g.robustness->samples;
         ranking.start_collisions += g.robustness->start_collisions;
         ranking.closing_failures += g.robustness->closing_failures;
         ranking.no_force_closure += g.robustness->no_force_closure;
       }
-      if (ranked.scored > 0) ranking.r_mean = sum / ranked.scored;
+      if (ranked.scored > 0) {
+        ranking.r_mean = sum / ranked.scored;
+        ranking.r_mean_unrefined = sum_unrefined / ranked.scored;
+      }
+      ranking.refinement_s = ranked.refinement_s;
       if (!result.grasps.empty() && result.grasps.front().robustness)
         ranking.r_best = result.grasps.front().robustness->r;
       ranking.refined = ranked.refined;
@@ -192,6 +198,11 @@ class ObjectEvaluator {
     std::optional<double> r_mean;  // of the scored grasps
     std::optional<double> r_best;  // of the first grasp (ranked first)
     std::size_t refined = 0;       // scored grasps moved by refinement for robustness
+    // The mean r the scored grasps had before refinement for robustness (each grasp's r_before;
+    // a grasp it did not search keeps its r): what the ranking returns without it, since the
+    // refinement runs after the scoring and moves only the grasp it searches.
+    std::optional<double> r_mean_unrefined;
+    double refinement_s = 0;
     // The scored grasps' samples, and the failed ones by cause.
     std::size_t samples = 0, start_collisions = 0, closing_failures = 0, no_force_closure = 0;
     double time_s = 0;
@@ -248,6 +259,9 @@ class ObjectEvaluator {
     m.ranking_s = ranking.time_s;
     m.ranked_r_best = ranking.r_best;
     m.ranked_refined = ranking.refined;
+    m.has_refinement_share = true;
+    m.ranked_r_mean_unrefined = ranking.r_mean_unrefined;
+    m.ranked_refinement_s = ranking.refinement_s;
     m.ranked_samples = ranking.samples;
     m.ranked_start_collisions = ranking.start_collisions;
     m.ranked_closing_failures = ranking.closing_failures;

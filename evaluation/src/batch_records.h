@@ -60,6 +60,12 @@ struct RunMeasures {
   // (robustness.h). Absent before the causes were recorded: read as 0 (and shown as unknown).
   std::size_t ranked_samples = 0;
   std::size_t ranked_start_collisions = 0, ranked_closing_failures = 0, ranked_no_force_closure = 0;
+  // What the refinement for robustness changed: the scored grasps' mean r before it (none when
+  // ranked_r_mean is none) and its share of ranking_s. Absent before they were recorded
+  // (2026-11-30): read as none and 0, and has_refinement_share false.
+  bool has_refinement_share = false;
+  std::optional<double> ranked_r_mean_unrefined;
+  double ranked_refinement_s = 0;
 };
 
 // One line of runs.jsonl: one object x hand x planner.

@@ -82,6 +82,13 @@ BatchSummary aggregateSummary(const BatchRecords& records) {
       g.ranked_start_collisions += m.ranked_start_collisions;
       g.ranked_closing_failures += m.ranked_closing_failures;
       g.ranked_no_force_closure += m.ranked_no_force_closure;
+      if (m.has_refinement_share) {
+        ++g.ranked_with_share;
+        g.ranked_refined += m.ranked_refined;
+        g.ranked_r_unrefined.add(m.ranked_r_mean_unrefined.value_or(0.0));
+        g.plan_s_unrefined.add(m.regularise_s + m.skeleton_s + m.planning_s + m.ranking_s -
+                               m.ranked_refinement_s);
+      }
     }
   }
   for (const auto& [key, list] : records.results) {

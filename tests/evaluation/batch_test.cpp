@@ -236,5 +236,62 @@ TEST_F(BatchTest, RobustRankingRecordsTheReturnedGraspsRAndIsPartOfTheOptions) {
   for (const auto& run : lines(plain + "/runs.jsonl")) EXPECT_FALSE(run["ranked"].get<bool>());
 }
 
+TEST_F(BatchTest, TheRefinementsShareIsWhatTheSameBatchReturnsWithoutIt) {
+  // The refinement for robustness runs after the scoring and moves only the grasps it searches:
+  // the scored grasps' r before it, recorded per run, is the r of the same batch without it.
+  const std::string refined = test::tempDir("batch_refined"),
+                    unrefined = test::tempDir("batch_unrefined");
+  auto p = params(refined);
+  p.planners = {Planner::kSkeleton};
+  p.ranking.enabled = true;
+  p.ranking.top_k = 4;
+  p.ranking.screen_k = 8;
+  p.ranking.screen_samples = 4;
+  p.ranking.robustness.samples = 6;
+  runBatch(p);
+  auto q = p;
+  q.out_dir = unrefined;
+  q.ranking.refinement.enabled = false;
+  runBatch(q);
+  const auto with = lines(refined + "/runs.jsonl"), without = lines(unrefined + "/runs.jsonl");
+  ASSERT_EQ(with.size(), without.size());
+  std::size_t moved = 0, compared = 0;
+  for (std::size_t i = 0; i < with.size(); ++i) {
+    ASSERT_EQ(with[i]["object"], without[i]["object"]);
+    moved += with[i]["ranked_refined"].get<std::size_t>();
+    EXPECT_EQ(without[i]["ranked_refined"].get<std::size_t>(), 0u);
+    EXPECT_EQ(without[i]["ranked_r_mean_unrefined"], without[i]["ranked_r_mean"]);
+    if (with[i]["ranked_r_mean"].is_null()) {
+      EXPECT_TRUE(with[i]["ranked_r_mean_unrefined"].is_null());
+      continue;
+    }
+    ++compared;
+    EXPECT_DOUBLE_EQ(with[i]["ranked_r_mean_unrefined"].get<double>(),
+                     without[i]["ranked_r_mean"].get<double>())
+        << with[i]["object"];
+    EXPECT_GE(with[i]["ranked_refinement_s"].get<double>(), 0.0);
+    EXPECT_LE(with[i]["ranked_refinement_s"].get<double>(), with[i]["ranking_s"].get<double>());
+  }
+  EXPECT_GT(compared, 0u);
+  EXPECT_GT(moved, 0u) << "no grasp was moved: the comparison shows nothing";
+  const std::string header = "| hand | planner | grasps moved | top r without | top r with |";
+  EXPECT_NE(textOf(refined + "/summary.md").find(header), std::string::npos);
+  // Records from before the share was recorded: the summary leaves the table out rather than
+  // count those runs as unrefined.
+  std::vector<nlohmann::json> old_records = with;
+  {
+    std::ofstream out(refined + "/runs.jsonl", std::ios::trunc);
+    for (auto& run : old_records) {
+      run.erase("ranked_r_mean_unrefined");
+      run.erase("ranked_refinement_s");
+      out << run.dump() << "\n";
+    }
+  }
+  writeSummary(refined);
+  EXPECT_EQ(textOf(refined + "/summary.md").find(header), std::string::npos);
+  EXPECT_NE(textOf(refined + "/summary.md").find("## Returned grasps (robust ranking)"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace skelgrasp::evaluation

@@ -34,7 +34,8 @@ inline std::string textOf(const std::string& path) {
 // Everything except wall-clock times, which differ between runs by nature.
 inline nlohmann::json withoutTimes(nlohmann::json j) {
   for (const char* key : {"planning_s", "regularise_s", "skeleton_s", "robustness_s",
-                          "ms_per_valid_grasp", "time_ms", "timed_out", "ranking_s"}) {
+                          "ms_per_valid_grasp", "time_ms", "timed_out", "ranking_s",
+                          "ranked_refinement_s"}) {
     j.erase(key);
   }
   return j;
