@@ -259,7 +259,6 @@ class ObjectEvaluator {
     m.ranking_s = ranking.time_s;
     m.ranked_r_best = ranking.r_best;
     m.ranked_refined = ranking.refined;
-    m.has_refinement_share = true;
     m.ranked_r_mean_unrefined = ranking.r_mean_unrefined;
     m.ranked_refinement_s = ranking.refinement_s;
     m.ranked_samples = ranking.samples;

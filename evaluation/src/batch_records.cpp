@@ -164,9 +164,9 @@ void to_json(nlohmann::json& j, const RunRecord& run) {
                           {"closing", m.ranked_closing_failures},
                           {"no_force_closure", m.ranked_no_force_closure}};
   // A record read from a line without them (merged or rewritten) stays without them.
-  if (m.has_refinement_share) {
+  if (m.ranked_refinement_s) {
     j["ranked_r_mean_unrefined"] = orNull(m.ranked_r_mean_unrefined);
-    j["ranked_refinement_s"] = m.ranked_refinement_s;
+    j["ranked_refinement_s"] = *m.ranked_refinement_s;
   }
 }
 
@@ -225,7 +225,6 @@ void from_json(const nlohmann::json& j, RunRecord& run) {
     m.ranked_no_force_closure = cause("no_force_closure");
   }
   if (f.has("ranked_refinement_s")) {
-    m.has_refinement_share = true;
     m.ranked_r_mean_unrefined = f.realOrNull("ranked_r_mean_unrefined");
     m.ranked_refinement_s = f.real("ranked_refinement_s");
   }

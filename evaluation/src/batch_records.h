@@ -62,10 +62,9 @@ struct RunMeasures {
   std::size_t ranked_start_collisions = 0, ranked_closing_failures = 0, ranked_no_force_closure = 0;
   // What the refinement for robustness changed: the scored grasps' mean r before it (none when
   // ranked_r_mean is none) and its share of ranking_s. Absent before they were recorded
-  // (2026-11-30): read as none and 0, and has_refinement_share false.
-  bool has_refinement_share = false;
+  // (2026-11-30): both read as none, and ranked_refinement_s says which records have them.
   std::optional<double> ranked_r_mean_unrefined;
-  double ranked_refinement_s = 0;
+  std::optional<double> ranked_refinement_s;
 };
 
 // One line of runs.jsonl: one object x hand x planner.

@@ -77,17 +77,17 @@ BatchSummary aggregateSummary(const BatchRecords& records) {
       if (m.kept > 0) ++g.ranked_with_grasps;
       // An object left without a grasp counts as r = 0: the user gets nothing that holds.
       g.ranked_r.add(m.ranked_r_mean.value_or(0.0));
-      g.plan_s.add(m.regularise_s + m.skeleton_s + m.planning_s + m.ranking_s);
+      const double plan_s = m.regularise_s + m.skeleton_s + m.planning_s + m.ranking_s;
+      g.plan_s.add(plan_s);
       g.ranked_samples += m.ranked_samples;
       g.ranked_start_collisions += m.ranked_start_collisions;
       g.ranked_closing_failures += m.ranked_closing_failures;
       g.ranked_no_force_closure += m.ranked_no_force_closure;
-      if (m.has_refinement_share) {
+      if (m.ranked_refinement_s) {
         ++g.ranked_with_share;
         g.ranked_refined += m.ranked_refined;
         g.ranked_r_unrefined.add(m.ranked_r_mean_unrefined.value_or(0.0));
-        g.plan_s_unrefined.add(m.regularise_s + m.skeleton_s + m.planning_s + m.ranking_s -
-                               m.ranked_refinement_s);
+        g.plan_s_unrefined.add(plan_s - *m.ranked_refinement_s);
       }
     }
   }

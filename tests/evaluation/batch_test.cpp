@@ -151,13 +151,7 @@ TEST_F(BatchTest, ThePlannersOrderDoesNotChangeTheirResults) {
 
 TEST_F(BatchTest, RobustRankingRecordsTheReturnedGraspsRAndIsPartOfTheOptions) {
   const std::string out = test::tempDir("batch_ranking");
-  auto p = params(out);
-  p.planners = {Planner::kSkeleton};
-  p.ranking.enabled = true;
-  p.ranking.top_k = 2;
-  p.ranking.screen_k = 4;
-  p.ranking.screen_samples = 4;
-  p.ranking.robustness.samples = 6;
+  auto p = rankedParams(out, 2, 4);
   runBatch(p);
   const auto runs = lines(out + "/runs.jsonl");
   ASSERT_EQ(runs.size(), objects_.size());
@@ -241,13 +235,7 @@ TEST_F(BatchTest, TheRefinementsShareIsWhatTheSameBatchReturnsWithoutIt) {
   // the scored grasps' r before it, recorded per run, is the r of the same batch without it.
   const std::string refined = test::tempDir("batch_refined"),
                     unrefined = test::tempDir("batch_unrefined");
-  auto p = params(refined);
-  p.planners = {Planner::kSkeleton};
-  p.ranking.enabled = true;
-  p.ranking.top_k = 4;
-  p.ranking.screen_k = 8;
-  p.ranking.screen_samples = 4;
-  p.ranking.robustness.samples = 6;
+  auto p = rankedParams(refined, 4, 8);
   runBatch(p);
   auto q = p;
   q.out_dir = unrefined;

@@ -33,9 +33,9 @@ inline std::string textOf(const std::string& path) {
 
 // Everything except wall-clock times, which differ between runs by nature.
 inline nlohmann::json withoutTimes(nlohmann::json j) {
-  for (const char* key : {"planning_s", "regularise_s", "skeleton_s", "robustness_s",
-                          "ms_per_valid_grasp", "time_ms", "timed_out", "ranking_s",
-                          "ranked_refinement_s"}) {
+  for (const char* key :
+       {"planning_s", "regularise_s", "skeleton_s", "robustness_s", "ms_per_valid_grasp", "time_ms",
+        "timed_out", "ranking_s", "ranked_refinement_s"}) {
     j.erase(key);
   }
   return j;
@@ -62,6 +62,18 @@ class BatchTest : public ::testing::Test {
     p.surface_hypotheses = 40;
     p.robustness_grasps = 2;
     p.robustness.samples = 8;
+    return p;
+  }
+  // The skeleton planner with a small robust ranking: the best `top_k` of `screen_k` screened
+  // with 4 samples, scored with 6.
+  BatchParams rankedParams(const std::string& out, std::size_t top_k, std::size_t screen_k) const {
+    BatchParams p = params(out);
+    p.planners = {Planner::kSkeleton};
+    p.ranking.enabled = true;
+    p.ranking.top_k = top_k;
+    p.ranking.screen_k = screen_k;
+    p.ranking.screen_samples = 4;
+    p.ranking.robustness.samples = 6;
     return p;
   }
   std::string dir_;
