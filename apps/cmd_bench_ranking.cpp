@@ -8,7 +8,9 @@
 // grid (DistanceFieldParams::skip_empty_cells); `jump-order`, the fast closing's jump attempts
 // stopping at the first link that allows no step (ClosingParams::jump_stops_at_blocking_link);
 // `refusals`, the fast closing's later passes not testing again a refused step while the fingers it
-// was tested against stand where they stood (ClosingParams::skip_repeated_refusals). Two
+// was tested against stand where they stood (ClosingParams::skip_repeated_refusals); `gap-hints`,
+// the fast closing's exact box gaps starting from the face the box was closest to in its last
+// query (ClosingParams::gap_hints). Two
 // comparisons are not of an exact shortcut but of a choice: `screen-by`, screening the best by
 // epsilon (old) or each preshape's best in turn (new, RobustRankingParams::screen_candidates); its
 // paths return different grasps, and the mean r of each path's scored grasps says which is worth
@@ -59,6 +61,7 @@ enum class Shortcut {
   kCellSkipping,
   kJumpOrder,
   kRefusals,
+  kGapHints,
   kScreenBy,  // not exact: the two paths may score different grasps
   kConfirm    // not exact either
 };
@@ -73,6 +76,7 @@ const std::map<std::string, Shortcut>& shortcutsByName() {
       {"cell-skipping", Shortcut::kCellSkipping},
       {"jump-order", Shortcut::kJumpOrder},
       {"refusals", Shortcut::kRefusals},
+      {"gap-hints", Shortcut::kGapHints},
       {"screen-by", Shortcut::kScreenBy},
       {"confirm", Shortcut::kConfirm}};
   return names;
@@ -109,6 +113,9 @@ PathRun rankOnce(const grasping::HandModel& hand, const grasping::GraspObject& o
       break;
     case Shortcut::kRefusals:
       hypothesis.closing.skip_repeated_refusals = new_path;
+      break;
+    case Shortcut::kGapHints:
+      hypothesis.closing.gap_hints = new_path;
       break;
     case Shortcut::kScreenBy:
       params.screen_candidates = new_path ? evaluation::ScreenCandidates::kPreshapesInTurn
@@ -269,10 +276,12 @@ void registerBenchRankingCommand(CLI::App& app, Action& action) {
                   "best-first against pruning in pre-score order), closure-shortcut (settling "
                   "skips the closure test while the squeeze is unbalanced), cell-skipping (the "
                   "exact box gap skips empty cells), jump-order (the fast closing's jump "
-                  "attempts stop at the first link that allows no step) or refusals (later passes "
+                  "attempts stop at the first link that allows no step), refusals (later passes "
                   "do not test again a refused step while the fingers it was tested against "
-                  "stand where they stood); or, not exact, the two paths' r compared: screen-by "
-                  "(screening the best by epsilon against each preshape's best in turn) or "
+                  "stand where they stood) or gap-hints (exact box gaps start from the face the "
+                  "box was closest to in its last query); or, not exact, the two paths' r "
+                  "compared: screen-by (screening the best by epsilon against each preshape's "
+                  "best in turn) or "
                   "confirm (the screening's contenders without and with confirmation samples)")
       ->check(CLI::IsMember(shortcutsByName()))
       ->capture_default_str();

@@ -285,7 +285,7 @@ constexpr double kExactClosestReachM = 0.008;
 std::vector<Contact> fastContactPatch(const HandModel& hand,
                                       const std::vector<ShapeInstance>& shapes, int link,
                                       const Pose& link_pose, const GraspObject& object, bool palm,
-                                      double max_distance, bool corner_contacts,
+                                      double max_distance, bool corner_contacts, bool gap_hints,
                                       std::size_t& queries) {
   const DistanceField& field = object.distanceField();
   if (shapes.empty()) return {};  // nothing of the link can touch
@@ -314,7 +314,7 @@ std::vector<Contact> fastContactPatch(const HandModel& hand,
     // A box's spheres cover it, so a sphere bound at or beyond `best` means its gap would come
     // back as `best`: no search. (A sphere's enclosing box sticks out of its one sphere.)
     if (s.is_box && sphere_bounds[i] >= best) continue;
-    const DistanceField::BoxGap gap = field.boxGapAndFace(shapePose(s), *s.enclosing_half, best);
+    const DistanceField::BoxGap gap = shapeBoxGap(s, field, best, gap_hints);
     if (gap.distance < best) {
       best = gap.distance;
       closest_box = &s;
@@ -393,11 +393,11 @@ std::vector<Contact> fastContactPatch(const HandModel& hand,
 std::vector<Contact> contactPatch(const HandModel& hand, const std::vector<ShapeInstance>& shapes,
                                   int link, const Pose& link_pose, const GraspObject& object,
                                   bool palm, double max_distance, ClosingMethod method,
-                                  bool corner_contacts, std::size_t& queries) {
+                                  bool corner_contacts, bool gap_hints, std::size_t& queries) {
   SKELGRASP_DEMAND(std::isfinite(max_distance) && max_distance >= 0);
   if (method == ClosingMethod::kFast) {
     return fastContactPatch(hand, shapes, link, link_pose, object, palm, max_distance,
-                            corner_contacts, queries);
+                            corner_contacts, gap_hints, queries);
   }
   return stepwiseContactPatch(hand, shapes, link, link_pose, object, palm, max_distance,
                               corner_contacts, queries);

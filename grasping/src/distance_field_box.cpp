@@ -71,16 +71,16 @@ std::optional<SurfacePoint> DistanceField::closestPointWithin(const Eigen::Vecto
   return found;
 }
 
-double DistanceField::boxDistance(const Pose& box_pose, const Eigen::Vector3d& half,
-                                  double upper) const {
-  return boxGap(box_pose, half, upper, nullptr);
+double DistanceField::boxDistance(const Pose& box_pose, const Eigen::Vector3d& half, double upper,
+                                  std::optional<std::size_t> hint_face) const {
+  return boxGap(box_pose, half, upper, hint_face, nullptr);
 }
 
 DistanceField::BoxGap DistanceField::boxGapAndFace(const Pose& box_pose,
-                                                   const Eigen::Vector3d& half,
-                                                   double upper) const {
+                                                   const Eigen::Vector3d& half, double upper,
+                                                   std::optional<std::size_t> hint_face) const {
   BoxGap gap;
-  gap.distance = boxGap(box_pose, half, upper, &gap.face);
+  gap.distance = boxGap(box_pose, half, upper, hint_face, &gap.face);
   return gap;
 }
 
@@ -100,24 +100,56 @@ std::optional<DistanceField::BoxClosestPoints> DistanceField::boxClosestPointsOn
 }
 
 double DistanceField::boxGap(const Pose& box_pose, const Eigen::Vector3d& half, double upper,
+                             std::optional<std::size_t> hint_face,
                              std::optional<std::size_t>* closest_face) const {
   const auto& m = *impl_;
   const Eigen::Matrix3d rotation = box_pose.linear();
   const Eigen::Matrix3d to_box = rotation.transpose();
   const Eigen::Vector3d centre = box_pose.translation();
-  // A tight start for the search from the field: the distance of points on the box's surface
-  // (corners, edge midpoints, face centres) bounds the gap from above, so that few triangles
-  // pass the bounding-sphere test below.
   double best = upper;
+  bool found = false;  // an exact distance at or below `upper`, of face `face`
+  std::size_t face = 0;
+  VisitedFaces& visited = visited_faces;
+  visited.start(m.faces.size());
+  // The caller's hint first: any face's exact distance bounds the gap from above, and the closest
+  // face of the same box a moment ago (the fast closing moves a link a few millimetres at a time)
+  // mostly still is the closest, or nearly. Such a bound halves the search's time.
+  if (hint_face && *hint_face < m.faces.size()) {
+    const auto& t = m.faces[*hint_face];
+    const double d = internal::boxTriangleDistance(half, to_box * (m.vertices[t[0]] - centre),
+                                                   to_box * (m.vertices[t[1]] - centre),
+                                                   to_box * (m.vertices[t[2]] - centre));
+    visited.firstVisit(static_cast<std::uint32_t>(*hint_face));
+    if (d <= best) {
+      best = d;
+      found = true;
+      face = *hint_face;
+      if (best <= 0) {
+        if (closest_face) *closest_face = face;
+        return 0;
+      }
+    }
+  }
+  // And a start from the field: the distance of points on the box's surface (corners, edge
+  // midpoints, face centres) bounds the gap from above, so that few triangles pass the
+  // bounding-sphere test below.
+  double field_bound = best;
   for (int x = -1; x <= 1; ++x) {
     for (int y = -1; y <= 1; ++y) {
       for (int z = -1; z <= 1; ++z) {
         if (x || y || z) {
-          best = std::min(
-              best, unsignedUpperBound(box_pose * half.cwiseProduct(Eigen::Vector3d(x, y, z))));
+          field_bound =
+              std::min(field_bound,
+                       unsignedUpperBound(box_pose * half.cwiseProduct(Eigen::Vector3d(x, y, z))));
         }
       }
     }
+  }
+  if (field_bound < best) {
+    // Below the hint's distance: the hint is not a closest face, and the closest one, never cut
+    // (below), comes with a distance at most this bound.
+    best = field_bound;
+    found = false;
   }
   const Eigen::Vector3d reach = rotation.cwiseAbs() * half + Eigen::Vector3d::Constant(best);
   const Eigen::Vector3i a = m.cellOf(centre - reach), b = m.cellOf(centre + reach);
@@ -128,9 +160,6 @@ double DistanceField::boxGap(const Pose& box_pose, const Eigen::Vector3d& half, 
   const auto squaredOutside = [&](const Eigen::Vector3d& in_box) {
     return (in_box.cwiseAbs() - half).cwiseMax(0.0).squaredNorm();
   };
-  bool found = false;  // an exact distance below `upper`
-  VisitedFaces& visited = visited_faces;
-  visited.start(m.faces.size());
   for (int z = a.z(); z <= b.z(); ++z) {
     for (int y = a.y(); y <= b.y(); ++y) {
       const std::size_t row = m.cellIndex({0, y, z});
@@ -147,11 +176,11 @@ double DistanceField::boxGap(const Pose& box_pose, const Eigen::Vector3d& half, 
         for (std::uint32_t k = m.cell_first[c]; k < m.cell_first[c + 1]; ++k) {
           const std::uint32_t f = m.cell_faces[k];
           if (!visited.firstVisit(f)) continue;
-          // Cut when the face's bound exceeds best (or equals it once one distance is known).
+          // Cut when the face's bound exceeds best. Only when it exceeds: a face as close as the
+          // best one must be tested for the least index among the closest faces.
           const double face_reach = best + m.face_radii[f];
           const double outside = squaredOutside(to_box * (m.face_centres[f] - centre));
-          if (outside > face_reach * face_reach || (found && outside == face_reach * face_reach))
-            continue;
+          if (outside > face_reach * face_reach) continue;
           const auto& t = m.faces[f];
           const Eigen::Vector3d v0 = to_box * (m.vertices[t[0]] - centre),
                                 v1 = to_box * (m.vertices[t[1]] - centre),
@@ -159,14 +188,17 @@ double DistanceField::boxGap(const Pose& box_pose, const Eigen::Vector3d& half, 
           // Separating axes cut most triangles the sphere bound lets through (same rule).
           const double separation =
               internal::boxTriangleSeparation(half, v0, v1, v2, to_box * m.face_normals[f]);
-          if (separation > best || (found && separation == best)) continue;
+          if (separation > best) continue;
           const double d = internal::boxTriangleDistance(half, v0, v1, v2);
-          if (d <= best) {
+          if (d < best || (d == best && (!found || f < face))) {
             best = d;
             found = true;
-            if (closest_face) *closest_face = f;
+            face = f;
           }
-          if (best <= 0) return 0;
+          if (best <= 0) {
+            if (closest_face) *closest_face = face;
+            return 0;
+          }
         }
       }
     }
@@ -174,6 +206,7 @@ double DistanceField::boxGap(const Pose& box_pose, const Eigen::Vector3d& half, 
   // The closest triangle is never cut (its bound is at most the gap, at most every `best`): no
   // exact distance at or below `best` means the gap is beyond `upper`.
   if (!found) return upper;
+  if (closest_face) *closest_face = face;
   return best;
 }
 

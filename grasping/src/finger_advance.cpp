@@ -194,19 +194,46 @@ double sphereCoverLowerBound(const ShapeInstance& shape, const DistanceField& fi
   return bound;
 }
 
+DistanceField::BoxGap shapeBoxGap(const ShapeInstance& shape, const DistanceField& field,
+                                  double upper, bool gap_hints) {
+  SKELGRASP_DEMAND(shape.enclosing_half.has_value());
+  const Pose pose = shapePose(shape);
+  if (!gap_hints) return field.boxGapAndFace(pose, *shape.enclosing_half, upper);
+  auto& last = shape.last_gap;
+  const bool same_pose = last.valid && last.pose == pose.matrix().topRows<3>();
+  if (same_pose) {
+    // A gap found at or below `upper` is the answer; a search to a larger bound that found none
+    // says the gap is beyond `upper` too (boxGapAndFace answers `upper`, no face).
+    if (last.gap.face && last.gap.distance <= upper) return last.gap;
+    if (!last.gap.face && upper <= last.upper) return {upper, std::nullopt};
+  }
+  const std::optional<std::size_t> hint =
+      last.valid && last.gap.face ? last.gap.face : std::nullopt;
+  const DistanceField::BoxGap gap = field.boxGapAndFace(pose, *shape.enclosing_half, upper, hint);
+  // A search that found no face elsewhere is not kept: the face of the last one is the better hint.
+  if (gap.face || !last.gap.face || same_pose) {
+    last.valid = true;
+    last.pose = pose.matrix().topRows<3>();
+    last.upper = upper;
+    last.gap = gap;
+  }
+  return gap;
+}
+
 double linkObjectGap(const std::vector<ShapeInstance>& link, const DistanceField& field,
-                     double needed) {
+                     double needed, bool gap_hints) {
   // The spheres cost a field lookup each; the exact box gap (tens of microseconds) only runs for
   // shapes that may be within `needed`, where the spheres' slack (their bulge beyond the shape
   // plus the field's interpolation bound) would stop the advance millimetres early.
   double gap = std::numeric_limits<double>::infinity();
   for (const auto& s : link) {
-    const Pose pose = shapePose(s);
     double shape_gap = sphereCoverLowerBound(s, field);
     // The exact gap is asked only up to kExactGapReachM: beyond it, it cannot raise the bound.
     const double exact_upper = std::min(needed, kExactGapReachM);
-    if (shape_gap < exact_upper && s.enclosing_half)
-      shape_gap = std::max(shape_gap, field.boxDistance(pose, *s.enclosing_half, exact_upper));
+    if (shape_gap < exact_upper && s.enclosing_half) {
+      const DistanceField::BoxGap exact = shapeBoxGap(s, field, exact_upper, gap_hints);
+      shape_gap = std::max(shape_gap, exact.distance);
+    }
     gap = std::min(gap, shape_gap);
   }
   return gap;

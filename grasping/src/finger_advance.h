@@ -217,7 +217,7 @@ class FingerAdvance {
   double computeLinkPairGap(int a, int b, double needed);
 
   // A lower bound of the distance from a link to the object (the object's distance field).
-  double objectGap(int link, double needed);
+  double objectGap(int link, double needed, bool gap_hints);
 
   // Whether a gap bound kept from a fast closing's jump attempt, less this move's displacement
   // bound, still proves the placed link clear of the object, so that its collision test would

@@ -181,13 +181,14 @@ double FingerAdvance::computeLinkPairGap(int a, int b, double needed) {
   return gap;
 }
 
-double FingerAdvance::objectGap(int link, double needed) {
+double FingerAdvance::objectGap(int link, double needed, bool gap_hints) {
   auto& kept = geometry_.kept_gaps;
   if (const GapBound* bound = kept.object(link)) {
     const double current = bound->current(moved_[link], 0.0);
     if (current >= needed) return current;
   }
-  const double gap = linkObjectGap(geometry_.shapes[link], grasp_object_.distanceField(), needed);
+  const double gap =
+      linkObjectGap(geometry_.shapes[link], grasp_object_.distanceField(), needed, gap_hints);
   kept.keepObject(link, {gap, moved_[link], 0.0});
   return gap;
 }
@@ -286,7 +287,7 @@ int FingerAdvance::jumpGroup(std::vector<Drive*>& members, const AdvanceSettings
     });
   }
   for (const Moving& m : moving) {
-    limit(objectGap(m.link, m.rate * steps + kClearanceMarginM), m.rate);
+    limit(objectGap(m.link, m.rate * steps + kClearanceMarginM, settings.gap_hints), m.rate);
     if (stop_at_blocking_link && steps <= 0) break;
   }
   object_safe = steps;

@@ -114,6 +114,7 @@ ClosingResult GraspSimulator::closeImpl(const Pose& hand_pose, const Preshape& p
   settings.method = params.method;
   settings.jump_stops_at_blocking_link = params.jump_stops_at_blocking_link;
   settings.skip_repeated_refusals = params.skip_repeated_refusals;
+  settings.gap_hints = params.gap_hints;
   const double palm_distance =
       params.palm_contact_distance_m.value_or(defaults.palm_contact_distance_m);
   auto& geometry = impl_->geometry;
@@ -154,9 +155,9 @@ ClosingResult GraspSimulator::closeImpl(const Pose& hand_pose, const Preshape& p
   const bool corner_contacts = params.contact_patch == ContactPatch::kCorners;
   int links_in_contact = 0;
   auto addContact = [&](int link, bool palm, double max_distance) {
-    auto contacts =
-        internal::contactPatch(hand_, geometry.shapes[link], link, impl_->link_poses[link], object_,
-                               palm, max_distance, params.method, corner_contacts, queries_);
+    auto contacts = internal::contactPatch(
+        hand_, geometry.shapes[link], link, impl_->link_poses[link], object_, palm, max_distance,
+        params.method, corner_contacts, params.gap_hints, queries_);
     if (contacts.empty()) return;
     ++links_in_contact;
     for (auto& contact : contacts) result.contacts.push_back(std::move(contact));

@@ -7,6 +7,7 @@
 
 #include "fcl_conversions.h"
 #include "skelgrasp/grasping/contact.h"
+#include "skelgrasp/grasping/distance_field.h"
 #include "skelgrasp/grasping/grasp_simulator.h"
 
 namespace skelgrasp::grasping::internal {
@@ -33,7 +34,27 @@ struct ShapeInstance {
   // spheres: the SDH's 6 cm palm disc). None for meshes.
   std::optional<Eigen::Vector3d> enclosing_half;
   bool is_box = false;
+  // The last exact gap of this shape's box (shapeBoxGap): its pose, the bound it was searched to,
+  // and the answer. Mutable like the placement in `object`: a shape belongs to one simulator,
+  // used by one thread at a time.
+  struct LastGap {
+    bool valid = false;
+    Eigen::Matrix<double, 3, 4> pose;
+    double upper = 0;
+    DistanceField::BoxGap gap;
+  };
+  mutable LastGap last_gap;
 };
+
+// The exact gap of the box that holds `shape` (its enclosing_half, which it must have) as placed,
+// as DistanceField::boxGapAndFace(pose, half, upper). With `gap_hints`
+// (ClosingParams::gap_hints) the shape's last gap serves twice: at the same pose the answer is
+// read from it when it holds one for `upper` (the contact patch asks again where the finger
+// advance last asked), and elsewhere its face is the search's hint (the fast closing moves a link
+// a few millimetres at a time, so that face mostly still is the closest, or nearly). The same gap
+// and face either way.
+DistanceField::BoxGap shapeBoxGap(const ShapeInstance& shape, const DistanceField& field,
+                                  double upper, bool gap_hints);
 
 // Pose of a placed shape (object frame).
 inline Pose shapePose(const ShapeInstance& shape) {
@@ -46,9 +67,10 @@ double sphereCoverLowerBound(const ShapeInstance& shape, const DistanceField& fi
 
 // A lower bound of the distance from a link to the object from the object's distance field: its
 // covering spheres, then, for box shapes that may be within `needed`, the exact gap. At least
-// `needed` when the link is provably that far.
+// `needed` when the link is provably that far. With `gap_hints` the exact gaps start from the
+// shapes' last ones (shapeBoxGap).
 double linkObjectGap(const std::vector<ShapeInstance>& link, const DistanceField& field,
-                     double needed);
+                     double needed, bool gap_hints);
 
 // Upper bound of how far any point of a link moves when the joints change by a given amount along
 // a straight path in joint space: sum over the joints above the link of |change| times the
@@ -185,6 +207,8 @@ struct AdvanceSettings {
   bool jump_stops_at_blocking_link = true;
   // ClosingParams::skip_repeated_refusals (fast closing only).
   bool skip_repeated_refusals = true;
+  // ClosingParams::gap_hints (fast closing only).
+  bool gap_hints = true;
 };
 
 struct AdvanceResult {
@@ -206,11 +230,11 @@ AdvanceResult advanceFingers(const HandModel& hand, HandGeometry& geometry,
 // touching patch, or with `corner_contacts` the corners of a wide patch
 // (4 mm or more; up to four); none when the link is farther than `max_distance` (finite, >= 0).
 // kFast finds the same gap and patch from the object's distance field and exact queries near the
-// surface instead of FCL and CGAL.
+// surface instead of FCL and CGAL (its exact box gaps with the shapes' hints when `gap_hints`).
 std::vector<Contact> contactPatch(const HandModel& hand, const std::vector<ShapeInstance>& shapes,
                                   int link, const Pose& link_pose, const GraspObject& object,
                                   bool palm, double max_distance, ClosingMethod method,
-                                  bool corner_contacts, std::size_t& queries);
+                                  bool corner_contacts, bool gap_hints, std::size_t& queries);
 
 std::vector<Eigen::Vector3d> surfaceSamples(const CollisionShape& shape);
 std::vector<std::pair<Eigen::Vector3d, double>> sphereCover(const CollisionShape& shape);

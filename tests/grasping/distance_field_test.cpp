@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <random>
 #include <string>
 #include <utility>
@@ -238,10 +239,10 @@ std::vector<std::pair<Pose, Eigen::Vector3d>> boxesNearSurface(const TriangleMes
   return boxes;
 }
 
-// Skipping empty cells 64 at a time changes which cells are stepped over, never which are visited
-// or in what order: the same gap and the same closest face for every box, on generated meshes and
-// on real ones (thin, hollow, with many small triangles).
-TEST(DistanceField, SkippingEmptyCellsGivesTheSameGapsAndFaces) {
+// A sphere, a box and a torus, and those of the named YCB meshes the shared data holds (thin,
+// hollow, with many small triangles); without the shared data, the generated ones only.
+std::vector<std::pair<std::string, TriangleMesh>> generatedAndYcbMeshes(
+    const std::vector<std::string>& ycb_names) {
   std::vector<std::pair<std::string, TriangleMesh>> meshes = {
       {"sphere", primitives::makeSphere(0.04, 48, 24)},
       {"box", primitives::makeBox({0.06, 0.2, 0.04}, 4)},
@@ -249,12 +250,20 @@ TEST(DistanceField, SkippingEmptyCellsGivesTheSameGapsAndFaces) {
   const std::string shared = test::sharedDataDir();
   if (shared.empty()) {
     std::printf("shared data not found: real meshes skipped, generated ones compared\n");
-  } else {
-    for (const char* name : {"011_banana", "025_mug", "048_hammer"}) {
-      const std::string path = shared + "/objects/ycb/" + name + ".ply";
-      if (std::filesystem::exists(path)) meshes.emplace_back(name, loadMesh(path));
-    }
+    return meshes;
   }
+  for (const auto& name : ycb_names) {
+    const std::string path = shared + "/objects/ycb/" + name + ".ply";
+    if (std::filesystem::exists(path)) meshes.emplace_back(name, loadMesh(path));
+  }
+  return meshes;
+}
+
+// Skipping empty cells 64 at a time changes which cells are stepped over, never which are visited
+// or in what order: the same gap and the same closest face for every box, on generated meshes and
+// on real ones (thin, hollow, with many small triangles).
+TEST(DistanceField, SkippingEmptyCellsGivesTheSameGapsAndFaces) {
+  const auto meshes = generatedAndYcbMeshes({"011_banana", "025_mug", "048_hammer"});
   DistanceFieldParams dense;
   dense.skip_empty_cells = false;
   constexpr double kUpper = 0.01;
@@ -274,6 +283,78 @@ TEST(DistanceField, SkippingEmptyCellsGivesTheSameGapsAndFaces) {
     EXPECT_GT(near, 500) << name;
     EXPECT_GT(touching, 50) << name;
   }
+}
+
+// A hint only bounds the search: whatever face it names (the closest one, the last box's, any
+// other, one out of range), the gap and the face are those of the search without a hint, on
+// generated and real meshes.
+TEST(DistanceField, AGapHintNeverChangesTheGapOrTheFace) {
+  const auto meshes = generatedAndYcbMeshes({"011_banana", "025_mug", "073-a_lego_duplo"});
+  constexpr double kUpper = 0.01;
+  for (std::size_t m = 0; m < meshes.size(); ++m) {
+    const auto& [name, mesh] = meshes[m];
+    const DistanceField field(mesh, true);
+    std::mt19937_64 rng(90 + m);
+    std::uniform_int_distribution<std::size_t> any_face(0, mesh.faces.size() - 1);
+    std::optional<std::size_t> last_face;
+    int near = 0, touching = 0;
+    for (const auto& [pose, half] : boxesNearSurface(mesh, 800, 60 + m)) {
+      const DistanceField::BoxGap plain = field.boxGapAndFace(pose, half, kUpper);
+      std::vector<std::size_t> hints = {any_face(rng), mesh.faces.size() + 3};
+      if (plain.face) hints.push_back(*plain.face);
+      if (last_face) hints.push_back(*last_face);
+      for (std::size_t hint : hints) {
+        const DistanceField::BoxGap hinted = field.boxGapAndFace(pose, half, kUpper, hint);
+        ASSERT_EQ(hinted.distance, plain.distance) << name << " hint " << hint;
+        ASSERT_EQ(field.boxDistance(pose, half, kUpper, hint), plain.distance) << name;
+        ASSERT_EQ(hinted.face.has_value(), plain.face.has_value()) << name;
+        // Touching: any face the box touches (the search stops at the first).
+        if (plain.distance > 0) {
+          ASSERT_EQ(hinted.face, plain.face) << name << " hint " << hint;
+        } else {
+          ASSERT_FALSE(field.boxClosestPointsOnFace(pose, half, *hinted.face)) << name;
+        }
+      }
+      if (plain.face) last_face = plain.face;
+      near += plain.distance < kUpper;
+      touching += plain.distance == 0;
+    }
+    EXPECT_GT(near, 250) << name;
+    EXPECT_GT(touching, 25) << name;
+  }
+}
+
+// Boxes level over a flat face of many triangles are equally far from every triangle below them:
+// the face returned is the same whichever of those triangles the hint names (the least index of
+// the closest ones), not the one the search happened to meet first.
+TEST(DistanceField, OfEquallyCloseFacesTheSameOneWhateverTheHint) {
+  const Eigen::Vector3d object_half(0.06, 0.06, 0.03);
+  const TriangleMesh mesh = primitives::makeBox(2 * object_half, 40);
+  const DistanceField field(mesh, true);
+  const Eigen::Vector3d half(0.008, 0.01, 0.005);
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  int ties = 0;
+  for (int i = 0; i < 40; ++i) {
+    Pose pose = Pose::Identity();
+    const double height = 0.001 + 0.004 * std::abs(unit(rng));
+    pose.translation() =
+        Eigen::Vector3d(0.02 * unit(rng), 0.02 * unit(rng), object_half.z() + half.z() + height);
+    const DistanceField::BoxGap plain = field.boxGapAndFace(pose, half, 0.01);
+    ASSERT_TRUE(plain.face.has_value()) << i;
+    EXPECT_NEAR(plain.distance, height, 1e-12) << i;
+    std::vector<std::size_t> closest;
+    for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+      const auto pair = field.boxClosestPointsOnFace(pose, half, f);
+      if (pair && std::abs(pair->on_surface.distance - plain.distance) < 1e-12)
+        closest.push_back(f);
+    }
+    ties += closest.size() > 1;
+    for (std::size_t hint : closest) {
+      EXPECT_EQ(field.boxGapAndFace(pose, half, 0.01, hint).face, plain.face) << i << " " << hint;
+    }
+  }
+  EXPECT_EQ(ties, 40);
 }
 
 TEST(DistanceField, GraspObjectRejectsBadFieldParamsWhenConstructed) {

@@ -216,6 +216,15 @@ TEST(FastClosing, SkippingRepeatedRefusalsChangesNoClosing) {
   for (const auto& [off, on] : queries) EXPECT_LT(on, off);
 }
 
+// Exact box gaps that start from the shape's last one (its face as the search's hint, its answer
+// read again at the same pose, the default) take the same steps and find the same contacts as
+// searches from scratch.
+TEST(FastClosing, GapHintsChangeNoClosing) {
+  SKELGRASP_REQUIRE_SHARED_DATA();
+  if (expectShortcutChangesNoClosing(&ClosingParams::gap_hints).empty())
+    GTEST_SKIP() << "073-c_lego_duplo.ply not found in the shared data";
+}
+
 TEST(FastClosing, StaysStepwiseNearObstaclesOnGeneratedShapes) {
   // A closing on nothing (fingers meet each other and the palm) and on a cylinder: the same
   // configuration as the stepwise closing.

@@ -78,6 +78,11 @@ struct ClosingParams {
   // move: the same test, the same verdict). The same closings either way; off for `skelgrasp bench
   // ranking --compare refusals`.
   bool skip_repeated_refusals = true;
+  // Fast closing: each exact box gap of a link shape starts from the shape's last one: at the same
+  // pose its answer is read again, elsewhere the face it was found at bounds the gap before the
+  // search (DistanceField::boxGapAndFace's hint). The same gaps and closest faces either way; off
+  // for `skelgrasp bench ranking --compare gap-hints`.
+  bool gap_hints = true;
 };
 
 struct ClosingResult {
