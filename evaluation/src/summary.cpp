@@ -84,7 +84,6 @@ BatchSummary aggregateSummary(const BatchRecords& records) {
       g.ranked_closing_failures += m.ranked_closing_failures;
       g.ranked_no_force_closure += m.ranked_no_force_closure;
       if (m.ranked_refinement_s) {
-        ++g.ranked_with_share;
         g.ranked_refined += m.ranked_refined;
         g.ranked_r_unrefined.add(m.ranked_r_mean_unrefined.value_or(0.0));
         g.plan_s_unrefined.add(plan_s - *m.ranked_refinement_s);

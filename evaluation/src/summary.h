@@ -48,9 +48,8 @@ struct PlannerSummary {
   std::size_t ranked_samples = 0;
   std::size_t ranked_start_collisions = 0, ranked_closing_failures = 0, ranked_no_force_closure = 0;
   // The same without the refinement for robustness, over the ranked runs that recorded its share
-  // (ranked_with_share of them): top r from the scored grasps' r before it, and the plan time less
-  // its time; and the scored grasps it moved.
-  std::size_t ranked_with_share = 0;
+  // (one value each in both Stats): top r from the scored grasps' r before it, and the plan time
+  // less its time; and the scored grasps it moved.
   std::size_t ranked_refined = 0;
   Stat ranked_r_unrefined;
   Stat plan_s_unrefined;

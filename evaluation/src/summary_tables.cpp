@@ -121,7 +121,7 @@ std::string failureTable(const BatchSummary& summary) {
 std::string refinementShareTable(const BatchSummary& summary) {
   std::string md;
   for (const auto& [key, g] : summary.groups) {
-    if (g.ranked_runs == 0 || g.ranked_with_share != g.ranked_runs) continue;
+    if (g.ranked_runs == 0 || g.plan_s_unrefined.values.size() != g.ranked_runs) continue;
     md += fmt::format(
         "| {} | {} | {} | {:.1f}% ({:.1f}%) | {:.1f}% ({:.1f}%) | {:.2f} | {:.2f} |\n", key.first,
         toString(key.second), g.ranked_refined, 100 * g.ranked_r_unrefined.median(),
