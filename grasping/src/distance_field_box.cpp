@@ -71,9 +71,9 @@ std::optional<SurfacePoint> DistanceField::closestPointWithin(const Eigen::Vecto
   return found;
 }
 
-double DistanceField::boxDistance(const Pose& box_pose, const Eigen::Vector3d& half, double upper,
-                                  std::optional<std::size_t> hint_face) const {
-  return boxGap(box_pose, half, upper, hint_face, nullptr);
+double DistanceField::boxDistance(const Pose& box_pose, const Eigen::Vector3d& half,
+                                  double upper) const {
+  return boxGap(box_pose, half, upper, std::nullopt, nullptr);
 }
 
 DistanceField::BoxGap DistanceField::boxGapAndFace(const Pose& box_pose,

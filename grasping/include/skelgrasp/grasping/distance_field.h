@@ -71,17 +71,15 @@ class DistanceField {
   // Exact closest surface point of p if it is within `radius` (from the triangle grid).
   std::optional<SurfacePoint> closestPointWithin(const Eigen::Vector3d& p, double radius) const;
   // Exact distance between the solid box of half extents `half` placed at `box_pose` and the
-  // surface (0 when they intersect), or `upper` when it is at least `upper`. `hint_face` (any face
-  // index; out of range: ignored) only speeds the search: its distance bounds the gap, so a face
-  // that was closest to the box at a nearby pose halves the work. The gap is the same with any
-  // hint or none.
-  double boxDistance(const Pose& box_pose, const Eigen::Vector3d& half, double upper,
-                     std::optional<std::size_t> hint_face = std::nullopt) const;
+  // surface (0 when they intersect), or `upper` when it is at least `upper`.
+  double boxDistance(const Pose& box_pose, const Eigen::Vector3d& half, double upper) const;
   // boxDistance, and a closest triangle's face when the gap is below `upper` (unset otherwise):
   // a caller that may need the closest points later (boxClosestPointsOnFace) gets them without a
-  // second search, and may pass the face as the next query's hint. Of several faces at the same
-  // gap above 0 it is the one of least index, whatever the hint; at 0 (the box intersects the
-  // surface) it is one the box intersects.
+  // second search, and may pass the face as the next query's hint. `hint_face` (any face index;
+  // out of range: ignored) only speeds the search: its distance bounds the gap, so a face that
+  // was closest to the box at a nearby pose halves the work. Of several faces at the same gap
+  // above 0 the one of least index comes back, whatever the hint, so gap and face are the same
+  // with any hint or none; at 0 (the box intersects the surface) it is one the box intersects.
   struct BoxGap {
     double distance = 0;
     std::optional<std::size_t> face;
