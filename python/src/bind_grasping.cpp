@@ -311,9 +311,10 @@ sets 30 s) and RobustRankingParams. ``max_hypotheses`` is the surface planner's.
 'epsilon': the best by epsilon over all) are screened with a
 cheap r from ``robustness_screen_samples`` executions each (None, for any of the three: the hand's
 ranking budget, 60, 'preshapes' and 10 unless its description says otherwise; the SDH's
-'travel'; the Shadow hand's 40, 'epsilon' and 8); the best 2 x ``robustness_top_k`` of those run ``robustness_confirm_samples``
-more executions each (None: the hand's, 10 unless its description says otherwise; the SDH's
-and the Shadow hand's 0; 0: none) before the best ``robustness_top_k`` of them (0: all) get a robustness r from
+'travel'; the Shadow hand's 40, 'epsilon' and 8); the best 2 x ``robustness_top_k`` of those run
+``robustness_confirm_samples`` more executions each (None: the hand's, 10 unless its description
+says otherwise; the Shadow hand's 0; 0: none) before the best ``robustness_top_k`` of them (0: all)
+get a robustness r from
 ``robustness_samples`` perturbed executions (``robustness_variant`` 'paper', 'guarded', 'settled' or 'reference',
 friction ``robustness_mu`` or ``mu``, samples seeded by ``seed``) and are ranked first by r;
 ``robustness=False`` keeps the epsilon order. ``robust_refine`` searches near the most robust
