@@ -106,6 +106,9 @@ double DistanceField::boxGap(const Pose& box_pose, const Eigen::Vector3d& half, 
   const Eigen::Matrix3d rotation = box_pose.linear();
   const Eigen::Matrix3d to_box = rotation.transpose();
   const Eigen::Vector3d centre = box_pose.translation();
+  const auto inBox = [&](const Eigen::Vector3d& point) -> Eigen::Vector3d {
+    return to_box * (point - centre);
+  };
   double best = upper;
   bool found = false;  // an exact distance at or below `upper`, of face `face`
   std::size_t face = 0;
@@ -116,9 +119,8 @@ double DistanceField::boxGap(const Pose& box_pose, const Eigen::Vector3d& half, 
   // mostly still is the closest, or nearly. Such a bound halves the search's time.
   if (hint_face && *hint_face < m.faces.size()) {
     const auto& t = m.faces[*hint_face];
-    const double d = internal::boxTriangleDistance(half, to_box * (m.vertices[t[0]] - centre),
-                                                   to_box * (m.vertices[t[1]] - centre),
-                                                   to_box * (m.vertices[t[2]] - centre));
+    const double d = internal::boxTriangleDistance(
+        half, inBox(m.vertices[t[0]]), inBox(m.vertices[t[1]]), inBox(m.vertices[t[2]]));
     visited.firstVisit(static_cast<std::uint32_t>(*hint_face));
     if (d <= best) {
       best = d;
@@ -167,7 +169,7 @@ double DistanceField::boxGap(const Pose& box_pose, const Eigen::Vector3d& half, 
       std::size_t c = m.nextOccupied(row + a.x(), row_end);
       if (c == row_end) continue;  // most rows a box reaches are empty (96 of 133 in an SDH plan)
       const Eigen::Vector3d row_start =
-          to_box * (m.origin + m.cell * Eigen::Vector3d(0.5, y + 0.5, z + 0.5) - centre);
+          inBox(m.origin + m.cell * Eigen::Vector3d(0.5, y + 0.5, z + 0.5));
       for (; c < row_end; c = m.nextOccupied(c + 1, row_end)) {
         const auto x = static_cast<double>(c - row);
         // A triangle reaching past its cell is also listed in the cells it reaches.
@@ -179,12 +181,11 @@ double DistanceField::boxGap(const Pose& box_pose, const Eigen::Vector3d& half, 
           // Cut when the face's bound exceeds best. Only when it exceeds: a face as close as the
           // best one must be tested for the least index among the closest faces.
           const double face_reach = best + m.face_radii[f];
-          const double outside = squaredOutside(to_box * (m.face_centres[f] - centre));
+          const double outside = squaredOutside(inBox(m.face_centres[f]));
           if (outside > face_reach * face_reach) continue;
           const auto& t = m.faces[f];
-          const Eigen::Vector3d v0 = to_box * (m.vertices[t[0]] - centre),
-                                v1 = to_box * (m.vertices[t[1]] - centre),
-                                v2 = to_box * (m.vertices[t[2]] - centre);
+          const Eigen::Vector3d v0 = inBox(m.vertices[t[0]]), v1 = inBox(m.vertices[t[1]]),
+                                v2 = inBox(m.vertices[t[2]]);
           // Separating axes cut most triangles the sphere bound lets through (same rule).
           const double separation =
               internal::boxTriangleSeparation(half, v0, v1, v2, to_box * m.face_normals[f]);

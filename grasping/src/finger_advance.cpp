@@ -200,23 +200,17 @@ DistanceField::BoxGap shapeBoxGap(const ShapeInstance& shape, const DistanceFiel
   const Pose pose = shapePose(shape);
   if (!gap_hints) return field.boxGapAndFace(pose, *shape.enclosing_half, upper);
   auto& last = shape.last_gap;
-  const bool same_pose = last.valid && last.pose == pose.matrix().topRows<3>();
+  const bool same_pose = last && last->pose == pose.matrix().topRows<3>();
   if (same_pose) {
     // A gap found at or below `upper` is the answer; a search to a larger bound that found none
     // says the gap is beyond `upper` too (boxGapAndFace answers `upper`, no face).
-    if (last.gap.face && last.gap.distance <= upper) return last.gap;
-    if (!last.gap.face && upper <= last.upper) return {upper, std::nullopt};
+    if (last->gap.face && last->gap.distance <= upper) return last->gap;
+    if (!last->gap.face && upper <= last->upper) return {upper, std::nullopt};
   }
-  const std::optional<std::size_t> hint =
-      last.valid && last.gap.face ? last.gap.face : std::nullopt;
+  const std::optional<std::size_t> hint = last ? last->gap.face : std::nullopt;
   const DistanceField::BoxGap gap = field.boxGapAndFace(pose, *shape.enclosing_half, upper, hint);
   // A search that found no face elsewhere is not kept: the face of the last one is the better hint.
-  if (gap.face || !last.gap.face || same_pose) {
-    last.valid = true;
-    last.pose = pose.matrix().topRows<3>();
-    last.upper = upper;
-    last.gap = gap;
-  }
+  if (gap.face || !hint || same_pose) last = {pose.matrix().topRows<3>(), upper, gap};
   return gap;
 }
 

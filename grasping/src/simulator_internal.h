@@ -38,12 +38,11 @@ struct ShapeInstance {
   // and the answer. Mutable like the placement in `object`: a shape belongs to one simulator,
   // used by one thread at a time.
   struct LastGap {
-    bool valid = false;
     Eigen::Matrix<double, 3, 4> pose;
     double upper = 0;
     DistanceField::BoxGap gap;
   };
-  mutable LastGap last_gap;
+  mutable std::optional<LastGap> last_gap;  // none before the first
 };
 
 // The exact gap of the box that holds `shape` (its enclosing_half, which it must have) as placed,
