@@ -10,7 +10,9 @@
 // `refusals`, the fast closing's later passes not testing again a refused step while the fingers it
 // was tested against stand where they stood (ClosingParams::skip_repeated_refusals); `gap-hints`,
 // the fast closing's exact box gaps starting from the face the box was closest to in its last
-// query (ClosingParams::gap_hints). Two
+// query (ClosingParams::gap_hints); `box-tests`, the hand's box shapes tested for intersection
+// with the object on its distance field rather than by FCL (DistanceFieldParams::
+// box_intersection_tests). Two
 // comparisons are not of an exact shortcut but of a choice: `screen-by`, screening the best by
 // epsilon (old) or each preshape's best in turn (new, RobustRankingParams::screen_candidates); its
 // paths return different grasps, and the mean r of each path's scored grasps says which is worth
@@ -62,6 +64,7 @@ enum class Shortcut {
   kJumpOrder,
   kRefusals,
   kGapHints,
+  kBoxTests,
   kScreenBy,  // not exact: the two paths may score different grasps
   kConfirm    // not exact either
 };
@@ -77,6 +80,7 @@ const std::map<std::string, Shortcut>& shortcutsByName() {
       {"jump-order", Shortcut::kJumpOrder},
       {"refusals", Shortcut::kRefusals},
       {"gap-hints", Shortcut::kGapHints},
+      {"box-tests", Shortcut::kBoxTests},
       {"screen-by", Shortcut::kScreenBy},
       {"confirm", Shortcut::kConfirm}};
   return names;
@@ -87,7 +91,7 @@ struct PathRun {
   double seconds = 0;
 };
 
-// `object` is the one of the path (cell-skipping: built with or without the skip).
+// `object` is the one of the path (cell-skipping, box-tests: built with or without the shortcut).
 PathRun rankOnce(const grasping::HandModel& hand, const grasping::GraspObject& object,
                  const std::vector<grasping::Grasp>& grasps,
                  const grasping::SkeletonPlannerParams& planner, Shortcut shortcut, bool new_path) {
@@ -107,6 +111,7 @@ PathRun rankOnce(const grasping::HandModel& hand, const grasping::GraspObject& o
       params.robustness.settling.skip_closure_test_when_unbalanced = new_path;
       break;
     case Shortcut::kCellSkipping:  // the caller passes the path's object
+    case Shortcut::kBoxTests:
       break;
     case Shortcut::kJumpOrder:
       hypothesis.closing.jump_stops_at_blocking_link = new_path;
@@ -183,14 +188,15 @@ int runBenchRanking(const BenchRankingArgs& args) {
       const auto skel = skeleton::extractSkeleton(mesh);
       if (!skel.status.ok()) throw Error(skel.status.message);
       const grasping::GraspObject object(mesh);
-      // The old path's object for cell-skipping, its field built before any timing (the new
-      // one's is built by the planning below).
-      std::optional<grasping::GraspObject> dense_object;
-      if (shortcut == Shortcut::kCellSkipping) {
-        grasping::DistanceFieldParams dense_walk;
-        dense_walk.skip_empty_cells = false;
-        dense_object.emplace(mesh, dense_walk);
-        dense_object->distanceField();
+      // The old path's object for cell-skipping and box-tests, its field built before any
+      // timing (the new one's is built by the planning below).
+      std::optional<grasping::GraspObject> old_object;
+      if (shortcut == Shortcut::kCellSkipping || shortcut == Shortcut::kBoxTests) {
+        grasping::DistanceFieldParams old_params;
+        if (shortcut == Shortcut::kCellSkipping) old_params.skip_empty_cells = false;
+        if (shortcut == Shortcut::kBoxTests) old_params.box_intersection_tests = false;
+        old_object.emplace(mesh, old_params);
+        old_object->distanceField();
       }
       for (const auto& hand : hands) {
         const auto plan = grasping::planSkeletonGrasps(hand, object, skel.skeleton, planner);
@@ -200,9 +206,9 @@ int runBenchRanking(const BenchRankingArgs& args) {
         for (int rep = 0; rep < args.repeat; ++rep) {
           for (int k = 0; k < 2; ++k) {
             const bool new_path = (k == 1) != (rep % 2 == 1);
-            const bool dense = shortcut == Shortcut::kCellSkipping && !new_path;
-            PathRun run = rankOnce(hand, dense ? *dense_object : object, plan.grasps, planner,
-                                   shortcut, new_path);
+            const bool old_object_path = old_object && !new_path;
+            PathRun run = rankOnce(hand, old_object_path ? *old_object : object, plan.grasps,
+                                   planner, shortcut, new_path);
             (new_path ? new_s : old_s) += run.seconds;
             (new_path ? new_run : old_run) = std::move(run);
           }
@@ -278,8 +284,10 @@ void registerBenchRankingCommand(CLI::App& app, Action& action) {
                   "exact box gap skips empty cells), jump-order (the fast closing's jump "
                   "attempts stop at the first link that allows no step), refusals (later passes "
                   "do not test again a refused step while the fingers it was tested against "
-                  "stand where they stood) or gap-hints (exact box gaps start from the face the "
-                  "box was closest to in its last query); or, not exact, the two paths' r "
+                  "stand where they stood), gap-hints (exact box gaps start from the face the "
+                  "box was closest to in its last query) or box-tests (box shapes tested for "
+                  "intersection on the object's distance field, not by FCL); or, not exact, the "
+                  "two paths' r "
                   "compared: screen-by (screening the best by epsilon against each preshape's "
                   "best in turn) or "
                   "confirm (the screening's contenders without and with confirmation samples)")

@@ -99,6 +99,62 @@ std::optional<DistanceField::BoxClosestPoints> DistanceField::boxClosestPointsOn
                           SurfacePoint{box_pose * closest->on_triangle, face, closest->distance}};
 }
 
+std::optional<std::size_t> DistanceField::boxIntersection(
+    const Pose& box_pose, const Eigen::Vector3d& half, std::optional<std::size_t> hint_face) const {
+  const auto& m = *impl_;
+  const Eigen::Matrix3d rotation = box_pose.linear();
+  const Eigen::Matrix3d to_box = rotation.transpose();
+  const Eigen::Vector3d centre = box_pose.translation();
+  const auto inBox = [&](const Eigen::Vector3d& point) -> Eigen::Vector3d {
+    return to_box * (point - centre);
+  };
+  const auto overlaps = [&](std::size_t f) {
+    const auto& t = m.faces[f];
+    return internal::boxTriangleOverlap(half, inBox(m.vertices[t[0]]), inBox(m.vertices[t[1]]),
+                                        inBox(m.vertices[t[2]]));
+  };
+  if (hint_face && *hint_face < m.faces.size() && overlaps(*hint_face)) return hint_face;
+  // Clear of the surface by more than the box's half diagonal: one field lookup says so.
+  if (lowerBound(centre) > half.norm()) return std::nullopt;
+  VisitedFaces& visited = visited_faces;
+  visited.start(m.faces.size());
+  if (hint_face && *hint_face < m.faces.size())
+    visited.firstVisit(static_cast<std::uint32_t>(*hint_face));
+  // A point the box shares with a face lies in the box's axis-aligned bounds, and the face is
+  // listed in the cell holding that point: the cells there list every face that can intersect.
+  const Eigen::Vector3d reach = rotation.cwiseAbs() * half;
+  const Eigen::Vector3i a = m.cellOf(centre - reach), b = m.cellOf(centre + reach);
+  const double cell_radius = m.cell * std::sqrt(3.0) / 2;
+  const Eigen::Vector3d step_x = to_box.col(0) * m.cell;
+  const auto squaredOutside = [&](const Eigen::Vector3d& in_box) {
+    return (in_box.cwiseAbs() - half).cwiseMax(0.0).squaredNorm();
+  };
+  for (int z = a.z(); z <= b.z(); ++z) {
+    for (int y = a.y(); y <= b.y(); ++y) {
+      const std::size_t row = m.cellIndex({0, y, z});
+      const std::size_t row_end = row + b.x() + 1;
+      std::size_t c = m.nextOccupied(row + a.x(), row_end);
+      if (c == row_end) continue;
+      const Eigen::Vector3d row_start =
+          inBox(m.origin + m.cell * Eigen::Vector3d(0.5, y + 0.5, z + 0.5));
+      for (; c < row_end; c = m.nextOccupied(c + 1, row_end)) {
+        // A cell the box does not reach holds no shared point; its faces that reach the box are
+        // listed in the cells where they meet it.
+        const auto x = static_cast<double>(c - row);
+        if (squaredOutside(row_start + x * step_x) > cell_radius * cell_radius) continue;
+        for (std::uint32_t k = m.cell_first[c]; k < m.cell_first[c + 1]; ++k) {
+          const std::uint32_t f = m.cell_faces[k];
+          if (!visited.firstVisit(f)) continue;
+          const double face_radius = m.face_radii[f];
+          if (squaredOutside(inBox(m.face_centres[f])) > face_radius * face_radius) continue;
+          if (overlaps(f)) return f;
+        }
+      }
+    }
+  }
+  return std::nullopt;
+}
+
 double DistanceField::boxGap(const Pose& box_pose, const Eigen::Vector3d& half, double upper,
                              std::optional<std::size_t> hint_face,
                              std::optional<std::size_t>* closest_face) const {

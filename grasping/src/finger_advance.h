@@ -55,7 +55,7 @@ class FingerAdvance {
     auto& shapes = geometry_.shapes;
     for (int l : geometry_.links_of_finger[finger]) {
       if (check_object && !provablyClearOfObject(l, change) &&
-          linkHitsObject(shapes[l], object_, queries_)) {
+          linkHitsObject(shapes[l], grasp_object_, queries_)) {
         touched_[l] = 1;
         return {Blocker::kObject};
       }

@@ -66,9 +66,8 @@ void placeLinks(const HandModel& hand, const Pose& hand_pose, const Eigen::Vecto
 int GraspSimulator::firstLinkInCollision(const Pose& hand_pose, const Eigen::VectorXd& joints) {
   auto& shapes = impl_->geometry.shapes;
   placeLinks(hand_, hand_pose, joints, shapes, impl_->link_poses);
-  const auto& object = object_.collisionData();
   for (std::size_t l = 0; l < shapes.size(); ++l) {
-    if (internal::linkHitsObject(shapes[l], object, queries_)) return static_cast<int>(l);
+    if (internal::linkHitsObject(shapes[l], object_, queries_)) return static_cast<int>(l);
   }
   if (object_.closed()) {
     const auto& inside = object_.surfaceQuery();

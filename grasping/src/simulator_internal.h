@@ -43,6 +43,8 @@ struct ShapeInstance {
     DistanceField::BoxGap gap;
   };
   mutable std::optional<LastGap> last_gap;  // none before the first
+  // The face the shape's box last intersected (linkHitsObject): its next test's hint.
+  mutable std::optional<std::size_t> last_hit_face;
 };
 
 // The exact gap of the box that holds `shape` (its enclosing_half, which it must have) as placed,
@@ -159,8 +161,11 @@ struct HandGeometry {
 void placeLink(const Pose& link_pose, std::vector<ShapeInstance>& shapes);
 bool linksCollide(const std::vector<ShapeInstance>& a, const std::vector<ShapeInstance>& b,
                   std::size_t& queries);
-bool linkHitsObject(const std::vector<ShapeInstance>& link,
-                    const GraspObject::CollisionData& object, std::size_t& queries);
+// Whether a placed link intersects the object: its box shapes on the object's distance field
+// (DistanceFieldParams::box_intersection_tests; the face a shape hit last is tested first), its
+// other shapes, or all with that off, by FCL.
+bool linkHitsObject(const std::vector<ShapeInstance>& link, const GraspObject& object,
+                    std::size_t& queries);
 
 // Link pairs (finger-finger of different fingers, finger-static) that are not checked while
 // closing: those already intersecting in the preshape are attached by design (a finger mounted

@@ -77,8 +77,26 @@ double segmentSegmentDistanceSquared(const Eigen::Vector3d& p0, const Eigen::Vec
 
 namespace {
 
-// Separating-axis test of a triangle against the box [-half, half] (Akenine-Moeller); touching
-// counts as overlapping.
+// Corner i of the box [-half, half]: bit k of i set = the + side on axis k.
+Eigen::Vector3d boxCorner(const Eigen::Vector3d& half, int i) {
+  return Eigen::Vector3d((i & 1) ? half.x() : -half.x(), (i & 2) ? half.y() : -half.y(),
+                         (i & 4) ? half.z() : -half.z());
+}
+
+// The face region of a point (one coordinate beyond the box, the others within): axis * 2 + side,
+// or -1 elsewhere.
+int faceRegion(const Eigen::Vector3d& half, const Eigen::Vector3d& p) {
+  int region = -1;
+  for (int k = 0; k < 3; ++k) {
+    if (std::abs(p[k]) <= half[k]) continue;
+    if (region >= 0) return -1;  // an edge or corner region
+    region = 2 * k + (p[k] > 0 ? 1 : 0);
+  }
+  return region;
+}
+
+}  // namespace
+
 bool boxTriangleOverlap(const Eigen::Vector3d& half, const Eigen::Vector3d& a,
                         const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
   const Eigen::Vector3d v[3] = {a, b, c};
@@ -106,26 +124,6 @@ bool boxTriangleOverlap(const Eigen::Vector3d& half, const Eigen::Vector3d& a,
   }
   return true;
 }
-
-// Corner i of the box [-half, half]: bit k of i set = the + side on axis k.
-Eigen::Vector3d boxCorner(const Eigen::Vector3d& half, int i) {
-  return Eigen::Vector3d((i & 1) ? half.x() : -half.x(), (i & 2) ? half.y() : -half.y(),
-                         (i & 4) ? half.z() : -half.z());
-}
-
-// The face region of a point (one coordinate beyond the box, the others within): axis * 2 + side,
-// or -1 elsewhere.
-int faceRegion(const Eigen::Vector3d& half, const Eigen::Vector3d& p) {
-  int region = -1;
-  for (int k = 0; k < 3; ++k) {
-    if (std::abs(p[k]) <= half[k]) continue;
-    if (region >= 0) return -1;  // an edge or corner region
-    region = 2 * k + (p[k] > 0 ? 1 : 0);
-  }
-  return region;
-}
-
-}  // namespace
 
 double boxTriangleDistance(const Eigen::Vector3d& half, const Eigen::Vector3d& a,
                            const Eigen::Vector3d& b, const Eigen::Vector3d& c) {

@@ -31,6 +31,11 @@ SegmentPoints closestSegmentPoints(const Eigen::Vector3d& p0, const Eigen::Vecto
 double segmentSegmentDistanceSquared(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
                                      const Eigen::Vector3d& q0, const Eigen::Vector3d& q1);
 
+// Separating-axis test of triangle (a, b, c) against the solid box [-half, half], both in the
+// box's frame (Akenine-Moeller): true when they intersect, touching included.
+bool boxTriangleOverlap(const Eigen::Vector3d& half, const Eigen::Vector3d& a,
+                        const Eigen::Vector3d& b, const Eigen::Vector3d& c);
+
 // Distance between the solid axis-aligned box [-half, half] and triangle (a, b, c) given in the
 // box's frame; 0 when they intersect.
 double boxTriangleDistance(const Eigen::Vector3d& half, const Eigen::Vector3d& a,

@@ -323,6 +323,49 @@ TEST(DistanceField, AGapHintNeverChangesTheGapOrTheFace) {
   }
 }
 
+// The box intersection test says what the exact gap says: a face comes back exactly when the gap
+// is 0, whatever face the hint names, and the box touches that face; on generated and real meshes.
+// Boxes wholly inside a closed surface meet no face.
+TEST(DistanceField, BoxIntersectionIsAZeroGapWhateverTheHint) {
+  const auto meshes = generatedAndYcbMeshes({"011_banana", "025_mug", "073-a_lego_duplo"});
+  constexpr double kUpper = 0.01;
+  for (std::size_t m = 0; m < meshes.size(); ++m) {
+    const auto& [name, mesh] = meshes[m];
+    const DistanceField field(mesh, true);
+    std::mt19937_64 rng(120 + m);
+    std::uniform_int_distribution<std::size_t> any_face(0, mesh.faces.size() - 1);
+    std::optional<std::size_t> last_face;
+    int hits = 0, misses = 0;
+    for (const auto& [pose, half] : boxesNearSurface(mesh, 1500, 140 + m)) {
+      const bool touching = field.boxDistance(pose, half, kUpper) == 0;
+      const std::optional<std::size_t> plain = field.boxIntersection(pose, half);
+      ASSERT_EQ(plain.has_value(), touching) << name;
+      std::vector<std::optional<std::size_t>> hints = {any_face(rng), mesh.faces.size() + 3};
+      if (last_face) hints.push_back(last_face);
+      for (const auto& hint : hints) {
+        const std::optional<std::size_t> hinted = field.boxIntersection(pose, half, hint);
+        ASSERT_EQ(hinted.has_value(), touching) << name;
+        if (hinted) {
+          ASSERT_FALSE(field.boxClosestPointsOnFace(pose, half, *hinted)) << name;
+        }
+      }
+      if (plain) last_face = plain;
+      hits += touching;
+      misses += !touching;
+    }
+    EXPECT_GT(hits, 100) << name;
+    EXPECT_GT(misses, 100) << name;
+  }
+  const Eigen::Vector3d object_half(0.05, 0.05, 0.05);
+  const DistanceField box_field(primitives::makeBox(2 * object_half, 4), true);
+  Pose inside = Pose::Identity();
+  inside.linear() =
+      Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  EXPECT_FALSE(box_field.boxIntersection(inside, Eigen::Vector3d(0.02, 0.01, 0.03)));
+  inside.translation().x() = object_half.x();  // straddling a face now
+  EXPECT_TRUE(box_field.boxIntersection(inside, Eigen::Vector3d(0.02, 0.01, 0.03)));
+}
+
 // Boxes level over a flat face of many triangles are equally far from every triangle below them:
 // the face returned is the same whichever of those triangles the hint names (the least index of
 // the closest ones), not the one the search happened to meet first.

@@ -225,6 +225,67 @@ TEST(FastClosing, GapHintsChangeNoClosing) {
     GTEST_SKIP() << "073-c_lego_duplo.ply not found in the shared data";
 }
 
+// Box shapes tested for intersection on the object's distance field (the default) or by FCL's
+// tree: the same start-collision verdicts for hands placed in, on and off real objects, and the
+// same closings (joints, passes and contacts) for both closing methods. The two tests differ only
+// in the rounding of touching; the FCL path must not make fewer queries.
+TEST(FastClosing, BoxTestsOnTheFieldChangeNoClosing) {
+  SKELGRASP_REQUIRE_SHARED_DATA();
+  setLogLevel(spdlog::level::warn);
+  EXPECT_TRUE(DistanceFieldParams{}.box_intersection_tests) << "on by default";
+  DistanceFieldParams fcl_tests;
+  fcl_tests.box_intersection_tests = false;
+  for (const std::string object_name : {"073-c_lego_duplo", "025_mug"}) {
+    const std::string path = test::sharedDataDir() + "/objects/ycb/" + object_name + ".ply";
+    if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " not found";
+    const TriangleMesh mesh = loadMesh(path);
+    const GraspObject by_fcl(mesh, fcl_tests), by_field(mesh);
+    constexpr int kPosesPerPreshape = 8;
+    for (const std::string name : {"armar3", "sdh", "shadow"}) {
+      const HandModel hand = loadBuiltinHand(name);
+      GraspSimulator fcl_sim(hand, by_fcl), field_sim(hand, by_field);
+      std::mt19937_64 rng(11);
+      int closed = 0, colliding = 0, free = 0;
+      for (const auto& [preshape_name, preshape] : hand.preshapes()) {
+        for (int k = 0; k < kPosesPerPreshape; ++k) {
+          const auto placed = test::freeSurfaceHandPose(fcl_sim, by_fcl, preshape, rng);
+          if (!placed) continue;
+          const std::string where =
+              name + " " + preshape_name + " " + object_name + " pose " + std::to_string(k);
+          // The free pose and poses 0-20 mm further in along the approach, which collide sooner
+          // or later.
+          for (double in_m = 0; in_m <= 0.02; in_m += 0.0025) {
+            const Eigen::Vector3d approach =
+                (*placed * hand.gcpInRoot(preshape)).linear().col(2);  // the gcp's z
+            Pose pushed = *placed;
+            pushed.translation() += in_m * approach;
+            const bool hit = fcl_sim.inCollision(pushed, preshape.joints);
+            ASSERT_EQ(field_sim.inCollision(pushed, preshape.joints), hit) << where;
+            colliding += hit;
+            free += !hit;
+          }
+          for (ClosingMethod method : {ClosingMethod::kFast, ClosingMethod::kStepwise}) {
+            ClosingParams params;
+            params.method = method;
+            const auto a = fcl_sim.close(*placed, preshape, params);
+            const auto b = field_sim.close(*placed, preshape, params);
+            ASSERT_EQ(a.joints, b.joints) << where;
+            EXPECT_EQ(a.passes, b.passes) << where;
+            EXPECT_EQ(a.reason, b.reason) << where;
+            ASSERT_EQ(a.contacts.size(), b.contacts.size()) << where;
+            for (std::size_t c = 0; c < a.contacts.size(); ++c)
+              EXPECT_EQ(a.contacts[c].point, b.contacts[c].point) << where;
+          }
+          ++closed;
+        }
+      }
+      EXPECT_GE(closed, kPosesPerPreshape) << name;
+      EXPECT_GT(colliding, 10) << name;
+      EXPECT_GT(free, 10) << name;
+    }
+  }
+}
+
 TEST(FastClosing, StaysStepwiseNearObstaclesOnGeneratedShapes) {
   // A closing on nothing (fingers meet each other and the palm) and on a cylinder: the same
   // configuration as the stepwise closing.

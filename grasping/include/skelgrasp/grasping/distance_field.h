@@ -28,6 +28,15 @@ struct DistanceFieldParams {
   // that `skelgrasp bench ranking --compare cell-skipping` times both in one process. The gaps
   // and closest faces are the same either way (the cells are visited in the same order).
   bool skip_empty_cells = true;
+  // The simulator tests a hand's box shapes for intersection with the object on this field's
+  // triangle grid (DistanceField::boxIntersection) rather than on FCL's tree of bounding boxes,
+  // and clears any shape whose covering spheres the field bounds away from the surface before
+  // FCL's test of its cylinders, spheres and meshes. The fast closing tests a link near the object
+  // at every step it crawls towards it, and there FCL walked deep into its tree: a fifth of an SDH
+  // plan's time. The same verdicts up to rounding at touching (tested against FCL). False: FCL
+  // alone, the test before 2026-11-30, kept so that `skelgrasp bench ranking --compare box-tests`
+  // times both in one process.
+  bool box_intersection_tests = true;
 };
 
 // Throws InvalidArgument for a spacing or band that is not positive: the one check of these params,
@@ -94,6 +103,14 @@ class DistanceField {
     Eigen::Vector3d on_box;
     SurfacePoint on_surface;
   };
+  // Whether the solid box of half extents `half` placed at `box_pose` intersects the surface
+  // (touching counts): a face it intersects, none when they are disjoint (a box wholly inside a
+  // closed surface meets no face). `hint_face` (any index; out of range: ignored) is tested first:
+  // the face a link hit a step ago mostly still is one it hits. The verdict does not depend on it.
+  std::optional<std::size_t> boxIntersection(
+      const Pose& box_pose, const Eigen::Vector3d& half,
+      std::optional<std::size_t> hint_face = std::nullopt) const;
+
   std::optional<BoxClosestPoints> boxClosestPointsOnFace(const Pose& box_pose,
                                                          const Eigen::Vector3d& half,
                                                          std::size_t face) const;

@@ -51,6 +51,7 @@ class GraspObject {
   // Signed distance field of the surface (unsigned when the mesh is open) with the constructor's
   // DistanceFieldParams, built on first use (tens of milliseconds), thread-safe.
   const DistanceField& distanceField() const;
+  const DistanceFieldParams& fieldParams() const { return field_params_; }
 
   struct CollisionData;  // FCL geometry, defined in the FCL translation units
   const CollisionData& collisionData() const { return *collision_; }
