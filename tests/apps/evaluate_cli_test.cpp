@@ -128,10 +128,11 @@ TEST(EvaluateCli, RecordsEachHandsOwnRankingBudget) {
   EXPECT_EQ(ranking["screen_samples"], 10) << ranking.dump();
   EXPECT_DOUBLE_EQ(ranking["refinement"]["search_below_r"].get<double>(), 0.7);
   ASSERT_TRUE(ranking.contains("hand_budgets")) << ranking.dump();
-  // The SDH's own budget differs only in its screening order (by finger travel), so that is all
-  // it records besides the three fields every hand budget records.
+  // The SDH's own budget differs in its screening order (by finger travel) and its r bar, so that
+  // is all it records besides the three fields every hand budget records.
   EXPECT_EQ(ranking["hand_budgets"]["sdh"]["screen_by"], "travel") << ranking.dump();
   EXPECT_EQ(ranking["hand_budgets"]["sdh"]["screen_k"], 60) << ranking.dump();
+  EXPECT_DOUBLE_EQ(ranking["hand_budgets"]["sdh"]["search_below_r"].get<double>(), 0.5);
   EXPECT_FALSE(ranking["hand_budgets"]["sdh"].contains("confirm_samples")) << ranking.dump();
   EXPECT_EQ(ranking["hand_budgets"]["shadow"]["screen_k"], 40) << ranking.dump();
   EXPECT_EQ(ranking["hand_budgets"]["shadow"]["screen_samples"], 8) << ranking.dump();
@@ -152,7 +153,7 @@ TEST(EvaluateCli, RecordsEachHandsOwnRankingBudget) {
   EXPECT_EQ(ranking["confirm_samples"], 10) << ranking.dump();
   EXPECT_EQ(ranking["hand_budgets"]["shadow"]["confirm_samples"], 0) << ranking.dump();
   EXPECT_NE(summary.find("sdh's own ranking budget: 60 screened with 10 samples, each preshape's "
-                         "best by finger travel in turn, refined below r = 0.7"),
+                         "best by finger travel in turn, refined below r = 0.5"),
             std::string::npos)
       << summary;
   // A batch from before the hands had budgets (no hand_budgets) ranked the Shadow hand with the
@@ -183,13 +184,14 @@ TEST(EvaluateCli, RecordsEachHandsOwnRankingBudget) {
     EXPECT_EQ(again.exit_code, 0) << again.err;
     EXPECT_NE(again.out.find("already done"), std::string::npos) << again.out;
   };
-  // Before screening took the preshapes in turn (no screen_by anywhere) it screened by epsilon,
-  // and the SDH had no budget of its own.
+  // Before screening took the preshapes in turn (no screen_by anywhere) it screened by epsilon.
+  // (The SDH's r bar stays: a batch from before the SDH had a budget of its own searched below
+  // r = 0.7, which no single option gives both it and the Shadow hand today.)
   expectOldBatchResumesOnlyWith(
       [](nlohmann::json& ranking) {
         ranking.erase("screen_by");
         ranking["hand_budgets"]["shadow"].erase("screen_by");
-        ranking["hand_budgets"].erase("sdh");
+        ranking["hand_budgets"]["sdh"].erase("screen_by");
       },
       "screen_by", "--robustness-screen-by epsilon");
   // A batch whose record names no confirmation (no confirm_samples anywhere, as before the

@@ -271,11 +271,13 @@ TEST(HandModel, DescriptionsCarryTheirRankingBudget) {
   EXPECT_DOUBLE_EQ(*shadow.refine_below_r, 0.5);
   EXPECT_EQ(*shadow.screen_candidates, ScreenCandidates::kByPreScore);  // "screen_by": "epsilon"
   EXPECT_EQ(*shadow.confirm_samples, 0);                                // no confirmation
-  // The SDH's says only that it screens by finger travel (docs/hands.md, "Ranking budget").
+  // The SDH's says that it screens by finger travel and searches grasps below r = 0.5, as the
+  // Shadow hand (docs/hands.md, "Ranking budget").
   const RankingBudget sdh = resolveHand("sdh").rankingBudget();
-  EXPECT_FALSE(sdh.screen_grasps || sdh.screen_samples || sdh.refine_below_r ||
-               sdh.confirm_samples);
+  EXPECT_FALSE(sdh.screen_grasps || sdh.screen_samples || sdh.confirm_samples);
   EXPECT_EQ(sdh.screen_candidates, ScreenCandidates::kPreshapesInTurnByTravel);
+  ASSERT_TRUE(sdh.refine_below_r);
+  EXPECT_DOUBLE_EQ(*sdh.refine_below_r, 0.5);
   for (const char* name : {"armar3", "parallel_gripper"}) {
     const RankingBudget none = resolveHand(name).rankingBudget();
     EXPECT_FALSE(none.screen_grasps || none.screen_samples || none.refine_below_r ||
