@@ -195,11 +195,12 @@ bool linkHitsObject(const std::vector<ShapeInstance>& link, const GraspObject& o
     // a shape a centimetre or more away in a few lookups, where the field's exact test would
     // walk every cell around a long finger box. With a margin over the rounding of FCL's test.
     if (!s.object->getAABB().overlap(other.getAABB())) continue;
-    if (sphereCoverLowerBound(s, object.distanceField()) > kProvablyClearOfFclM) continue;
+    const DistanceField& field = object.distanceField();
+    if (sphereCoverLowerBound(s, field) > kProvablyClearOfFclM) continue;
     if (s.is_box) {
       ++queries;
       const std::optional<std::size_t> face =
-          object.distanceField().boxIntersection(shapePose(s), *s.enclosing_half, s.last_hit_face);
+          field.boxIntersection(shapePose(s), *s.enclosing_half, s.last_hit_face);
       if (face) {
         s.last_hit_face = face;
         return true;

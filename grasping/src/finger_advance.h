@@ -35,7 +35,6 @@ class FingerAdvance {
       : hand_(hand),
         geometry_(geometry),
         grasp_object_(object),
-        object_(object.collisionData()),
         hand_pose_(hand_pose),
         allowed_(allowed),
         queries_(queries),
@@ -248,7 +247,6 @@ class FingerAdvance {
   const HandModel& hand_;
   HandGeometry& geometry_;
   const GraspObject& grasp_object_;
-  const GraspObject::CollisionData& object_;
   const Pose hand_pose_;
   const AllowedPairs& allowed_;
   std::size_t& queries_;
