@@ -1,0 +1,268 @@
+#!/usr/bin/env bash
+# Regenerates the tables of docs/results.md. Each table there sits between two markers,
+# <!-- results:NAME --> and <!-- /results:NAME -->, under the command that produces it; this
+# script runs that command and writes the new table between the markers.
+#
+#   scripts/results.sh [SECTION...]
+#
+# Sections (the fast ones take minutes on 2 cores, the slow ones hours):
+#   fast:  judge segment reconstruct skeleton demo run           (the default)
+#   slow:  ranking (58 YCB meshes, 3 hands, mu 0.35 and 0.5; about an hour on one core)
+#          ranking97 (the 97 objects of scripts/reproduce-paper.sh; about 1.5 hours)
+#          paper (scripts/reproduce-paper.sh; about 1.5 hours with JOBS=2 in the environment)
+#   all:   every section
+#
+# Environment: SKELGRASP (default build/apps/skelgrasp), DATA (../shared/data),
+# OUT (results_output: the commands' own outputs, kept for a look), RESULTS_MD (docs/results.md),
+# NICE (default "nice -n 10"; set it empty to run at normal priority). Timings are wall clock on
+# whatever else the machine runs; run on a quiet machine for figures worth comparing.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+skelgrasp=${SKELGRASP:-build/apps/skelgrasp}
+data=${DATA:-../shared/data}
+out=${OUT:-results_output}
+results_md=${RESULTS_MD:-docs/results.md}
+read -r -a nice_cmd <<< "${NICE-nice -n 10}"
+
+[[ -x "$skelgrasp" ]] || { echo "results.sh: $skelgrasp: not built (make, or SKELGRASP=...)" >&2; exit 2; }
+[[ -d "$data/objects" ]] || { echo "results.sh: $data: no shared data (DATA=...)" >&2; exit 2; }
+command -v python3 > /dev/null || { echo "results.sh: python3 is needed to format the tables" >&2; exit 2; }
+mkdir -p "$out"
+
+# The commands' logs (stderr) go to $out/commands.log; a failing command stops the script.
+sg() { "${nice_cmd[@]}" "$skelgrasp" "$@" 2>> "$out/commands.log"; }
+say() { echo "results.sh: $*" >&2; }
+trap 'say "failed; the last lines of $out/commands.log:"; tail -n 5 "$out/commands.log" >&2 || true' ERR
+
+# splice NAME FILE: replace the table between NAME's markers in $results_md by FILE's content.
+splice() {
+  python3 - "$1" "$2" "$results_md" <<'PY'
+import os, sys
+name, table, md = sys.argv[1:4]
+text = open(md, encoding="utf-8").read()
+begin, end = f"<!-- results:{name} -->", f"<!-- /results:{name} -->"
+if begin not in text or end not in text:
+    sys.exit(f"results.sh: {md} has no markers for '{name}'")
+i = text.index(begin) + len(begin)
+j = text.index(end)
+body = open(table, encoding="utf-8").read().strip("\n")
+tmp = f"{md}.tmp.{os.getpid()}"
+with open(tmp, "w", encoding="utf-8") as f:
+    f.write(text[:i] + "\n" + body + "\n" + text[j:])
+os.replace(tmp, md)
+PY
+  say "$1: table written to $results_md"
+}
+
+# The judge: stepwise closing + hull against fast closing + LP, fixed YCB grasps, one core.
+section_judge() {
+  sg bench judge --json "$out/judge.json" > "$out/judge.txt"
+  python3 - "$out/judge.json" > "$out/judge.md" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))["hands"]
+print("| hand | close + FC ms | robustness of one grasp, ms (100 samples) | stepwise + hull: close + FC ms | robustness ms | robustness, fast / stepwise |")
+print("|---|---|---|---|---|---|")
+for hand in ("armar3", "sdh", "shadow", "parallel_gripper"):
+    if hand not in d:
+        continue
+    n, o = d[hand]["new"], d[hand]["old"]
+    print(f"| {hand} | {n['close_ms'] + n['fc_ms']:.2f} | {1e3 * n['robustness_s']:.0f} | "
+          f"{o['close_ms'] + o['fc_ms']:.1f} | {1e3 * o['robustness_s']:.0f} | "
+          f"{o['robustness_s'] / n['robustness_s']:.0f}x |")
+PY
+  splice judge "$out/judge.md"
+}
+
+# Segmentation of the eight labelled mOSD scans, both methods.
+section_segment() {
+  local scans=("$data"/scans/pcd/osd_test*.pcd)
+  sg bench segment "${scans[@]}" --method lccp --json "$out/segment_lccp.json" > "$out/segment_lccp.txt"
+  sg bench segment "${scans[@]}" --method euclidean --json "$out/segment_euclidean.json" > "$out/segment_euclidean.txt"
+  python3 - "$out/segment_euclidean.json" "$out/segment_lccp.json" > "$out/segment.md" <<'PY'
+import json, os, sys
+eu, lc = (json.load(open(p)) for p in sys.argv[1:3])
+print("| scene | objects | found: Euclidean / LCCP | precision | recall |")
+print("|---|---|---|---|---|")
+by_input = {os.path.basename(s["input"]): s for s in lc["scenes"]}
+for s in eu["scenes"]:
+    l = by_input[os.path.basename(s["input"])]
+    print(f"| {os.path.basename(s['input'])} | {s['objects_labelled']} | {s['objects_found']} / {l['objects_found']} | "
+          f"{s['mean_precision']:.3f} / {l['mean_precision']:.3f} | {s['mean_recall']:.3f} / {l['mean_recall']:.3f} |")
+a, b = eu["summary"], lc["summary"]
+print(f"| **all {a['scenes']} scans, {a['objects']} objects** | | count within ±1: {a['count_within_one']} / {b['count_within_one']} | "
+      f"**{a['mean_precision']:.3f} / {b['mean_precision']:.3f}** | **{a['mean_recall']:.3f} / {b['mean_recall']:.3f}** |")
+print()
+print(f"Segmentation time for the eight scans (after filters and plane): Euclidean {a['segment_s']:.2f} s, LCCP {b['segment_s']:.2f} s.")
+PY
+  splice segment "$out/segment.md"
+}
+
+# Scan to closed mesh, per stage, best of 3, one thread.
+section_reconstruct() {
+  cat > "$out/00_flashlight.json" <<EOF
+{"depth": "$(realpath "$data")/captures/gqcnn_primesense/00_flashlight/depth_0.npy",
+ "mask": "$(realpath "$data")/captures/gqcnn_primesense/00_flashlight/segmask_0.png",
+ "intrinsics": "$(realpath "$data")/captures/gqcnn_primesense/calib/primesense.intr",
+ "camera_to_world": "$(realpath "$data")/captures/gqcnn_primesense/calib/primesense.tf"}
+EOF
+  local p="$data/scans/pcd"
+  sg bench reconstruct "$p/pcl_table_scene_mug_stereo_textured.pcd" "$p/pcl_milk_cartoon_all_small_clorox.pcd" \
+    "$p/osd_test2.pcd" "$p/osd_test46.pcd" "$p/osd_test50.pcd" "$p/osd_test58.pcd" "$out/00_flashlight.json" \
+    --repeat 3 --json "$out/reconstruct.json" > "$out/reconstruct.txt"
+  python3 - "$out/reconstruct.json" > "$out/reconstruct.md" <<'PY'
+import json, os, sys
+rows = json.load(open(sys.argv[1]))["rows"]
+keys = ["load_s", "filters_s", "scene_s", "normals_s", "poisson_s", "trim_s", "regularise_s", "observed_s", "total_s"]
+print("| input | points | load | filters | scene | normals | Poisson | trim | regularise | flags | total |")
+print("|---|---|---|---|---|---|---|---|---|---|---|")
+for r in rows:
+    cells = " | ".join(f"{r[k]:.2f}" for k in keys)
+    print(f"| {os.path.basename(r['input'])} | {r['points']} | {cells} |")
+PY
+  splice reconstruct "$out/reconstruct.md"
+}
+
+# Regularisation + skeleton per mesh over the 75 YCB meshes (google_16k and the paper's Poisson ones).
+section_skeleton() {
+  sg bench skeleton "$data/objects/ycb" "$data/objects/ycb_poisson_simox" --json "$out/skeleton.json" > "$out/skeleton.txt"
+  python3 - "$out/skeleton.json" > "$out/skeleton.md" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+rows = d["objects"]
+ok = [r for r in rows if r.get("status") == "ok"]
+print("| meshes | skeletons | regularise s, median | skeleton s, median | total s, median |")
+print("|---|---|---|---|---|")
+print(f"| {len(rows)} | {len(ok)} | {d['median_regularise_s']:.2f} | {d['median_skeleton_s']:.2f} | {d['median_total_s']:.2f} |")
+PY
+  splice skeleton "$out/skeleton.md"
+}
+
+# The demo scene: grasps and best r per object, and the scene's run time.
+section_demo() {
+  rm -rf "$out/demo"
+  sg demo --out "$out/demo" > "$out/demo.txt"
+  python3 - "$out/demo" > "$out/demo.md" <<'PY'
+import json, re, sys
+d = sys.argv[1]
+run = json.load(open(f"{d}/grasps.json"))
+made = dict((int(k), name) for name, k in re.findall(
+    r'<tr><td>(\w+)</td><td><a href="report.html#object-(\d+)"', open(f"{d}/index.html").read()))
+print("| object | grasps | best r | r of the first-ranked grasp |")
+print("|---|---|---|---|")
+for o in run["objects"]:
+    grasps = [g for g in run["grasps"] if g["object"] == o["id"]]
+    rs = [g["robustness"]["r"] for g in grasps if g.get("robustness")]
+    best = f"{max(rs):.2f}" if rs else "–"
+    first = f"{grasps[0]['robustness']['r']:.2f}" if grasps and grasps[0].get("robustness") else "–"
+    print(f"| {made.get(o['id'], o['id'])} | {o['grasps']} | {best} | {first} |")
+print()
+print(f"The run over the five objects took {run['timing']['total_s']:.1f} s (`total_s` in grasps.json's `timing`).")
+PY
+  splice demo "$out/demo.md"
+}
+
+# The main job per stage: each demo object as a one-target run, and two real scans.
+section_run() {
+  sg bench run demo "$data/scans/pcd/gpd_table_mug.pcd" "$data/scans/pcd/pcl_table_scene_mug_stereo_textured.pcd" \
+    --repeat 3 --json "$out/run.json" > "$out/run.txt"
+  python3 - "$out/run.json" > "$out/run.md" <<'PY'
+import json, os, sys
+rows = json.load(open(sys.argv[1]))["rows"]
+stages = ["filter", "segment", "normals", "reconstruct", "skeleton", "occupancy", "plan", "rank"]
+print("| input | " + " | ".join(stages) + " | total | grasps |")
+print("|---|" + "---|" * (len(stages) + 2))
+for r in rows:
+    cells = " | ".join(f"{r['stages_s'][s]:.2f}" for s in stages)
+    print(f"| {os.path.basename(r['input'])} | {cells} | {r['total_s']:.2f} | {r['grasps']} |")
+PY
+  splice run "$out/run.md"
+}
+
+# evaluate --robust-ranking, as plan ranks; writes one table row per hand from summary.md.
+# ranking_rows DIR MU LABEL: the rows of one batch ("58 YCB": the object count, then LABEL).
+ranking_rows() {
+  python3 - "$1/summary.md" "$2" "$3" <<'PY'
+import re, sys
+summary, mu, objects = sys.argv[1:4]
+names = {"armar3": "ARMAR-III", "sdh": "Schunk SDH", "shadow": "Shadow"}
+text = open(summary).read()
+ranked = {m[0]: m for m in re.findall(
+    r"^\| (\w+) \| skeleton \| (\d+) \| [\d.]+% \((\d+)\) \| ([\d.]+)% \| ([\d.]+)% \| ([\d.]+) \|$", text, re.M)}
+refined = {m[0]: m for m in re.findall(
+    r"^\| (\w+) \| skeleton \| (\d+) \| ([\d.]+)% \(([\d.]+)%\) \| [\d.]+% \([\d.]+%\) \| ([\d.]+) \| [\d.]+ \|$", text, re.M)}
+for hand in ("armar3", "sdh", "shadow"):
+    if hand not in ranked:
+        continue
+    _, runs, with_grasp, median, mean, plan_s = ranked[hand]
+    r = refined.get(hand)
+    without = f"{r[2]} % ({r[3]} %) | {r[4]}" if r else "– | –"
+    label = f"{runs} {objects}".strip()
+    print(f"| {names[hand]} | {label} | {mu} | {with_grasp} of {runs} | **{median} %** ({mean} %) | {plan_s} | {without} |")
+PY
+}
+
+ranking_header() {
+  echo "| hand | objects | μ | objects with a grasp | top-10 r, median (mean) | plan s, median | without the refinement for robustness: top-10 r | plan s |"
+  echo "|---|---|---|---|---|---|---|---|"
+}
+
+# ranking_batch OUT_DIR OBJECTS MU: the goal's command.
+ranking_batch() {
+  sg evaluate --objects "$2" --hands armar3,sdh,shadow --planners skeleton --robust-ranking \
+    --robustness-grasps 10 --robustness-samples 50 --mu "$3" --timeout 20 --jobs 1 --out "$1" > /dev/null
+}
+
+section_ranking() {
+  ranking_batch "$out/ranking_mu035" "$data/objects/ycb" 0.35
+  ranking_batch "$out/ranking_mu05" "$data/objects/ycb" 0.5
+  { ranking_header
+    ranking_rows "$out/ranking_mu035" 0.35 YCB
+    ranking_rows "$out/ranking_mu05" 0.5 YCB; } > "$out/ranking.md"
+  splice ranking "$out/ranking.md"
+}
+
+# The 97 objects of scripts/reproduce-paper.sh (58 YCB google_16k, 17 Poisson, every 6th KIT model).
+objects97() {
+  local objects
+  objects=$(realpath "$data/objects")
+  { ls "$objects"/ycb/*.ply "$objects"/ycb_poisson_simox/*.stl
+    ls "$objects"/kit/*.obj | awk 'NR % 6 == 1'; } > "$1"
+}
+
+section_ranking97() {
+  objects97 "$out/objects97.txt"
+  ranking_batch "$out/ranking97_mu035" "$out/objects97.txt" 0.35
+  ranking_batch "$out/ranking97_mu05" "$out/objects97.txt" 0.5
+  { ranking_header
+    ranking_rows "$out/ranking97_mu035" 0.35 ""
+    ranking_rows "$out/ranking97_mu05" 0.5 ""; } > "$out/ranking97.md"
+  splice ranking97 "$out/ranking97.md"
+}
+
+# The paper's Table I: scripts/reproduce-paper.sh, then its two summaries' tables.
+section_paper() {
+  SKELGRASP="$skelgrasp" "${nice_cmd[@]}" scripts/reproduce-paper.sh "$data/objects" "$out/paper" \
+    2>> "$out/commands.log"
+  for mode in reference_compat mu035; do
+    { echo "| hand | planner | objects | grasps | time per valid grasp | force-closure rate | robustness r | precision / power |"
+      echo "|---|---|---|---|---|---|---|---|"
+      grep -E '^\| (armar3|sdh|shadow) \|' "$out/paper/$mode/summary.md" | head -6; } > "$out/paper_$mode.md"
+    splice "paper_$mode" "$out/paper_$mode.md"
+  done
+}
+
+fast=(judge segment reconstruct skeleton demo run)
+slow=(ranking ranking97 paper)
+sections=("$@")
+[[ ${#sections[@]} -eq 0 ]] && sections=("${fast[@]}")
+[[ "${sections[*]}" == "all" ]] && sections=("${fast[@]}" "${slow[@]}")
+for s in "${sections[@]}"; do
+  declare -F "section_$s" > /dev/null || { echo "results.sh: unknown section '$s'" >&2; exit 2; }
+done
+for s in "${sections[@]}"; do
+  say "$s ..."
+  start=$(date +%s)
+  "section_$s"
+  say "$s took $(($(date +%s) - start)) s"
+done
