@@ -91,6 +91,25 @@ class DescriptionReader {
     return budget;
   }
 
+  // The optional "strength" section (docs/hands.md): unknown keys are refused.
+  HandStrength strength(const json& j) const {
+    HandStrength strength;
+    if (j.is_null()) return strength;
+    if (!j.is_object()) fail("'strength' must be an object");
+    for (const auto& [key, value] : j.items()) {
+      if (key == "fingertip_force_n") {
+        if (!value.is_number()) fail("strength: 'fingertip_force_n' must be a number");
+        strength.fingertip_force_n = value.get<double>();
+      } else if (key == "source") {
+        if (!value.is_string()) fail("strength: 'source' must be a string");
+        strength.source = value.get<std::string>();
+      } else {
+        fail("strength: unknown key '" + key + "' (known: fingertip_force_n, source)");
+      }
+    }
+    return strength;
+  }
+
   ShapeThresholds thresholds(const json& j, const std::string& where) const {
     ShapeThresholds t;
     t.lambda1_min_m = j.value("lambda1_min_m", 0.0);
@@ -236,6 +255,7 @@ void applyGraspDescription(HandModel& hand, const std::string& description_json,
     hand.setDescription(std::move(fingers), std::move(palm), std::move(preshapes), thresholds,
                         precision_m, power_m, closing);
     hand.setRankingBudget(reader.rankingBudget(d.value("ranking", json::object())));
+    hand.setStrength(reader.strength(d.value("strength", json::object())));
   } catch (const json::exception& e) {
     reader.fail(std::string("grasp description: ") + e.what());
   } catch (const InvalidArgument& e) {

@@ -224,6 +224,15 @@ const char* toString(ScreenCandidates candidates) {
   return "?";
 }
 
+void HandModel::setStrength(HandStrength strength) {
+  if (strength.fingertip_force_n &&
+      !(*strength.fingertip_force_n > 0 && *strength.fingertip_force_n <= kMaxFingertipForceN)) {
+    throw InvalidArgument("hand '" + name_ + "': strength fingertip_force_n must be in (0, " +
+                          std::to_string(static_cast<int>(kMaxFingertipForceN)) + "] N");
+  }
+  strength_ = std::move(strength);
+}
+
 void HandModel::setRankingBudget(RankingBudget budget) {
   if (budget.screen_samples && *budget.screen_samples < 1)
     throw InvalidArgument("hand '" + name_ + "': ranking screen_samples must be >= 1");

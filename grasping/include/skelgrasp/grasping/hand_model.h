@@ -157,6 +157,18 @@ struct RankingBudget {
   std::optional<int> confirm_samples;  // more screening samples for the contenders (>= 0)
 };
 
+// How strong the hand is, for the physics judge (physics/execution.h): the force its fingers can
+// press with at the fingertip, which sets each finger joint's torque limit through its lever
+// (prismatic joints: the force itself). The description's "strength" section; unset: the judge's
+// conservative default. `source` says where the figure comes from (a datasheet), for reports.
+struct HandStrength {
+  std::optional<double> fingertip_force_n;
+  std::string source;
+};
+
+// Largest fingertip force a description may give (N): beyond any hand's motors.
+inline constexpr double kMaxFingertipForceN = 1000.0;
+
 class HandModel {
  public:
   // Built by the loaders below; validates the tree, the description and the preshapes.
@@ -207,6 +219,7 @@ class HandModel {
   double powerIntervalM() const { return power_interval_m_; }
   const ClosingDefaults& closingDefaults() const { return closing_; }
   const RankingBudget& rankingBudget() const { return ranking_budget_; }
+  const HandStrength& strength() const { return strength_; }
   // Actuated drives (one per FingerDrive) and joints that move while closing.
   int numDrives() const;
   int numMovingJoints() const;
@@ -221,6 +234,8 @@ class HandModel {
                       ClosingDefaults closing);
   // Throws InvalidArgument for a budget outside the ranges above.
   void setRankingBudget(RankingBudget budget);
+  // Throws InvalidArgument for a force that is not in (0, kMaxFingertipForceN].
+  void setStrength(HandStrength strength);
 
  private:
   std::string name_, title_;
@@ -235,6 +250,7 @@ class HandModel {
   double precision_interval_m_ = 0, power_interval_m_ = 0;
   ClosingDefaults closing_;
   RankingBudget ranking_budget_;
+  HandStrength strength_;
   std::vector<int> link_finger_;
   std::vector<CollisionMode> link_mode_;
 };
