@@ -41,6 +41,7 @@ void registerIngestCommand(CLI::App& app, Action& action);
 void registerDatasetsCommand(CLI::App& app, Action& action);
 void registerExportCommand(CLI::App& app, Action& action);
 void registerScoreCommand(CLI::App& app, Action& action);
+void registerSimulateCommand(CLI::App& app, Action& action);
 // Adds `bench reconstruct`; call after registerBenchCommand.
 void registerBenchReconstructCommand(CLI::App& app, Action& action);
 // Adds `bench run`; call after registerBenchCommand.

@@ -10,9 +10,9 @@ namespace skelgrasp::cli {
 // Commands on meshes, hands and grasp files: they need skeleton, grasping and evaluation only,
 // so the program that runs them loads no PCL, VTK or OpenCV (about 190 fewer shared libraries).
 // Every other command runs in the full program.
-constexpr std::array<std::string_view, 10> kMeshCommands = {
-    "skeleton", "shape",    "hands", "close",  "quality",
-    "plan",     "evaluate", "merge", "export", "score"};
+constexpr std::array<std::string_view, 11> kMeshCommands = {
+    "skeleton", "shape", "hands",  "close", "quality", "plan",
+    "evaluate", "merge", "export", "score", "simulate"};
 
 constexpr const char* kMeshProgram = "skelgrasp-mesh";
 constexpr const char* kFullProgram = "skelgrasp-full";

@@ -81,6 +81,7 @@ int main(int argc, char** argv) {
 #endif
   cli::registerExportCommand(app, action);
   cli::registerScoreCommand(app, action);
+  cli::registerSimulateCommand(app, action);
 #ifndef SKELGRASP_MESH_COMMANDS_ONLY
   cli::registerBenchReconstructCommand(app, action);
   cli::registerBenchRunCommand(app, action);

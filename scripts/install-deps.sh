@@ -9,6 +9,8 @@ packages=(
   libopencv-dev libpng-dev libqhull-dev libtbb-dev libhdf5-dev liburdfdom-dev libassimp-dev
   nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev libgtest-dev libbenchmark-dev
   libcurl4-openssl-dev libglpk-dev libyaml-cpp-dev libjs-three libnanoflann-dev
+  # The physics judge (physics/): Bullet and its extras (HACD convex decomposition).
+  libbullet-dev libbullet-extras-dev
   # The Python module (python/, built by default) against Debian's interpreter.
   pybind11-dev python3-dev python3-numpy
 )

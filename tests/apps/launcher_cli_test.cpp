@@ -60,7 +60,7 @@ TEST(Launcher, MeshCommandsRunWithoutTheFullProgram) {
     return std::make_pair(WEXITSTATUS(status), readFile(dir + "/err.txt"));
   };
   for (const char* command : {"plan", "skeleton", "shape", "hands", "close", "quality", "evaluate",
-                              "merge", "export", "score"}) {
+                              "merge", "export", "score", "simulate"}) {
     EXPECT_EQ(run(std::string(command) + " --help").first, 0) << command;
   }
   EXPECT_EQ(run("-q --memory-limit 4G plan --help").first, 0);
