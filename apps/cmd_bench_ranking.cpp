@@ -36,8 +36,8 @@
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/common/mesh_io.h"
+#include "skelgrasp/evaluation/plan_grasps.h"
 #include "skelgrasp/evaluation/robust_ranking.h"
-#include "skelgrasp/grasping/planners.h"
 #include "skelgrasp/skeleton/extraction.h"
 
 namespace skelgrasp::cli {
@@ -199,7 +199,13 @@ int runBenchRanking(const BenchRankingArgs& args) {
         old_object->distanceField();
       }
       for (const auto& hand : hands) {
-        const auto plan = grasping::planSkeletonGrasps(hand, object, skel.skeleton, planner);
+        // The planned grasps, ranked below once per path.
+        evaluation::PlanOptions options;
+        options.skeleton_planner = planner;
+        options.ranking.enabled = false;
+        evaluation::PlanInputs inputs;
+        inputs.skeleton = &skel;
+        const auto plan = evaluation::planGrasps(object, hand, options, inputs);
         double old_s = 0, new_s = 0;
         PathRun old_run, new_run;
         // Alternating which path goes first, so neither always runs on a warmer cache.

@@ -16,7 +16,6 @@
 #include "batch_store.h"
 #include "directory_lock.h"
 #include "skelgrasp/common/logging.h"
-#include "skelgrasp/grasping/planners.h"
 
 namespace skelgrasp::evaluation {
 namespace {
@@ -136,36 +135,35 @@ class ObjectEvaluator {
                    const skeleton::SkeletonResult* skel, ObjectOutcome& out) const {
     const std::uint64_t seed =
         internal::fnv1a(internal::runKey(id.id, hand.name(), planner), p_.seed);
-    grasping::PlanResult result;
+    PlanOptions options;
+    options.planner = planner;
     grasping::HypothesisParams hypothesis;
     hypothesis.quality = p_.quality;
     hypothesis.closing.method = p_.robustness.closing.method;  // --closing judges both
     hypothesis.closing.contact_patch = p_.robustness.closing.contact_patch;  // and --contact-patch
-    if (planner == Planner::kSkeleton) {
-      grasping::SkeletonPlannerParams sp;
-      sp.timeout_s = p_.timeout_s;
-      sp.seed = seed;
-      sp.vertex_distance_m = p_.vertex_distance_m;
-      sp.centre_candidates = p_.centre_candidates;
-      sp.alternative_preshapes = p_.alternative_preshapes;
-      sp.surface_candidates = p_.surface_candidates;
-      sp.hypothesis = hypothesis;
-      result = grasping::planSkeletonGrasps(hand, object, skel->skeleton, sp);
-    } else {
-      grasping::SurfacePlannerParams fp;
-      fp.timeout_s = p_.timeout_s;
-      fp.seed = seed;
-      fp.max_hypotheses = surface_budget;
-      fp.hypothesis = hypothesis;
-      result = grasping::planSurfaceGrasps(hand, object, fp);
-    }
-    // The grasps as `plan` returns them: ranked by robustness, r on the best (same seed).
+    grasping::SkeletonPlannerParams& sp = options.skeleton_planner;
+    sp.timeout_s = p_.timeout_s;
+    sp.seed = seed;
+    sp.vertex_distance_m = p_.vertex_distance_m;
+    sp.centre_candidates = p_.centre_candidates;
+    sp.alternative_preshapes = p_.alternative_preshapes;
+    sp.surface_candidates = p_.surface_candidates;
+    sp.hypothesis = hypothesis;
+    grasping::SurfacePlannerParams& fp = options.surface_planner;
+    fp.timeout_s = p_.timeout_s;
+    fp.seed = seed;
+    fp.max_hypotheses = surface_budget;
+    fp.hypothesis = hypothesis;
+    // The grasps as `plan` returns them: ranked by robustness, r on the best (same seed); without
+    // ranking, the planner's order.
+    options.ranking = p_.ranking;
+    options.ranking.robustness.seed = seed;
+    PlanInputs inputs;
+    inputs.skeleton = skel;
+    const GraspPlan result = planGrasps(object, hand, options, inputs);
     RankingMeasures ranking;
     if (p_.ranking.enabled) {
-      RobustRankingParams rp = p_.ranking;
-      rp.robustness.seed = seed;
-      auto ranked = rankByRobustness(hand, object, std::move(result.grasps), hypothesis, rp);
-      result.grasps = std::move(ranked.grasps);
+      const RobustRankingResult& ranked = result.ranking;
       ranking.scored = ranked.scored;
       ranking.time_s = ranked.time_s;
       double sum = 0, sum_unrefined = 0;
@@ -335,23 +333,6 @@ void prepareOutDir(const std::string& dir) {
 }
 
 }  // namespace
-
-Planner parsePlanner(const std::string& name) {
-  for (const Planner planner : {Planner::kSkeleton, Planner::kSurface}) {
-    if (name == toString(planner)) return planner;
-  }
-  throw InvalidArgument("unknown planner '" + name + "' (use skeleton, surface)");
-}
-
-const char* toString(Planner planner) {
-  switch (planner) {
-    case Planner::kSkeleton:
-      return "skeleton";
-    case Planner::kSurface:
-      break;
-  }
-  return "surface";
-}
 
 BatchStats runBatch(const BatchParams& p) {
   checkBatchParams(p);

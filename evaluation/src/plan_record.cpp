@@ -21,24 +21,6 @@ nlohmann::json optionalSeconds(const std::optional<double>& seconds) {
 
 }  // namespace
 
-double PlanTiming::total_s() const {
-  return regularise_s.value_or(0.0) + skeleton_s.value_or(0.0) + planning_s + ranking_s;
-}
-
-PlanTiming planTimingOf(const skeleton::SkeletonTimings* skeleton, double planning_s,
-                        double ranking_s) {
-  PlanTiming timing;
-  if (skeleton) {
-    timing.regularise_s = skeleton->regularise_s;
-    // Both from stopwatches, the total's around the regularisation's: never below it but by
-    // rounding.
-    timing.skeleton_s = std::max(0.0, skeleton->total_s - skeleton->regularise_s);
-  }
-  timing.planning_s = planning_s;
-  timing.ranking_s = ranking_s;
-  return timing;
-}
-
 nlohmann::json rankingRecordJson(const RobustRankingResult& ranking) {
   return {{"screened", ranking.screened},
           {"screen_pruned", ranking.screen_pruned},

@@ -7,6 +7,7 @@
 #include "bindings.h"
 #include "convert.h"
 #include "skelgrasp/common/json.h"
+#include "skelgrasp/evaluation/plan_grasps.h"
 #include "skelgrasp/evaluation/plan_record.h"
 #include "skelgrasp/evaluation/robust_ranking.h"
 #include "skelgrasp/evaluation/robustness.h"
@@ -46,19 +47,37 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
           bool alternative_preshapes) {
   if (planner != "skeleton" && planner != "surface")
     throw InvalidArgument("planner: '" + planner + "' is not skeleton or surface");
+  evaluation::PlanOptions options;
+  options.planner = evaluation::parsePlanner(planner);
   grasping::HypothesisParams hypothesis;
   hypothesis.min_epsilon = min_epsilon;
   hypothesis.quality = qualityParams(mu, fc_test, reference_compat, torsional_friction);
   hypothesis.quality.compute_volume = wrench_volume;
   hypothesis.closing.method = grasping::parseClosingMethod(closing);
   hypothesis.closing.contact_patch = grasping::contactPatchFor(contact_patch, reference_compat);
-  skeleton::SkeletonParams skeleton_params;
+  skeleton::SkeletonParams& skeleton_params = options.skeleton;
   skeleton_params.regularisation.method = geometry::parseRegularisationMethod(regularisation);
   skeleton_params.regularisation.alpha_divisor = alpha_divisor;
   skeleton_params.regularisation.offset_divisor = offset_divisor;
   skeleton_params.spur_radius_factor = spur_radius_factor;
-
-  const auto ranking = robustRankingParams(
+  grasping::SkeletonPlannerParams& p = options.skeleton_planner;
+  p.timeout_s = timeout_s;
+  p.max_grasps = max_grasps;
+  p.seed = seed;
+  p.vertex_distance_m = vertex_distance_m;
+  p.round_ratio = round_ratio;
+  p.centre_candidates = centre_candidates;
+  p.surface_candidates = surface_candidates;
+  p.alternative_preshapes = alternative_preshapes;
+  p.hypothesis = hypothesis;
+  grasping::SurfacePlannerParams& q = options.surface_planner;
+  q.timeout_s = timeout_s;
+  q.max_hypotheses = max_hypotheses;
+  q.max_grasps = max_grasps;
+  q.seed = seed;
+  q.hypothesis = hypothesis;
+  // As `skelgrasp plan`: the best grasps scored by r and re-ranked (docs/planning.md).
+  options.ranking = robustRankingParams(
       robustness, robustness_samples, robustness_variant, robustness_top_k, robustness_screen,
       robustness_screen_samples, robustness_screen_by, robustness_confirm_samples, robustness_mu,
       seed, robust_refine, robust_refine_below_r);
@@ -66,37 +85,14 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
   out.hand = hand;
   out.object = mesh.name;
   py::gil_scoped_release release;
-  const grasping::GraspObject object(mesh.mesh);
-  if (planner == "skeleton") {
-    out.skeleton = SkeletonOutput{skeleton::extractSkeleton(mesh.mesh, skeleton_params), mesh};
-    // As the CLI: a mesh the skeleton stage cannot process is bad input.
-    if (!out.skeleton->result.status.ok())
-      throw InvalidArgument(mesh.name + ": " + out.skeleton->result.status.message);
-    grasping::SkeletonPlannerParams p;
-    p.timeout_s = timeout_s;
-    p.max_grasps = max_grasps;
-    p.seed = seed;
-    p.vertex_distance_m = vertex_distance_m;
-    p.round_ratio = round_ratio;
-    p.centre_candidates = centre_candidates;
-    p.surface_candidates = surface_candidates;
-    p.alternative_preshapes = alternative_preshapes;
-    p.hypothesis = hypothesis;
-    out.result = grasping::planSkeletonGrasps(*hand, object, out.skeleton->result.skeleton, p);
-  } else {
-    grasping::SurfacePlannerParams p;
-    p.timeout_s = timeout_s;
-    p.max_hypotheses = max_hypotheses;
-    p.max_grasps = max_grasps;
-    p.seed = seed;
-    p.hypothesis = hypothesis;
-    out.result = grasping::planSurfaceGrasps(*hand, object, p);
+  out.result = evaluation::planGrasps(mesh.mesh, *hand, options);
+  // As the CLI: a mesh the skeleton stage cannot process is bad input.
+  if (out.result.skeleton_failed)
+    throw InvalidArgument(mesh.name + ": " + out.result.status.message);
+  if (out.result.skeleton) {
+    out.skeleton = SkeletonOutput{std::move(*out.result.skeleton), mesh};
+    out.result.skeleton.reset();
   }
-  // As `skelgrasp plan`: the best grasps scored by r and re-ranked (docs/planning.md).
-  out.ranking = evaluation::rankByRobustness(*hand, object, std::move(out.result.grasps),
-                                             hypothesis, ranking);
-  out.result.grasps = std::move(out.ranking.grasps);
-  out.ranking.grasps.clear();
   return out;
 }
 
@@ -251,10 +247,7 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
           "to_dict",
           [](const Plan& p) {
             nlohmann::json document = grasping::planToJson(p.result, *p.hand, p.object);
-            evaluation::addPlanRecords(
-                document, p.ranking,
-                evaluation::planTimingOf(p.skeleton ? &p.skeleton->result.timing : nullptr,
-                                         p.result.summary.planning_s, p.ranking.time_s));
+            evaluation::addPlanRecords(document, p.result.ranking, p.result.timing);
             return fromJson(document);
           },
           "grasps.json as ``skelgrasp plan`` writes it (schema skelgrasp.grasps/3), with the "

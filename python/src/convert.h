@@ -15,6 +15,7 @@
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/common/point_cloud.h"
 #include "skelgrasp/common/pose.h"
+#include "skelgrasp/evaluation/plan_grasps.h"
 #include "skelgrasp/evaluation/plan_record.h"
 #include "skelgrasp/evaluation/robust_ranking.h"
 #include "skelgrasp/grasping/grasp.h"
@@ -64,13 +65,12 @@ struct Grasp {
 // What plan() returns: the planner's result with the hand, the object's name and (skeleton
 // planner) the skeleton, for to_dict(), render_plan() and score().
 struct Plan {
-  grasping::PlanResult result;
+  // The plan, its skeleton moved into `skeleton`: to_dict() writes the ranking's record and the
+  // stages' times, as `skelgrasp plan` does (evaluation/plan_record.h).
+  evaluation::GraspPlan result;
   HandPtr hand;
   std::string object;
   std::optional<SkeletonOutput> skeleton;
-  // What the robust ranking did (its grasps moved into result): to_dict() writes it, with the
-  // stages' times, as `skelgrasp plan` does (evaluation/plan_record.h).
-  evaluation::RobustRankingResult ranking;
 };
 
 // N x 3 float64 (any float or int dtype converts) -> points; throws InvalidArgument naming `what`

@@ -6,21 +6,13 @@
 #include <vector>
 
 #include "skelgrasp/common/mesh_io.h"
+#include "skelgrasp/evaluation/plan_grasps.h"
 #include "skelgrasp/evaluation/robust_ranking.h"
 #include "skelgrasp/evaluation/robustness.h"
 #include "skelgrasp/grasping/planners.h"
 #include "skelgrasp/skeleton/extraction.h"
 
 namespace skelgrasp::evaluation {
-
-// The planners a batch compares. Declared in the order of their names: summaries sort by it.
-enum class Planner {
-  kSkeleton,  // "skeleton": the paper's skeleton-based planner
-  kSurface,   // "surface": the baseline sampling the object's surface
-};
-// Throws InvalidArgument "unknown planner 'NAME' (use skeleton, surface)".
-Planner parsePlanner(const std::string& name);
-const char* toString(Planner planner);
 
 struct BatchParams {
   std::vector<std::string> objects;  // mesh files
