@@ -12,9 +12,9 @@
 #include "robustness_options.h"
 #include "skeleton_options.h"
 #include "skelgrasp/common/json.h"
-#include "skelgrasp/evaluation/plan_grasps.h"
 #include "skelgrasp/evaluation/plan_record.h"
 #include "skelgrasp/grasping/plan_output.h"
+#include "skelgrasp/ranking/plan_grasps.h"
 
 namespace skelgrasp::cli {
 namespace {
@@ -37,14 +37,14 @@ int runPlan(const PlanArgs& args) {
   MeshLoadInfo info;
   TriangleMesh mesh = loadMesh(args.mesh, args.skeleton.loadOptions(), &info);
   const std::string name = std::filesystem::path(args.mesh).filename().string();
-  evaluation::PlanOptions options;
-  options.planner = evaluation::parsePlanner(args.planner.planner);
+  ranking::PlanOptions options;
+  options.planner = ranking::parsePlanner(args.planner.planner);
   options.skeleton = args.skeleton.params();
   options.skeleton_planner = args.planner.skeletonParams();
   options.surface_planner = args.planner.surfaceParams();
   // Robust ranking: the best grasps scored by r and re-ranked (docs/planning.md).
   options.ranking = args.robustness.params(args.planner.seed);
-  const evaluation::GraspPlan plan = evaluation::planGrasps(mesh, hand, options);
+  const ranking::GraspPlan plan = ranking::planGrasps(mesh, hand, options);
   if (plan.skeleton_failed) return fail(args.mesh + ": " + plan.status.message);
   nlohmann::json document = grasping::planToJson(plan, hand, name);
   evaluation::addPlanRecords(document, plan.ranking, plan.timing);

@@ -21,7 +21,7 @@ nlohmann::json optionalSeconds(const std::optional<double>& seconds) {
 
 }  // namespace
 
-nlohmann::json rankingRecordJson(const RobustRankingResult& ranking) {
+nlohmann::json rankingRecordJson(const ranking::RobustRankingResult& ranking) {
   return {{"screened", ranking.screened},
           {"screen_pruned", ranking.screen_pruned},
           {"confirmed", ranking.confirmed},
@@ -38,7 +38,7 @@ nlohmann::json rankingRecordJson(const RobustRankingResult& ranking) {
             {"refine_below_r", ranking.budget.search_below_r}}}};
 }
 
-nlohmann::json planTimingJson(const PlanTiming& timing) {
+nlohmann::json planTimingJson(const ranking::PlanTiming& timing) {
   if (timing.regularise_s) checkSeconds(*timing.regularise_s, "regularise_s");
   if (timing.skeleton_s) checkSeconds(*timing.skeleton_s, "skeleton_s");
   checkSeconds(timing.planning_s, "planning_s");
@@ -50,8 +50,8 @@ nlohmann::json planTimingJson(const PlanTiming& timing) {
           {"total_s", timing.total_s()}};
 }
 
-void addPlanRecords(nlohmann::json& document, const RobustRankingResult& ranking,
-                    const PlanTiming& timing) {
+void addPlanRecords(nlohmann::json& document, const ranking::RobustRankingResult& ranking,
+                    const ranking::PlanTiming& timing) {
   if (!document.is_object()) throw InvalidArgument("plan record: the document must be an object");
   document["ranking"] = ranking.enabled ? rankingRecordJson(ranking) : nlohmann::json(nullptr);
   document["timing"] = planTimingJson(timing);

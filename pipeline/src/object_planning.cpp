@@ -1,8 +1,8 @@
 #include "object_planning.h"
 
 #include "skelgrasp/common/logging.h"
-#include "skelgrasp/evaluation/plan_grasps.h"
 #include "skelgrasp/geometry/mesh_query.h"
+#include "skelgrasp/ranking/plan_grasps.h"
 
 namespace skelgrasp::pipeline::internal {
 // The pipeline composes the grasping stage's types throughout.
@@ -65,8 +65,8 @@ RankedPlan planAndRank(const HandModel& hand, const TriangleMesh& mesh,
                        const RunParams& params) {
   const Stopwatch watch;
   const GraspObject target(mesh);
-  evaluation::PlanOptions options;
-  options.planner = evaluation::Planner::kSkeleton;
+  ranking::PlanOptions options;
+  options.planner = ranking::Planner::kSkeleton;
   // The scene check in the planner's hypothesis parameters: the ranking judges r with them, and
   // refinement for robustness places the hand anew and must keep it clear of the scene as the
   // planner did.
@@ -79,12 +79,12 @@ RankedPlan planAndRank(const HandModel& hand, const TriangleMesh& mesh,
   const auto ratioOf = [&](const Grasp& grasp) {
     return observedContactRatio(grasp, mesh, observed, query);
   };
-  evaluation::PlanInputs inputs;
+  ranking::PlanInputs inputs;
   inputs.skeleton = &skeleton;
   inputs.trust = [&](const Grasp& grasp) {
     return 1 - params.observed_weight + params.observed_weight * ratioOf(grasp);
   };
-  evaluation::GraspPlan plan = evaluation::planGrasps(target, hand, options, inputs);
+  ranking::GraspPlan plan = ranking::planGrasps(target, hand, options, inputs);
 
   RankedPlan out;
   out.robustness_scored = plan.ranking.scored;

@@ -32,7 +32,7 @@ struct RankedPlan {
 
 // Plans on `mesh` with its `skeleton` (scene check by `checker` when not null) and ranks the
 // grasps by robustness (params.robust_ranking) with the trust 1 - w + w x observed contact ratio
-// (RunParams): evaluation::planGrasps.
+// (RunParams): ranking::planGrasps.
 RankedPlan planAndRank(const grasping::HandModel& hand, const TriangleMesh& mesh,
                        const std::vector<std::uint8_t>& observed,
                        const skeleton::SkeletonResult& skeleton,

@@ -3,15 +3,15 @@
 #include <iostream>
 
 #include "skelgrasp/common/primitives.h"
-#include "skelgrasp/evaluation/plan_grasps.h"
+#include "skelgrasp/ranking/plan_grasps.h"
 
 int main() {
   using namespace skelgrasp;
   const TriangleMesh mesh = primitives::makeNamedShape("bottle");
   const grasping::HandModel hand = grasping::loadBuiltinHand("sdh");
-  evaluation::PlanOptions options;
+  ranking::PlanOptions options;
   options.skeleton_planner.max_grasps = 2;
-  const evaluation::GraspPlan plan = evaluation::planGrasps(mesh, hand, options);
+  const ranking::GraspPlan plan = ranking::planGrasps(mesh, hand, options);
   if (!plan.status.ok() || !plan.grasps.front().robustness) return 1;
   std::cout << "consumer: " << plan.grasps.size() << " grasps on the bottle, the best with r "
             << plan.grasps.front().robustness->r << std::endl;

@@ -5,24 +5,25 @@
 // One function for both, so that the two documents cannot drift apart.
 #include <nlohmann/json.hpp>
 
-#include "skelgrasp/evaluation/plan_grasps.h"
-#include "skelgrasp/evaluation/robust_ranking.h"
+#include "skelgrasp/ranking/plan_grasps.h"
+#include "skelgrasp/ranking/robust_ranking.h"
 
 namespace skelgrasp::evaluation {
 
 // {"screened", "screen_pruned", "confirmed", "scored", "refined", "screening_s", "scoring_s",
-// "refinement_s"} of a ranking (RobustRankingResult's members of those names), and "budget":
+// "refinement_s"} of a ranking (ranking::RobustRankingResult's members of those names), and
+// "budget":
 // {"screen_grasps", "screen_samples", "screen_by", "confirm_samples", "refine_below_r"}
-// (RankingBudgetUsed: what it ran with, or would have where no screening ran).
-nlohmann::json rankingRecordJson(const RobustRankingResult& ranking);
+// (ranking::RankingBudgetUsed: what it ran with, or would have where no screening ran).
+nlohmann::json rankingRecordJson(const ranking::RobustRankingResult& ranking);
 
 // {"regularise_s", "skeleton_s" (null without a skeleton), "planning_s", "ranking_s", "total_s"}.
-nlohmann::json planTimingJson(const PlanTiming& timing);
+nlohmann::json planTimingJson(const ranking::PlanTiming& timing);
 
 // Adds "ranking" (rankingRecordJson, or null when the ranking was disabled: `ranking.enabled`)
 // and "timing" (planTimingJson) to a grasps.json document. Throws InvalidArgument when `document`
 // is not a JSON object or a time is negative or not finite.
-void addPlanRecords(nlohmann::json& document, const RobustRankingResult& ranking,
-                    const PlanTiming& timing);
+void addPlanRecords(nlohmann::json& document, const ranking::RobustRankingResult& ranking,
+                    const ranking::PlanTiming& timing);
 
 }  // namespace skelgrasp::evaluation

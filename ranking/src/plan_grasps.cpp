@@ -1,11 +1,11 @@
-#include "skelgrasp/evaluation/plan_grasps.h"
+#include "skelgrasp/ranking/plan_grasps.h"
 
 #include <algorithm>
 #include <numeric>
 
 #include "skelgrasp/common/logging.h"
 
-namespace skelgrasp::evaluation {
+namespace skelgrasp::ranking {
 namespace {
 
 // A grasp refinement for robustness moved touches elsewhere: its rank score becomes r x its own
@@ -134,4 +134,4 @@ GraspPlan planGrasps(const grasping::GraspObject& object, const grasping::HandMo
   return plan;
 }
 
-}  // namespace skelgrasp::evaluation
+}  // namespace skelgrasp::ranking

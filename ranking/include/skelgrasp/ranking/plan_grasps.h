@@ -5,21 +5,21 @@
 // docs/planning.md.
 //
 //   const auto hand = skelgrasp::grasping::loadBuiltinHand("sdh");
-//   const auto plan = skelgrasp::evaluation::planGrasps(mesh, hand, {});
+//   const auto plan = skelgrasp::ranking::planGrasps(mesh, hand, {});
 //   if (plan.status.ok()) use(plan.grasps.front());  // the best grasp, with its r
 #include <functional>
 #include <optional>
 #include <string>
 
 #include "skelgrasp/common/error.h"
-#include "skelgrasp/evaluation/robust_ranking.h"
 #include "skelgrasp/grasping/grasp.h"
 #include "skelgrasp/grasping/grasp_object.h"
 #include "skelgrasp/grasping/hand_model.h"
 #include "skelgrasp/grasping/planners.h"
+#include "skelgrasp/ranking/robust_ranking.h"
 #include "skelgrasp/skeleton/extraction.h"
 
-namespace skelgrasp::evaluation {
+namespace skelgrasp::ranking {
 
 // The planners. Declared in the order of their names: summaries sort by it.
 enum class Planner {
@@ -118,4 +118,4 @@ GraspPlan planGrasps(const TriangleMesh& mesh, const grasping::HandModel& hand,
 GraspPlan planGrasps(const grasping::GraspObject& object, const grasping::HandModel& hand,
                      const PlanOptions& options, const PlanInputs& inputs = {});
 
-}  // namespace skelgrasp::evaluation
+}  // namespace skelgrasp::ranking

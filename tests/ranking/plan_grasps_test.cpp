@@ -1,4 +1,4 @@
-#include "skelgrasp/evaluation/plan_grasps.h"
+#include "skelgrasp/ranking/plan_grasps.h"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include "planned_object.h"
 #include "skelgrasp/common/primitives.h"
 
-namespace skelgrasp::evaluation {
+namespace skelgrasp::ranking {
 namespace {
 
 using test_fixtures::cylinder;
@@ -144,4 +144,4 @@ TEST(PlanGrasps, HypothesisIsTheChosenPlanners) {
 }
 
 }  // namespace
-}  // namespace skelgrasp::evaluation
+}  // namespace skelgrasp::ranking
