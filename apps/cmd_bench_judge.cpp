@@ -14,9 +14,9 @@
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/evaluation/robustness.h"
 #include "skelgrasp/grasping/grasp_simulator.h"
 #include "skelgrasp/grasping/quality.h"
+#include "skelgrasp/ranking/robustness.h"
 
 namespace skelgrasp::cli {
 namespace {
@@ -105,13 +105,13 @@ void timeGrasp(grasping::GraspSimulator& sim, const grasping::Preshape& preshape
   grasp.contacts = closed.contacts;
   score = 0;
   if (grasp.contacts.empty()) return;  // no robustness for a grasp without contacts
-  evaluation::RobustnessParams rp;
+  ranking::RobustnessParams rp;
   rp.samples = args.samples;
   rp.quality = verdict;
   rp.closing = closing;
-  evaluation::RobustnessResult r;
+  ranking::RobustnessResult r;
   out.robustness_s.push_back(
-      medianSeconds(1, [&] { r = evaluation::evaluateRobustness(sim, grasp, rp); }));
+      medianSeconds(1, [&] { r = ranking::evaluateRobustness(sim, grasp, rp); }));
   score = r.score;
 }
 

@@ -36,8 +36,8 @@
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/evaluation/robust_ranking.h"
-#include "skelgrasp/grasping/planners.h"
+#include "skelgrasp/ranking/plan_grasps.h"
+#include "skelgrasp/ranking/robust_ranking.h"
 #include "skelgrasp/skeleton/extraction.h"
 
 namespace skelgrasp::cli {
@@ -87,7 +87,7 @@ const std::map<std::string, Shortcut>& shortcutsByName() {
 }
 
 struct PathRun {
-  evaluation::RobustRankingResult result;
+  ranking::RobustRankingResult result;
   double seconds = 0;
 };
 
@@ -96,16 +96,16 @@ PathRun rankOnce(const grasping::HandModel& hand, const grasping::GraspObject& o
                  const std::vector<grasping::Grasp>& grasps,
                  const grasping::SkeletonPlannerParams& planner, Shortcut shortcut, bool new_path) {
   // The other shortcuts stay at their defaults, so each comparison is against today's ranking.
-  evaluation::RobustRankingParams params;
+  ranking::RobustRankingParams params;
   grasping::HypothesisParams hypothesis = planner.hypothesis;
   switch (shortcut) {
     case Shortcut::kPruning:
       params.screening_pruning =
-          new_path ? evaluation::ScreeningPruning::kInOrder : evaluation::ScreeningPruning::kNone;
+          new_path ? ranking::ScreeningPruning::kInOrder : ranking::ScreeningPruning::kNone;
       break;
     case Shortcut::kBestFirst:
-      params.screening_pruning = new_path ? evaluation::ScreeningPruning::kBestFirst
-                                          : evaluation::ScreeningPruning::kInOrder;
+      params.screening_pruning =
+          new_path ? ranking::ScreeningPruning::kBestFirst : ranking::ScreeningPruning::kInOrder;
       break;
     case Shortcut::kClosureShortcut:
       params.robustness.settling.skip_closure_test_when_unbalanced = new_path;
@@ -123,30 +123,30 @@ PathRun rankOnce(const grasping::HandModel& hand, const grasping::GraspObject& o
       hypothesis.closing.gap_hints = new_path;
       break;
     case Shortcut::kScreenBy:
-      params.screen_candidates = new_path ? evaluation::ScreenCandidates::kPreshapesInTurn
-                                          : evaluation::ScreenCandidates::kByPreScore;
+      params.screen_candidates = new_path ? ranking::ScreenCandidates::kPreshapesInTurn
+                                          : ranking::ScreenCandidates::kByPreScore;
       break;
     case Shortcut::kConfirm:
-      params.confirm_samples = new_path ? evaluation::kDefaultConfirmSamples : 0;
+      params.confirm_samples = new_path ? ranking::kDefaultConfirmSamples : 0;
       break;
   }
   PathRun run;
   const Stopwatch watch;
-  run.result = evaluation::rankByRobustness(hand, object, grasps, hypothesis, params);
+  run.result = ranking::rankByRobustness(hand, object, grasps, hypothesis, params);
   run.seconds = watch.seconds();
   return run;
 }
 
 // The mean r of the scored grasps (they come first); 0 when none was scored.
-double meanScoredR(const evaluation::RobustRankingResult& result) {
+double meanScoredR(const ranking::RobustRankingResult& result) {
   double sum = 0;
   for (std::size_t i = 0; i < result.scored; ++i) sum += result.grasps[i].robustness->r;
   return result.scored > 0 ? sum / static_cast<double>(result.scored) : 0.0;
 }
 
 // The scored grasps (they come first) agree in order, pose and r.
-bool sameScoredGrasps(const evaluation::RobustRankingResult& a,
-                      const evaluation::RobustRankingResult& b) {
+bool sameScoredGrasps(const ranking::RobustRankingResult& a,
+                      const ranking::RobustRankingResult& b) {
   if (a.scored != b.scored) return false;
   for (std::size_t i = 0; i < a.scored; ++i) {
     if (a.order[i] != b.order[i] || a.grasps[i].robustness->r != b.grasps[i].robustness->r ||
@@ -199,7 +199,13 @@ int runBenchRanking(const BenchRankingArgs& args) {
         old_object->distanceField();
       }
       for (const auto& hand : hands) {
-        const auto plan = grasping::planSkeletonGrasps(hand, object, skel.skeleton, planner);
+        // The planned grasps, ranked below once per path.
+        ranking::PlanOptions options;
+        options.skeleton_planner = planner;
+        options.ranking.enabled = false;
+        ranking::PlanInputs inputs;
+        inputs.skeleton = &skel;
+        const auto plan = ranking::planGrasps(object, hand, options, inputs);
         double old_s = 0, new_s = 0;
         PathRun old_run, new_run;
         // Alternating which path goes first, so neither always runs on a warmer cache.

@@ -27,9 +27,9 @@ std::string join(const std::vector<std::string>& items, char sep) {
   return text;
 }
 
-std::string plannerNames(const std::vector<evaluation::Planner>& planners) {
+std::string plannerNames(const std::vector<ranking::Planner>& planners) {
   std::vector<std::string> names;
-  for (const auto planner : planners) names.push_back(evaluation::toString(planner));
+  for (const auto planner : planners) names.push_back(ranking::toString(planner));
   return join(names, ',');
 }
 
@@ -40,9 +40,9 @@ struct EvaluateArgs {
   std::string planners = plannerNames(evaluation::BatchParams{}.planners);
   std::string out = evaluation::BatchParams{}.out_dir;
   std::string shard = "0/1";
-  std::string variant = evaluation::toString(evaluation::RobustnessParams{}.variant);
+  std::string variant = ranking::toString(ranking::RobustnessParams{}.variant);
   std::string units = "auto";
-  int samples = evaluation::RobustnessParams{}.samples;
+  int samples = ranking::RobustnessParams{}.samples;
   std::size_t robustness_grasps = evaluation::BatchParams{}.robustness_grasps;
   int jobs = evaluation::BatchParams{}.jobs;
   double timeout_s = evaluation::BatchParams{}.timeout_s;
@@ -98,8 +98,7 @@ int runEvaluate(const EvaluateArgs& a) {
   p.object_limit = a.limit;
   p.hands = splitList(a.hands);
   p.planners.clear();
-  for (const auto& name : splitList(a.planners))
-    p.planners.push_back(evaluation::parsePlanner(name));
+  for (const auto& name : splitList(a.planners)) p.planners.push_back(ranking::parsePlanner(name));
   p.out_dir = a.out;
   p.jobs = a.jobs;
   // Whole numbers only: std::stoi alone would take "1x/4" or "-1/4".
@@ -121,7 +120,7 @@ int runEvaluate(const EvaluateArgs& a) {
   p.surface_candidates = a.surface_candidates;
   p.robustness_grasps = a.robustness_grasps;
   p.robustness.samples = a.samples;
-  p.robustness.variant = evaluation::parseRobustnessVariant(a.variant);
+  p.robustness.variant = ranking::parseRobustnessVariant(a.variant);
   p.quality.friction = a.mu;
   p.quality.reference_compat = a.reference_compat;
   p.quality.fc_test = grasping::parseForceClosureTest(a.fc_test);
@@ -190,8 +189,8 @@ void registerEvaluateCommands(CLI::App& app, Action& action) {
       fmt::format("Also rank each run's grasps by robustness as plan does (best {} of {} screened "
                   "unless the hand's ranking budget says otherwise, {} samples each) and report "
                   "the r of the returned top grasps",
-                  evaluation::RobustRankingParams{}.top_k, evaluation::kDefaultScreenK,
-                  evaluation::RobustRankingParams{}.robustness.samples));
+                  ranking::RobustRankingParams{}.top_k, ranking::kDefaultScreenK,
+                  ranking::RobustRankingParams{}.robustness.samples));
   addScreenOption(*cmd, a->screen_k);
   addScreenSamplesOption(*cmd, a->screen_samples);
   addScreenByOption(*cmd, a->screen_by);

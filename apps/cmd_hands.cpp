@@ -15,11 +15,11 @@
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/common/pose.h"
-#include "skelgrasp/evaluation/robust_ranking.h"
 #include "skelgrasp/grasping/contacts_io.h"
 #include "skelgrasp/grasping/grasp_simulator.h"
 #include "skelgrasp/grasping/hand_render.h"
 #include "skelgrasp/grasping/quality.h"
+#include "skelgrasp/ranking/robust_ranking.h"
 
 namespace skelgrasp::cli {
 namespace {
@@ -43,13 +43,13 @@ std::string contactModel(const grasping::HandModel& hand) {
 
 // How a hand's screening takes its candidates, said only where it is not each preshape's best by
 // epsilon in turn (the default since 2026-11-29).
-const char* screenOrderSuffix(evaluation::ScreenCandidates candidates) {
+const char* screenOrderSuffix(ranking::ScreenCandidates candidates) {
   switch (candidates) {
-    case evaluation::ScreenCandidates::kPreshapesInTurn:
+    case ranking::ScreenCandidates::kPreshapesInTurn:
       return "";
-    case evaluation::ScreenCandidates::kByPreScore:
+    case ranking::ScreenCandidates::kByPreScore:
       return " by eps";
-    case evaluation::ScreenCandidates::kPreshapesInTurnByTravel:
+    case ranking::ScreenCandidates::kPreshapesInTurnByTravel:
       return " by travel";
   }
   return "";
@@ -58,7 +58,7 @@ const char* screenOrderSuffix(evaluation::ScreenCandidates candidates) {
 // The robust ranking's budget for the hand unless options say otherwise: candidates screened x
 // samples each, and the r below which scored grasps are searched.
 std::string rankingBudget(const grasping::HandModel& hand) {
-  const auto used = evaluation::rankingBudgetFor({}, hand.rankingBudget());
+  const auto used = ranking::rankingBudgetFor({}, hand.rankingBudget());
   return fmt::format(
       "{}x{}{}{}, r<{:g}", used.screen_k, used.screen_samples,
       used.confirm_samples > 0 ? fmt::format("+{}", used.confirm_samples) : std::string(),

@@ -14,6 +14,7 @@
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/evaluation/plan_record.h"
 #include "skelgrasp/grasping/plan_output.h"
+#include "skelgrasp/ranking/plan_grasps.h"
 
 namespace skelgrasp::cli {
 namespace {
@@ -36,41 +37,32 @@ int runPlan(const PlanArgs& args) {
   MeshLoadInfo info;
   TriangleMesh mesh = loadMesh(args.mesh, args.skeleton.loadOptions(), &info);
   const std::string name = std::filesystem::path(args.mesh).filename().string();
-  const grasping::GraspObject object(mesh);
-  grasping::PlanResult result;
-  std::optional<skeleton::SkeletonResult> skel;
-  if (args.planner.planner == "skeleton") {
-    skel = skeleton::extractSkeleton(mesh, args.skeleton.params());
-    if (!skel->status.ok()) return fail(args.mesh + ": " + skel->status.message);
-    result =
-        grasping::planSkeletonGrasps(hand, object, skel->skeleton, args.planner.skeletonParams());
-  } else {
-    result = grasping::planSurfaceGrasps(hand, object, args.planner.surfaceParams());
-  }
+  ranking::PlanOptions options;
+  options.planner = ranking::parsePlanner(args.planner.planner);
+  options.skeleton = args.skeleton.params();
+  options.skeleton_planner = args.planner.skeletonParams();
+  options.surface_planner = args.planner.surfaceParams();
   // Robust ranking: the best grasps scored by r and re-ranked (docs/planning.md).
-  auto ranked = evaluation::rankByRobustness(hand, object, std::move(result.grasps),
-                                             args.planner.hypothesis(),
-                                             args.robustness.params(args.planner.seed));
-  result.grasps = std::move(ranked.grasps);
-  const evaluation::PlanTiming timing = evaluation::planTimingOf(
-      skel ? &skel->timing : nullptr, result.summary.planning_s, ranked.time_s);
-  nlohmann::json document = grasping::planToJson(result, hand, name);
-  evaluation::addPlanRecords(document, ranked, timing);
+  options.ranking = args.robustness.params(args.planner.seed);
+  const ranking::GraspPlan plan = ranking::planGrasps(mesh, hand, options);
+  if (plan.skeleton_failed) return fail(args.mesh + ": " + plan.status.message);
+  nlohmann::json document = grasping::planToJson(plan, hand, name);
+  evaluation::addPlanRecords(document, plan.ranking, plan.timing);
   OutputTransaction outputs;
   if (!args.render.empty()) {
-    grasping::renderPlanPng(outputs.stage(args.render), mesh, skel ? &skel->skeleton : nullptr,
-                            result, hand);
+    grasping::renderPlanPng(outputs.stage(args.render), mesh,
+                            plan.skeleton ? &plan.skeleton->skeleton : nullptr, plan, hand);
   }
   writeJsonFile(outputs.stage(args.out), document);
   outputs.commit();
   args.exports.write(args.out, hand);
-  std::cout << grasping::planSummaryLine(result, hand.name(), name);
-  if (ranked.scored > 0) {
+  std::cout << grasping::planSummaryLine(plan, hand.name(), name);
+  if (plan.ranking.scored > 0) {
     std::cout << fmt::format("; best r {:.2f} ({} of {} grasps scored, {:.2f} s)",
-                             result.grasps.front().robustness->r, ranked.scored,
-                             result.grasps.size(), ranked.time_s);
+                             plan.grasps.front().robustness->r, plan.ranking.scored,
+                             plan.grasps.size(), plan.timing.ranking_s);
   }
-  std::cout << fmt::format("; {:.2f} s in all", timing.total_s()) << std::endl;
+  std::cout << fmt::format("; {:.2f} s in all", plan.timing.total_s()) << std::endl;
   return kExitOk;
 }
 

@@ -29,9 +29,9 @@ struct ScoreArgs {
   std::string hand;  // empty: the built-in hand the grasps file names
   std::string description;
   std::vector<double> mu = evaluation::ScoreParams{}.frictions;
-  int samples = evaluation::RobustnessParams{}.samples;
-  std::string variant = evaluation::toString(evaluation::RobustnessParams{}.variant);
-  std::uint64_t seed = evaluation::RobustnessParams{}.seed;
+  int samples = ranking::RobustnessParams{}.samples;
+  std::string variant = ranking::toString(ranking::RobustnessParams{}.variant);
+  std::uint64_t seed = ranking::RobustnessParams{}.seed;
   bool no_robustness = false;
   std::optional<std::uint64_t> object;
   std::string out = "scores.json";
@@ -53,7 +53,7 @@ evaluation::ScoreParams scoreParams(const ScoreArgs& a) {
   p.closing.contact_patch = grasping::contactPatchFor(a.contact_patch, a.reference_compat);
   p.compute_robustness = !a.no_robustness;
   p.robustness.samples = a.samples;
-  p.robustness.variant = evaluation::parseRobustnessVariant(a.variant);
+  p.robustness.variant = ranking::parseRobustnessVariant(a.variant);
   p.robustness.seed = a.seed;
   return p;
 }

@@ -36,7 +36,7 @@ struct SimulateArgs {
   std::optional<double> force_n;
   std::optional<double> fingertip_force_n;
   int samples = evaluation::SimulateParams{}.samples;
-  std::uint64_t seed = evaluation::RobustnessParams{}.seed;
+  std::uint64_t seed = ranking::RobustnessParams{}.seed;
   std::optional<std::uint64_t> object;
   std::optional<std::uint64_t> max_grasps;
   double time_step_s = physics::JudgeParams{}.time_step_s;

@@ -1,5 +1,5 @@
 #pragma once
-// Robust ranking options (evaluation/robust_ranking.h), shared by the commands that plan and rank
+// Robust ranking options (ranking/robust_ranking.h), shared by the commands that plan and rank
 // (plan, run, demo, bench run).
 #include <CLI/CLI.hpp>
 
@@ -9,7 +9,7 @@
 #include <string>
 
 #include "option_checks.h"
-#include "skelgrasp/evaluation/robust_ranking.h"
+#include "skelgrasp/ranking/robust_ranking.h"
 
 namespace skelgrasp::cli {
 
@@ -39,7 +39,7 @@ inline CLI::Option* addScreenOption(CLI::App& cmd, std::optional<std::size_t>& s
                   fmt::format("Grasps screened with a cheap r to choose those scored, which ones "
                               "as --robustness-screen-by says (0 = all; none when at most "
                               "--robustness-top-k; default: the hand's ranking budget, else {})",
-                              evaluation::kDefaultScreenK))
+                              ranking::kDefaultScreenK))
       ->transform(countIn(0, kMaxCount));
 }
 
@@ -49,7 +49,7 @@ inline CLI::Option* addScreenSamplesOption(CLI::App& cmd, std::optional<int>& sc
       .add_option("--robustness-screen-samples", screen_samples,
                   fmt::format("Perturbed executions per screened grasp (default: the hand's "
                               "ranking budget, else {})",
-                              evaluation::kDefaultScreenSamples))
+                              ranking::kDefaultScreenSamples))
       ->transform(countIn(1, kMaxRankingSamples));
 }
 
@@ -61,7 +61,7 @@ inline CLI::Option* addConfirmSamplesOption(CLI::App& cmd, std::optional<int>& c
           fmt::format("More perturbed executions for the best {} x --robustness-top-k "
                       "screened grasps before the top k are chosen (0 = none; default: "
                       "the hand's ranking budget, else {})",
-                      evaluation::kConfirmCandidatesPerScored, evaluation::kDefaultConfirmSamples))
+                      ranking::kConfirmCandidatesPerScored, ranking::kDefaultConfirmSamples))
       ->transform(countIn(0, kMaxRankingSamples));
 }
 
@@ -76,26 +76,26 @@ inline CLI::Option* addScreenByOption(CLI::App& cmd, std::optional<std::string>&
                               "finger travel from the preshape, the largest first) or epsilon (the "
                               "best by epsilon over all); only when screening runs (default: the "
                               "hand's ranking budget, else {})",
-                              evaluation::toString(evaluation::kDefaultScreenCandidates)))
+                              ranking::toString(ranking::kDefaultScreenCandidates)))
       ->check(CLI::IsMember(grasping::screenCandidateNames()));
 }
 
 // The option's value as the ranking's parameter (unset stays unset: the hand's).
-inline std::optional<evaluation::ScreenCandidates> screenCandidates(
+inline std::optional<ranking::ScreenCandidates> screenCandidates(
     const std::optional<std::string>& screen_by) {
   if (!screen_by) return std::nullopt;
-  return evaluation::parseScreenCandidates(*screen_by);
+  return ranking::parseScreenCandidates(*screen_by);
 }
 
-// Refinement for robustness (evaluation/robust_refinement.h), the same on every command that ranks.
+// Refinement for robustness (ranking/robust_refinement.h), the same on every command that ranks.
 struct RobustRefineOptions {
-  bool disabled = !evaluation::RobustRefinementParams{}.enabled;
-  std::size_t grasps = evaluation::RobustRefinementParams{}.max_grasps;
+  bool disabled = !ranking::RobustRefinementParams{}.enabled;
+  std::size_t grasps = ranking::RobustRefinementParams{}.max_grasps;
   std::optional<double> search_below_r;  // unset: the hand's ranking budget
-  int evaluations = evaluation::RobustRefinementParams{}.max_evaluations;
-  int samples = evaluation::RobustRefinementParams{}.samples;
-  double max_standoff_m = evaluation::RobustRefinementParams{}.max_standoff_m;
-  int mean_shift_steps = evaluation::RobustRefinementParams{}.mean_shift_steps;
+  int evaluations = ranking::RobustRefinementParams{}.max_evaluations;
+  int samples = ranking::RobustRefinementParams{}.samples;
+  double max_standoff_m = ranking::RobustRefinementParams{}.max_standoff_m;
+  int mean_shift_steps = ranking::RobustRefinementParams{}.mean_shift_steps;
 
   void addTo(CLI::App& cmd) {
     cmd.add_flag("--no-robust-refine", disabled,
@@ -109,7 +109,7 @@ struct RobustRefineOptions {
                    fmt::format("Only scored grasps whose r is below this are searched (1 = all "
                                "but those that held in every sample, 0 = none; default: the "
                                "hand's ranking budget, else {})",
-                               evaluation::kDefaultSearchBelowR))
+                               ranking::kDefaultSearchBelowR))
         ->check(finiteIn(0, 1));
     cmd.add_option("--robust-refine-evaluations", evaluations,
                    "Poses tried near each scored grasp in the search for a more robust one")
@@ -130,7 +130,7 @@ struct RobustRefineOptions {
         ->capture_default_str();
   }
 
-  void applyTo(evaluation::RobustRefinementParams& p) const {
+  void applyTo(ranking::RobustRefinementParams& p) const {
     p.enabled = !disabled;
     p.max_grasps = grasps;
     p.search_below_r = search_below_r;
@@ -143,10 +143,10 @@ struct RobustRefineOptions {
 
 // Defaults are the library's RobustRankingParams (never a typed copy of a number).
 struct RobustnessOptions {
-  bool disabled = !evaluation::RobustRankingParams{}.enabled;
-  int samples = evaluation::RobustRankingParams{}.robustness.samples;
-  std::string variant = evaluation::toString(evaluation::RobustRankingParams{}.robustness.variant);
-  std::size_t top_k = evaluation::RobustRankingParams{}.top_k;
+  bool disabled = !ranking::RobustRankingParams{}.enabled;
+  int samples = ranking::RobustRankingParams{}.robustness.samples;
+  std::string variant = ranking::toString(ranking::RobustRankingParams{}.robustness.variant);
+  std::size_t top_k = ranking::RobustRankingParams{}.top_k;
   std::optional<std::size_t> screen_k;   // unset: the hand's ranking budget
   std::optional<int> screen_samples;     // unset: the hand's ranking budget
   std::optional<std::string> screen_by;  // unset: the hand's ranking budget
@@ -176,8 +176,8 @@ struct RobustnessOptions {
   }
 
   // `seed`: the command's --seed, which also seeds the robustness samples.
-  evaluation::RobustRankingParams params(std::uint64_t seed) const {
-    evaluation::RobustRankingParams p;
+  ranking::RobustRankingParams params(std::uint64_t seed) const {
+    ranking::RobustRankingParams p;
     p.enabled = !disabled;
     p.top_k = top_k;
     p.screen_k = screen_k;
@@ -185,7 +185,7 @@ struct RobustnessOptions {
     p.screen_candidates = screenCandidates(screen_by);
     p.confirm_samples = confirm_samples;
     p.robustness.samples = samples;
-    p.robustness.variant = evaluation::parseRobustnessVariant(variant);
+    p.robustness.variant = ranking::parseRobustnessVariant(variant);
     p.robustness.seed = seed;
     p.friction = mu;
     refine.applyTo(p.refinement);

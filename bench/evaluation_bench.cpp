@@ -9,7 +9,7 @@
 
 #include "bench_support.h"
 #include "skelgrasp/common/logging.h"
-#include "skelgrasp/evaluation/robustness.h"
+#include "skelgrasp/ranking/robustness.h"
 
 namespace {
 
@@ -33,7 +33,7 @@ Grasp sideGrasp(GraspSimulator& sim, const HandModel& hand) {
 // One hand's side grasp of benchObject() and the robustness parameters both benchmarks judge it
 // with.
 struct SideGraspSetup {
-  SideGraspSetup(const std::string& hand_name, evaluation::RobustnessVariant variant, int samples)
+  SideGraspSetup(const std::string& hand_name, ranking::RobustnessVariant variant, int samples)
       : hand((setLogLevel(spdlog::level::warn), loadBuiltinHand(hand_name))) {
     GraspSimulator sim(hand, benchObject());
     grasp = sideGrasp(sim, hand);
@@ -43,19 +43,19 @@ struct SideGraspSetup {
   }
   HandModel hand;
   Grasp grasp;
-  evaluation::RobustnessParams params;
+  ranking::RobustnessParams params;
 };
 
 void BM_Robustness(benchmark::State& state, const std::string& hand_name,
-                   evaluation::RobustnessVariant variant) {
+                   ranking::RobustnessVariant variant) {
   const SideGraspSetup setup(hand_name, variant, 100);
   GraspSimulator sim(setup.hand, benchObject());
   const Grasp& grasp = setup.grasp;
-  const evaluation::RobustnessParams& params = setup.params;
+  const ranking::RobustnessParams& params = setup.params;
   double score = 0;
   int collisions = 0;
   for (auto _ : state) {
-    const auto result = evaluation::evaluateRobustness(sim, grasp, params);
+    const auto result = ranking::evaluateRobustness(sim, grasp, params);
     score = result.score;
     collisions = result.collisions;
     benchmark::DoNotOptimize(result.force_closure);
@@ -72,21 +72,21 @@ void BM_Robustness(benchmark::State& state, const std::string& hand_name,
 // or by 10 of 50, a candidate 20 points of r behind the best. Both paths run alternately in
 // every iteration; the counters are the mean times and their ratio.
 void BM_EarlyStop(benchmark::State& state, const std::string& hand_name,
-                  evaluation::RobustnessVariant variant) {
+                  ranking::RobustnessVariant variant) {
   // 50 samples: the ranking's default; the refinement's search samples a pose 12 times.
   const SideGraspSetup setup(hand_name, variant, 50);
   GraspSimulator sim(setup.hand, benchObject());
   const Grasp& grasp = setup.grasp;
-  const evaluation::RobustnessParams& params = setup.params;
-  const int holds = evaluation::evaluateRobustness(sim, grasp, params).force_closure;
+  const ranking::RobustnessParams& params = setup.params;
+  const int holds = ranking::evaluateRobustness(sim, grasp, params).force_closure;
   const int bar = holds + static_cast<int>(state.range(0));
   using Clock = std::chrono::steady_clock;
   double full_s = 0, early_s = 0;
   for (auto _ : state) {
     const auto t0 = Clock::now();
-    const auto full = evaluation::evaluateRobustness(sim, grasp, params);
+    const auto full = ranking::evaluateRobustness(sim, grasp, params);
     const auto t1 = Clock::now();
-    const auto early = evaluation::evaluateRobustness(sim, grasp, params, 0, params.samples - bar);
+    const auto early = ranking::evaluateRobustness(sim, grasp, params, 0, params.samples - bar);
     const auto t2 = Clock::now();
     full_s += std::chrono::duration<double>(t1 - t0).count();
     early_s += std::chrono::duration<double>(t2 - t1).count();
@@ -100,7 +100,7 @@ void BM_EarlyStop(benchmark::State& state, const std::string& hand_name,
   state.counters["r_percent"] = 100.0 * holds / params.samples;
 }
 
-using evaluation::RobustnessVariant;
+using ranking::RobustnessVariant;
 BENCHMARK_CAPTURE(BM_Robustness, armar3, std::string("armar3"), RobustnessVariant::kPaper)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Robustness, sdh, std::string("sdh"), RobustnessVariant::kPaper)

@@ -16,7 +16,6 @@
 #include "batch_store.h"
 #include "directory_lock.h"
 #include "skelgrasp/common/logging.h"
-#include "skelgrasp/grasping/planners.h"
 
 namespace skelgrasp::evaluation {
 namespace {
@@ -33,7 +32,8 @@ struct ObjectOutcome {
 };
 
 // A run record of `object` with its key and content hash filled in.
-RunRecord runRecord(const ObjectIdentity& object, const std::string& hand, Planner planner) {
+RunRecord runRecord(const ObjectIdentity& object, const std::string& hand,
+                    ranking::Planner planner) {
   RunRecord run;
   run.object = object.id;
   run.hand = hand;
@@ -62,7 +62,7 @@ class ObjectEvaluator {
   // Never throws: whatever goes wrong for this object is recorded as failed runs.
   ObjectOutcome evaluate(const ObjectIdentity& id) const {
     ObjectOutcome out;
-    auto fail = [&](const std::string& hand, Planner planner, const std::string& error) {
+    auto fail = [&](const std::string& hand, ranking::Planner planner, const std::string& error) {
       RunRecord r = runRecord(id, hand, planner);
       r.status = RunStatus::kError;
       r.error = error;
@@ -70,10 +70,10 @@ class ObjectEvaluator {
       ++out.failed;
     };
     // Fails the runs of every planner, or of `only_planner` when given.
-    auto failAll = [&](const std::string& error, std::optional<Planner> only_planner) {
+    auto failAll = [&](const std::string& error, std::optional<ranking::Planner> only_planner) {
       log().warn("evaluate: {}", error);
       for (const auto& hand : hands_) {
-        for (const Planner planner : p_.planners) {
+        for (const ranking::Planner planner : p_.planners) {
           if (!only_planner || planner == *only_planner) fail(hand.name(), planner, error);
         }
       }
@@ -88,31 +88,32 @@ class ObjectEvaluator {
       return out;
     }
     const bool want_skeleton =
-        std::count(p_.planners.begin(), p_.planners.end(), Planner::kSkeleton) > 0;
+        std::count(p_.planners.begin(), p_.planners.end(), ranking::Planner::kSkeleton) > 0;
     std::optional<skeleton::SkeletonResult> skel;
     if (want_skeleton) {
       try {
         skel = skeleton::extractSkeleton(mesh, p_.skeleton);
         if (!skel->status.ok()) {
-          failAll(id.path + ": " + skel->status.message, Planner::kSkeleton);
+          failAll(id.path + ": " + skel->status.message, ranking::Planner::kSkeleton);
           skel.reset();
         }
       } catch (...) {
-        failAll(objectError(id, std::current_exception()), Planner::kSkeleton);
+        failAll(objectError(id, std::current_exception()), ranking::Planner::kSkeleton);
         skel.reset();
       }
     }
     // The skeleton planner runs first whatever the order of `planners`: its pose count is the
     // surface planner's budget, which must not depend on that order.
-    std::vector<Planner> planners = p_.planners;
-    std::stable_partition(planners.begin(), planners.end(),
-                          [](Planner planner) { return planner == Planner::kSkeleton; });
+    std::vector<ranking::Planner> planners = p_.planners;
+    std::stable_partition(planners.begin(), planners.end(), [](ranking::Planner planner) {
+      return planner == ranking::Planner::kSkeleton;
+    });
     for (const auto& hand : hands_) {
       // As many surface hypotheses as the skeleton planner's poses on this object and hand (the
       // paper's comparison), else surface_hypotheses.
       std::size_t surface_budget = p_.surface_hypotheses;
-      for (const Planner planner : planners) {
-        const bool skeleton_planner = planner == Planner::kSkeleton;
+      for (const ranking::Planner planner : planners) {
+        const bool skeleton_planner = planner == ranking::Planner::kSkeleton;
         if (skeleton_planner && !skel) continue;  // recorded as failed above
         try {
           const std::size_t poses = plan(id, hand, planner, surface_budget, *object,
@@ -131,41 +132,41 @@ class ObjectEvaluator {
  private:
   // One planner run and its records; returns the run's pose count. `surface_budget`: the surface
   // planner's number of hypotheses.
-  std::size_t plan(const ObjectIdentity& id, const grasping::HandModel& hand, Planner planner,
-                   std::size_t surface_budget, const grasping::GraspObject& object,
-                   const skeleton::SkeletonResult* skel, ObjectOutcome& out) const {
+  std::size_t plan(const ObjectIdentity& id, const grasping::HandModel& hand,
+                   ranking::Planner planner, std::size_t surface_budget,
+                   const grasping::GraspObject& object, const skeleton::SkeletonResult* skel,
+                   ObjectOutcome& out) const {
     const std::uint64_t seed =
         internal::fnv1a(internal::runKey(id.id, hand.name(), planner), p_.seed);
-    grasping::PlanResult result;
+    ranking::PlanOptions options;
+    options.planner = planner;
     grasping::HypothesisParams hypothesis;
     hypothesis.quality = p_.quality;
     hypothesis.closing.method = p_.robustness.closing.method;  // --closing judges both
     hypothesis.closing.contact_patch = p_.robustness.closing.contact_patch;  // and --contact-patch
-    if (planner == Planner::kSkeleton) {
-      grasping::SkeletonPlannerParams sp;
-      sp.timeout_s = p_.timeout_s;
-      sp.seed = seed;
-      sp.vertex_distance_m = p_.vertex_distance_m;
-      sp.centre_candidates = p_.centre_candidates;
-      sp.alternative_preshapes = p_.alternative_preshapes;
-      sp.surface_candidates = p_.surface_candidates;
-      sp.hypothesis = hypothesis;
-      result = grasping::planSkeletonGrasps(hand, object, skel->skeleton, sp);
-    } else {
-      grasping::SurfacePlannerParams fp;
-      fp.timeout_s = p_.timeout_s;
-      fp.seed = seed;
-      fp.max_hypotheses = surface_budget;
-      fp.hypothesis = hypothesis;
-      result = grasping::planSurfaceGrasps(hand, object, fp);
-    }
-    // The grasps as `plan` returns them: ranked by robustness, r on the best (same seed).
+    grasping::SkeletonPlannerParams& sp = options.skeleton_planner;
+    sp.timeout_s = p_.timeout_s;
+    sp.seed = seed;
+    sp.vertex_distance_m = p_.vertex_distance_m;
+    sp.centre_candidates = p_.centre_candidates;
+    sp.alternative_preshapes = p_.alternative_preshapes;
+    sp.surface_candidates = p_.surface_candidates;
+    sp.hypothesis = hypothesis;
+    grasping::SurfacePlannerParams& fp = options.surface_planner;
+    fp.timeout_s = p_.timeout_s;
+    fp.seed = seed;
+    fp.max_hypotheses = surface_budget;
+    fp.hypothesis = hypothesis;
+    // The grasps as `plan` returns them: ranked by robustness, r on the best (same seed); without
+    // ranking, the planner's order.
+    options.ranking = p_.ranking;
+    options.ranking.robustness.seed = seed;
+    ranking::PlanInputs inputs;
+    inputs.skeleton = skel;
+    const ranking::GraspPlan result = ranking::planGrasps(object, hand, options, inputs);
     RankingMeasures ranking;
     if (p_.ranking.enabled) {
-      RobustRankingParams rp = p_.ranking;
-      rp.robustness.seed = seed;
-      auto ranked = rankByRobustness(hand, object, std::move(result.grasps), hypothesis, rp);
-      result.grasps = std::move(ranked.grasps);
+      const ranking::RobustRankingResult& ranked = result.ranking;
       ranking.scored = ranked.scored;
       ranking.time_s = ranked.time_s;
       double sum = 0, sum_unrefined = 0;
@@ -208,7 +209,7 @@ class ObjectEvaluator {
     double time_s = 0;
   };
 
-  void record(const ObjectIdentity& id, const grasping::HandModel& hand, Planner planner,
+  void record(const ObjectIdentity& id, const grasping::HandModel& hand, ranking::Planner planner,
               std::uint64_t seed, const grasping::GraspObject& object,
               const grasping::PlanResult& plan, const RankingMeasures& ranking,
               const skeleton::SkeletonResult* skel, ObjectOutcome& out) const {
@@ -220,13 +221,13 @@ class ObjectEvaluator {
       chosen.resize(p_.robustness_grasps);
     std::sort(chosen.begin(), chosen.end());
     grasping::GraspSimulator simulator(hand, object);
-    RobustnessParams rp = p_.robustness;
+    ranking::RobustnessParams rp = p_.robustness;
     rp.quality = grasping::withHandContactModel(p_.quality, hand);
     rp.seed = seed;
-    std::map<std::size_t, RobustnessResult> robustness;
+    std::map<std::size_t, ranking::RobustnessResult> robustness;
     double robustness_s = 0, robustness_sum = 0;
     for (std::size_t index : chosen) {
-      robustness[index] = evaluateRobustness(simulator, plan.grasps[index], rp, index);
+      robustness[index] = ranking::evaluateRobustness(simulator, plan.grasps[index], rp, index);
       robustness_s += robustness[index].time_s;
       robustness_sum += robustness[index].score;
     }
@@ -312,7 +313,7 @@ void checkBatchParams(const BatchParams& p) {
     nonNegative(*p.quality.torsional_friction_m, "torsional friction");
   if (p.quality.cone_edges < 3) throw InvalidArgument("friction cones need at least 3 edges");
   if (p.robustness.samples < 1) throw InvalidArgument("robustness needs at least one sample");
-  checkRobustRankingParams(p.ranking);
+  ranking::checkRobustRankingParams(p.ranking);
 }
 
 // The files a batch writes into its directory (and nothing else there).
@@ -335,23 +336,6 @@ void prepareOutDir(const std::string& dir) {
 }
 
 }  // namespace
-
-Planner parsePlanner(const std::string& name) {
-  for (const Planner planner : {Planner::kSkeleton, Planner::kSurface}) {
-    if (name == toString(planner)) return planner;
-  }
-  throw InvalidArgument("unknown planner '" + name + "' (use skeleton, surface)");
-}
-
-const char* toString(Planner planner) {
-  switch (planner) {
-    case Planner::kSkeleton:
-      return "skeleton";
-    case Planner::kSurface:
-      break;
-  }
-  return "surface";
-}
 
 BatchStats runBatch(const BatchParams& p) {
   checkBatchParams(p);
@@ -392,7 +376,7 @@ BatchStats runBatch(const BatchParams& p) {
     object.hash = internal::contentHash(object.path);
     bool done = true, failed = false, stale = false;
     for (const auto& hand : hands) {
-      for (const Planner planner : p.planners) {
+      for (const ranking::Planner planner : p.planners) {
         const auto run =
             store.records().runs.find(internal::runKey(object.id, hand.name(), planner));
         if (run == store.records().runs.end()) {

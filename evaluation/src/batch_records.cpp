@@ -88,10 +88,10 @@ RunStatus parseRunStatus(const std::string& text) {
   throw RecordError("key 'status' must be ok, no_grasp or error, not '" + text + "'");
 }
 
-Planner plannerOf(const Fields& f) {
+ranking::Planner plannerOf(const Fields& f) {
   const std::string name = f.text("planner");
   try {
-    return parsePlanner(name);
+    return ranking::parsePlanner(name);
   } catch (const std::exception& e) {
     throw RecordError(std::string("key 'planner': ") + e.what());
   }
@@ -115,7 +115,7 @@ const char* toString(RunStatus status) {
   return "error";
 }
 
-std::string runKey(const std::string& object, const std::string& hand, Planner planner) {
+std::string runKey(const std::string& object, const std::string& hand, ranking::Planner planner) {
   return object + "|" + hand + "|" + toString(planner);
 }
 std::string runKey(const RunRecord& run) {

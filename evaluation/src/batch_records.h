@@ -71,7 +71,7 @@ struct RunMeasures {
 struct RunRecord {
   std::string object;  // the object's id in the batch
   std::string hand;
-  Planner planner = Planner::kSkeleton;
+  ranking::Planner planner = ranking::Planner::kSkeleton;
   // FNV-1a of the object file's bytes; absent in records of a skelgrasp before content hashes.
   std::optional<std::string> object_hash;
   RunStatus status = RunStatus::kOk;
@@ -91,7 +91,7 @@ struct GraspRobustness {
 struct GraspRecord {
   std::string object;
   std::string hand;
-  Planner planner = Planner::kSkeleton;
+  ranking::Planner planner = ranking::Planner::kSkeleton;
   int grasp = -1;        // id in the run, best epsilon first
   std::string type;      // grasping::toString(GraspType)
   std::string strategy;  // "1a" ... "4" or "surface"
@@ -102,7 +102,7 @@ struct GraspRecord {
 };
 
 // Key of a run: object id, hand, planner.
-std::string runKey(const std::string& object, const std::string& hand, Planner planner);
+std::string runKey(const std::string& object, const std::string& hand, ranking::Planner planner);
 std::string runKey(const RunRecord& run);
 std::string runKey(const GraspRecord& grasp);
 

@@ -85,9 +85,10 @@ std::string shown(const nlohmann::json& value) {
 // resume). Budgets left to the hands are recorded as the defaults, as before they became optional,
 // and each hand whose own budget differs from that gets its budget in "hand_budgets": a batch
 // from before the hands had budgets resumes only where nothing changed.
-nlohmann::json rankingOptions(const RobustRankingParams& r,
+nlohmann::json rankingOptions(const ranking::RobustRankingParams& r,
                               const std::vector<grasping::HandModel>& hands) {
-  const RankingBudgetUsed recorded = rankingBudgetFor(r);  // as for a hand without a budget
+  const ranking::RankingBudgetUsed recorded =
+      ranking::rankingBudgetFor(r);  // as for a hand without a budget
   nlohmann::json options = {{"top_k", r.top_k},
                             {"screen_k", recorded.screen_k},
                             {"screen_samples", recorded.screen_samples},
@@ -109,13 +110,13 @@ nlohmann::json rankingOptions(const RobustRankingParams& r,
   if (r.refinement.enabled) options["refinement"]["check"] = "own_samples";
   // Since 2026-11-29 screening takes every preshape's best grasps in turn; a batch from before
   // screened the best by epsilon, so it resumes only into that.
-  if (recorded.screen_candidates != ScreenCandidates::kByPreScore)
+  if (recorded.screen_candidates != grasping::ScreenCandidates::kByPreScore)
     options["screen_by"] = toString(recorded.screen_candidates);
   // Since 2026-11-29 (later) the screening's contenders run more samples before the choice; a
   // batch from before ran none, so it resumes only into that.
   if (recorded.confirm_samples != 0) options["confirm_samples"] = recorded.confirm_samples;
   for (const auto& hand : hands) {
-    const RankingBudgetUsed own = rankingBudgetFor(r, hand.rankingBudget());
+    const ranking::RankingBudgetUsed own = ranking::rankingBudgetFor(r, hand.rankingBudget());
     if (own.screen_k != recorded.screen_k || own.screen_samples != recorded.screen_samples ||
         own.search_below_r != recorded.search_below_r ||
         own.screen_candidates != recorded.screen_candidates ||
@@ -136,7 +137,7 @@ nlohmann::json rankingOptions(const RobustRankingParams& r,
 
 nlohmann::json resultOptions(const BatchParams& p, const std::vector<grasping::HandModel>& hands) {
   std::vector<std::string> planners;
-  for (const Planner planner : p.planners) planners.push_back(toString(planner));
+  for (const ranking::Planner planner : p.planners) planners.push_back(toString(planner));
   const auto& q = p.quality;
   const auto& r = p.robustness;
   const auto& c = r.closing;
@@ -192,8 +193,8 @@ nlohmann::json resultOptions(const BatchParams& p, const std::vector<grasping::H
   // 2026-11-29): only those, so batches of the other hands resume, and older ones with
   // --no-alternative-preshapes.
   nlohmann::json with_alternatives = nlohmann::json::object();
-  const bool skeleton_planner =
-      std::find(p.planners.begin(), p.planners.end(), Planner::kSkeleton) != p.planners.end();
+  const bool skeleton_planner = std::find(p.planners.begin(), p.planners.end(),
+                                          ranking::Planner::kSkeleton) != p.planners.end();
   if (p.alternative_preshapes && !q.reference_compat && skeleton_planner) {
     for (const auto& hand : hands) {
       // A preshape with a grasp type that is not named after it is an alternative; one for small

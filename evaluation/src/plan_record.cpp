@@ -21,25 +21,7 @@ nlohmann::json optionalSeconds(const std::optional<double>& seconds) {
 
 }  // namespace
 
-double PlanTiming::total_s() const {
-  return regularise_s.value_or(0.0) + skeleton_s.value_or(0.0) + planning_s + ranking_s;
-}
-
-PlanTiming planTimingOf(const skeleton::SkeletonTimings* skeleton, double planning_s,
-                        double ranking_s) {
-  PlanTiming timing;
-  if (skeleton) {
-    timing.regularise_s = skeleton->regularise_s;
-    // Both from stopwatches, the total's around the regularisation's: never below it but by
-    // rounding.
-    timing.skeleton_s = std::max(0.0, skeleton->total_s - skeleton->regularise_s);
-  }
-  timing.planning_s = planning_s;
-  timing.ranking_s = ranking_s;
-  return timing;
-}
-
-nlohmann::json rankingRecordJson(const RobustRankingResult& ranking) {
+nlohmann::json rankingRecordJson(const ranking::RobustRankingResult& ranking) {
   return {{"screened", ranking.screened},
           {"screen_pruned", ranking.screen_pruned},
           {"confirmed", ranking.confirmed},
@@ -56,7 +38,7 @@ nlohmann::json rankingRecordJson(const RobustRankingResult& ranking) {
             {"refine_below_r", ranking.budget.search_below_r}}}};
 }
 
-nlohmann::json planTimingJson(const PlanTiming& timing) {
+nlohmann::json planTimingJson(const ranking::PlanTiming& timing) {
   if (timing.regularise_s) checkSeconds(*timing.regularise_s, "regularise_s");
   if (timing.skeleton_s) checkSeconds(*timing.skeleton_s, "skeleton_s");
   checkSeconds(timing.planning_s, "planning_s");
@@ -68,8 +50,8 @@ nlohmann::json planTimingJson(const PlanTiming& timing) {
           {"total_s", timing.total_s()}};
 }
 
-void addPlanRecords(nlohmann::json& document, const RobustRankingResult& ranking,
-                    const PlanTiming& timing) {
+void addPlanRecords(nlohmann::json& document, const ranking::RobustRankingResult& ranking,
+                    const ranking::PlanTiming& timing) {
   if (!document.is_object()) throw InvalidArgument("plan record: the document must be an object");
   document["ranking"] = ranking.enabled ? rankingRecordJson(ranking) : nlohmann::json(nullptr);
   document["timing"] = planTimingJson(timing);

@@ -50,7 +50,7 @@ GraspScore scoreOne(grasping::GraspSimulator& simulator, const grasping::GraspPl
     score.closing_failure = closing.reason;
     score.colliding_link = closing.colliding_link;
   }
-  // The grasp as the planners record it: what evaluateRobustness perturbs.
+  // The grasp as the planners record it: what ranking::evaluateRobustness perturbs.
   grasping::Grasp grasp;
   grasp.preshape = placement.preshape;
   grasp.hand_pose = placement.hand_pose;
@@ -67,11 +67,11 @@ GraspScore scoreOne(grasping::GraspSimulator& simulator, const grasping::GraspPl
       at.closure_margin = judged.closure_margin;
       at.epsilon = judged.epsilon;
       if (params.compute_robustness) {
-        RobustnessParams robustness = params.robustness;
+        ranking::RobustnessParams robustness = params.robustness;
         robustness.quality = quality;
         robustness.closing = params.closing;
         // grasp_index 0 for every grasp: the convention plan and run share (score.h).
-        at.robustness = evaluateRobustness(simulator, grasp, robustness, 0);
+        at.robustness = ranking::evaluateRobustness(simulator, grasp, robustness, 0);
         robustness_s += at.robustness->time_s;
       }
     }
@@ -92,7 +92,7 @@ nlohmann::json contactsJson(const std::vector<grasping::Contact>& contacts) {
   return list;
 }
 
-nlohmann::json robustnessJson(const std::optional<RobustnessResult>& r) {
+nlohmann::json robustnessJson(const std::optional<ranking::RobustnessResult>& r) {
   if (!r) return nullptr;
   return {{"r", r->score},
           {"ci95", {r->wilson_low, r->wilson_high}},
@@ -164,8 +164,8 @@ nlohmann::json scoreToJson(const ScoreResult& result, const ScoreParams& params,
                   {"seed", rp.seed},
                   {"grasp_index", 0},
                   // The sigmas used: set ones, else the variant's defaults.
-                  {"sigma_m", positionSigmaM(rp)},
-                  {"sigma_rad", orientationSigmaRad(rp)}};
+                  {"sigma_m", ranking::positionSigmaM(rp)},
+                  {"sigma_rad", ranking::orientationSigmaRad(rp)}};
   }
   nlohmann::json per_mu = nlohmann::json::array();
   for (std::size_t k = 0; k < params.frictions.size(); ++k) {

@@ -27,8 +27,8 @@ void checkParams(const SimulateParams& params) {
     throw InvalidArgument(fmt::format("simulate: samples {}: must be in [0, {}]", params.samples,
                                       kMaxSimulationSamples));
   }
-  const double sigma_m = positionSigmaM(params.robustness);
-  const double sigma_rad = orientationSigmaRad(params.robustness);
+  const double sigma_m = ranking::positionSigmaM(params.robustness);
+  const double sigma_rad = ranking::orientationSigmaRad(params.robustness);
   if (!(sigma_m >= 0) || !std::isfinite(sigma_m) || !(sigma_rad >= 0) ||
       !std::isfinite(sigma_rad)) {
     throw InvalidArgument("simulate: pose error sigmas must be finite and >= 0");
@@ -46,7 +46,7 @@ Eigen::Vector3d perturbationCentreOf(grasping::GraspSimulator& simulator,
     return (placement.hand_pose * simulator.hand().gcpInRoot(preshape)).translation();
   grasping::Grasp grasp;
   grasp.contacts = closed.contacts;
-  return perturbationCentre(grasp);
+  return ranking::perturbationCentre(grasp);
 }
 
 PhysicalRobustness physicalRobustness(const grasping::HandModel& hand,
@@ -59,8 +59,9 @@ PhysicalRobustness physicalRobustness(const grasping::HandModel& hand,
   std::vector<physics::ExecutionResult> runs(static_cast<std::size_t>(params.samples));
   tbb::parallel_for(0, params.samples, [&](int i) {
     // grasp_index 0, as score and plan: the same errors as the grasp's r.
-    const Pose pose = perturbedPose(placement.hand_pose, samplePoseError(params.robustness, 0, i),
-                                    centre, params.robustness.variant);
+    const Pose pose = ranking::perturbedPose(placement.hand_pose,
+                                             ranking::samplePoseError(params.robustness, 0, i),
+                                             centre, params.robustness.variant);
     runs[static_cast<std::size_t>(i)] =
         physics::executeGrasp(hand, physical, pose, preshape, judge);
   });
@@ -76,7 +77,7 @@ PhysicalRobustness physicalRobustness(const grasping::HandModel& hand,
   }
   robustness.sim_r = static_cast<double>(robustness.holds) / params.samples;
   std::tie(robustness.ci95_low, robustness.ci95_high) =
-      wilsonInterval(robustness.holds, robustness.samples);
+      ranking::wilsonInterval(robustness.holds, robustness.samples);
   return robustness;
 }
 
@@ -186,8 +187,8 @@ nlohmann::json simulationToJson(const SimulateResult& result, const SimulatePara
     robustness = {{"samples", params.samples},
                   {"seed", params.robustness.seed},
                   {"grasp_index", 0},
-                  {"sigma_m", positionSigmaM(params.robustness)},
-                  {"sigma_rad", orientationSigmaRad(params.robustness)}};
+                  {"sigma_m", ranking::positionSigmaM(params.robustness)},
+                  {"sigma_rad", ranking::orientationSigmaRad(params.robustness)}};
   }
   const auto torques = physics::jointTorqueLimits(hand, judge);
   nlohmann::json torque_limits = nlohmann::json::object();

@@ -57,7 +57,7 @@ struct PlannerSummary {
 
 struct BatchSummary {
   // By (hand, planner), in the order of the tables.
-  std::map<std::pair<std::string, Planner>, PlannerSummary> groups;
+  std::map<std::pair<std::string, ranking::Planner>, PlannerSummary> groups;
   std::set<std::string> hands;
   std::vector<std::string> failures;  // "OBJECT HAND PLANNER: error", in run key order
 };

@@ -9,8 +9,8 @@ namespace {
 
 constexpr int kPercentPerBin = 100 / kRobustnessBins;
 
-Rgb plannerColour(Planner planner) {
-  return planner == Planner::kSkeleton ? Rgb{70, 110, 220} : Rgb{220, 80, 70};
+Rgb plannerColour(ranking::Planner planner) {
+  return planner == ranking::Planner::kSkeleton ? Rgb{70, 110, 220} : Rgb{220, 80, 70};
 }
 
 }  // namespace
@@ -25,7 +25,8 @@ std::vector<RobustnessChart> writeRobustnessCharts(const std::string& dir,
     std::vector<render::BarSeries> series;
     // Surface first: the baseline's bar left of the skeleton planner's in each bin, as in the
     // paper.
-    for (const Planner planner : {Planner::kSurface, Planner::kSkeleton}) {
+    for (const ranking::Planner planner :
+         {ranking::Planner::kSurface, ranking::Planner::kSkeleton}) {
       const auto it = summary.groups.find({hand, planner});
       if (it == summary.groups.end() || it->second.robustness.values.empty()) continue;
       render::BarSeries s{toString(planner), plannerColour(planner), {}};

@@ -15,18 +15,18 @@ double robustnessThroughput(std::size_t grasps, double seconds) {
 // How screening chose its candidates, in words, from batch.json's "screen_by" (an older batch has
 // none: the caller passes "epsilon"). A switch, so that a new order cannot go without its words.
 std::string screeningWords(const std::string& screen_by) {
-  ScreenCandidates candidates{};
+  grasping::ScreenCandidates candidates{};
   try {
-    candidates = parseScreenCandidates(screen_by);
+    candidates = grasping::parseScreenCandidates(screen_by);
   } catch (const InvalidArgument&) {
     return "screened by '" + screen_by + "'";  // a batch.json from a newer build
   }
   switch (candidates) {
-    case ScreenCandidates::kByPreScore:
+    case grasping::ScreenCandidates::kByPreScore:
       return "the best by epsilon";
-    case ScreenCandidates::kPreshapesInTurn:
+    case grasping::ScreenCandidates::kPreshapesInTurn:
       return "each preshape's best in turn";
-    case ScreenCandidates::kPreshapesInTurnByTravel:
+    case grasping::ScreenCandidates::kPreshapesInTurnByTravel:
       return "each preshape's best by finger travel in turn";
   }
   return "screened by '" + screen_by + "'";
@@ -37,7 +37,7 @@ std::string screeningWords(const std::string& screen_by) {
 std::string confirmationWords(int confirm_samples, std::size_t top_k) {
   if (confirm_samples <= 0 || top_k == 0) return "";
   return fmt::format(", the best {} of them confirmed with {} more",
-                     kConfirmCandidatesPerScored * top_k, confirm_samples);
+                     ranking::kConfirmCandidatesPerScored * top_k, confirm_samples);
 }
 
 // What every number below depends on and a reader of two summaries must tell apart: friction,

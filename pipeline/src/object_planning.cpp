@@ -1,9 +1,8 @@
 #include "object_planning.h"
 
-#include <algorithm>
-
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/geometry/mesh_query.h"
+#include "skelgrasp/ranking/plan_grasps.h"
 
 namespace skelgrasp::pipeline::internal {
 // The pipeline composes the grasping stage's types throughout.
@@ -62,54 +61,44 @@ AxisAlignedBox workspaceAround(const AxisAlignedBox& mesh_box, const RunParams& 
 
 RankedPlan planAndRank(const HandModel& hand, const TriangleMesh& mesh,
                        const std::vector<std::uint8_t>& observed,
-                       const skeleton::Skeleton& skeleton, const SceneChecker* checker,
+                       const skeleton::SkeletonResult& skeleton, const SceneChecker* checker,
                        const RunParams& params) {
-  RankedPlan out;
-  Stopwatch watch;
+  const Stopwatch watch;
   const GraspObject target(mesh);
-  SkeletonPlannerParams planner = params.planner;
-  planner.hypothesis.scene = checker;
-  out.plan = planSkeletonGrasps(hand, target, skeleton, planner);
-  out.plan_s = watch.seconds();
-
-  watch.restart();
-  // The planner's object already holds a query tree over this mesh (same faces).
+  ranking::PlanOptions options;
+  options.planner = ranking::Planner::kSkeleton;
+  // The scene check in the planner's hypothesis parameters: the ranking judges r with them, and
+  // refinement for robustness places the hand anew and must keep it clear of the scene as the
+  // planner did.
+  options.skeleton_planner = params.planner;
+  options.skeleton_planner.hypothesis.scene = checker;
+  options.ranking = params.robust_ranking;
+  // How far a grasp's r is trusted: the share of its contacts on observed surface, weighted. The
+  // planner's object already holds a query tree over this mesh (same faces).
   const auto& query = target.surfaceQuery();
-  // How far a grasp's r is trusted: the share of its contacts on observed surface, weighted.
-  const auto trustOf = [&](double ratio) {
-    return 1 - params.observed_weight + params.observed_weight * ratio;
+  const auto ratioOf = [&](const Grasp& grasp) {
+    return observedContactRatio(grasp, mesh, observed, query);
   };
-  std::vector<double> ratios, trust;
-  for (const auto& g : out.plan.grasps) {
-    ratios.push_back(observedContactRatio(g, mesh, observed, query));
-    trust.push_back(trustOf(ratios.back()));
-  }
-  // The planner's hypothesis parameters with the scene check: refinement for robustness places
-  // the hand anew and must keep it clear of the scene as the planner did.
-  auto ranking = evaluation::rankByRobustness(hand, target, std::move(out.plan.grasps),
-                                              planner.hypothesis, params.robust_ranking, trust);
-  out.plan.grasps.clear();
-  out.robustness_scored = ranking.scored;
-  for (std::size_t i = 0; i < ranking.grasps.size(); ++i) {
+  ranking::PlanInputs inputs;
+  inputs.skeleton = &skeleton;
+  inputs.trust = [&](const Grasp& grasp) {
+    return 1 - params.observed_weight + params.observed_weight * ratioOf(grasp);
+  };
+  ranking::GraspPlan plan = ranking::planGrasps(target, hand, options, inputs);
+
+  RankedPlan out;
+  out.robustness_scored = plan.ranking.scored;
+  for (std::size_t i = 0; i < plan.grasps.size(); ++i) {
     RankedGrasp r;
-    r.observed_contact_ratio = ratios[ranking.order[i]];
-    r.score = ranking.scores[i];
-    r.grasp = std::move(ranking.grasps[i]);
-    const auto& robustness = r.grasp.robustness;
-    if (robustness && robustness->refinement && robustness->refinement->refined) {
-      // A moved grasp touches elsewhere: its trust is that of its own contacts.
-      r.observed_contact_ratio = observedContactRatio(r.grasp, mesh, observed, query);
-      r.score = robustness->r * trustOf(r.observed_contact_ratio);
-    }
+    r.observed_contact_ratio = ratioOf(plan.grasps[i]);
+    r.score = plan.ranking.scores[i];
+    r.grasp = std::move(plan.grasps[i]);
     out.ranked.push_back(std::move(r));
   }
-  // The scored grasps lead, by score; a moved grasp's new trust can reorder them.
-  const auto scored_end = std::find_if(out.ranked.begin(), out.ranked.end(),
-                                       [](const RankedGrasp& r) { return !r.grasp.robustness; });
-  std::stable_sort(out.ranked.begin(), scored_end,
-                   [](const RankedGrasp& a, const RankedGrasp& b) { return a.score > b.score; });
-  for (std::size_t i = 0; i < out.ranked.size(); ++i) out.ranked[i].grasp.id = static_cast<int>(i);
-  out.rank_s = watch.seconds();
+  plan.grasps.clear();
+  out.rank_s = plan.timing.ranking_s;
+  out.plan_s = watch.seconds() - out.rank_s;
+  out.plan = std::move(static_cast<grasping::PlanResult&>(plan));
   return out;
 }
 

@@ -23,18 +23,19 @@ skeleton::SkeletonResult runSkeleton(const TriangleMesh& mesh, const RunParams& 
 AxisAlignedBox workspaceAround(const AxisAlignedBox& mesh_box, const RunParams& params);
 
 struct RankedPlan {
-  grasping::PlanResult plan;        // summary; grasps moved into `ranked`
-  std::vector<RankedGrasp> ranked;  // best first, ids 0..n-1
-  double plan_s = 0;
+  grasping::PlanResult plan;          // summary; grasps moved into `ranked`
+  std::vector<RankedGrasp> ranked;    // best first, ids 0..n-1
+  double plan_s = 0;                  // the object's geometry and the planner
   double rank_s = 0;                  // observed contacts and robust ranking
   std::size_t robustness_scored = 0;  // grasps scored for robustness
 };
 
-// Plans on `mesh` (scene check by `checker` when not null) and ranks the grasps by robustness
-// (params.robust_ranking) with the trust 1 - w + w x observed contact ratio (RunParams).
+// Plans on `mesh` with its `skeleton` (scene check by `checker` when not null) and ranks the
+// grasps by robustness (params.robust_ranking) with the trust 1 - w + w x observed contact ratio
+// (RunParams): ranking::planGrasps.
 RankedPlan planAndRank(const grasping::HandModel& hand, const TriangleMesh& mesh,
                        const std::vector<std::uint8_t>& observed,
-                       const skeleton::Skeleton& skeleton, const grasping::SceneChecker* checker,
-                       const RunParams& params);
+                       const skeleton::SkeletonResult& skeleton,
+                       const grasping::SceneChecker* checker, const RunParams& params);
 
 }  // namespace skelgrasp::pipeline::internal

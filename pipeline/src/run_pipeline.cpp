@@ -70,8 +70,8 @@ RunResult runPipeline(const perception::Scan& scan, const HandModel& hand,
   }
   stage("occupancy", watch.seconds());
 
-  auto ranked = internal::planAndRank(hand, out.mesh, out.observed, out.skeleton->skeleton,
-                                      checker.get(), params);
+  auto ranked =
+      internal::planAndRank(hand, out.mesh, out.observed, *out.skeleton, checker.get(), params);
   out.plan = std::move(ranked.plan);
   out.ranked = std::move(ranked.ranked);
   stage("plan", ranked.plan_s);

@@ -57,7 +57,7 @@ void planSceneObject(SceneObjectRun& object, const HandModel& hand, const SceneO
     checker = std::make_unique<SceneChecker>(hand, own_map.get(), plane, params.approach);
   }
   object.stages.push_back({"occupancy", watch.seconds()});
-  auto ranked = internal::planAndRank(hand, object.mesh, object.observed, object.skeleton->skeleton,
+  auto ranked = internal::planAndRank(hand, object.mesh, object.observed, *object.skeleton,
                                       checker.get(), params);
   object.plan = std::move(ranked.plan);
   object.ranked = std::move(ranked.ranked);

@@ -8,12 +8,13 @@
 #include "convert.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/evaluation/plan_record.h"
-#include "skelgrasp/evaluation/robust_ranking.h"
-#include "skelgrasp/evaluation/robustness.h"
 #include "skelgrasp/evaluation/score.h"
 #include "skelgrasp/grasping/hand_render.h"
 #include "skelgrasp/grasping/plan_output.h"
 #include "skelgrasp/grasping/planners.h"
+#include "skelgrasp/ranking/plan_grasps.h"
+#include "skelgrasp/ranking/robust_ranking.h"
+#include "skelgrasp/ranking/robustness.h"
 #include "skelgrasp/skeleton/output.h"
 
 namespace skelgrasp::python {
@@ -46,19 +47,37 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
           bool alternative_preshapes) {
   if (planner != "skeleton" && planner != "surface")
     throw InvalidArgument("planner: '" + planner + "' is not skeleton or surface");
+  ranking::PlanOptions options;
+  options.planner = ranking::parsePlanner(planner);
   grasping::HypothesisParams hypothesis;
   hypothesis.min_epsilon = min_epsilon;
   hypothesis.quality = qualityParams(mu, fc_test, reference_compat, torsional_friction);
   hypothesis.quality.compute_volume = wrench_volume;
   hypothesis.closing.method = grasping::parseClosingMethod(closing);
   hypothesis.closing.contact_patch = grasping::contactPatchFor(contact_patch, reference_compat);
-  skeleton::SkeletonParams skeleton_params;
+  skeleton::SkeletonParams& skeleton_params = options.skeleton;
   skeleton_params.regularisation.method = geometry::parseRegularisationMethod(regularisation);
   skeleton_params.regularisation.alpha_divisor = alpha_divisor;
   skeleton_params.regularisation.offset_divisor = offset_divisor;
   skeleton_params.spur_radius_factor = spur_radius_factor;
-
-  const auto ranking = robustRankingParams(
+  grasping::SkeletonPlannerParams& p = options.skeleton_planner;
+  p.timeout_s = timeout_s;
+  p.max_grasps = max_grasps;
+  p.seed = seed;
+  p.vertex_distance_m = vertex_distance_m;
+  p.round_ratio = round_ratio;
+  p.centre_candidates = centre_candidates;
+  p.surface_candidates = surface_candidates;
+  p.alternative_preshapes = alternative_preshapes;
+  p.hypothesis = hypothesis;
+  grasping::SurfacePlannerParams& q = options.surface_planner;
+  q.timeout_s = timeout_s;
+  q.max_hypotheses = max_hypotheses;
+  q.max_grasps = max_grasps;
+  q.seed = seed;
+  q.hypothesis = hypothesis;
+  // As `skelgrasp plan`: the best grasps scored by r and re-ranked (docs/planning.md).
+  options.ranking = robustRankingParams(
       robustness, robustness_samples, robustness_variant, robustness_top_k, robustness_screen,
       robustness_screen_samples, robustness_screen_by, robustness_confirm_samples, robustness_mu,
       seed, robust_refine, robust_refine_below_r);
@@ -66,37 +85,14 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
   out.hand = hand;
   out.object = mesh.name;
   py::gil_scoped_release release;
-  const grasping::GraspObject object(mesh.mesh);
-  if (planner == "skeleton") {
-    out.skeleton = SkeletonOutput{skeleton::extractSkeleton(mesh.mesh, skeleton_params), mesh};
-    // As the CLI: a mesh the skeleton stage cannot process is bad input.
-    if (!out.skeleton->result.status.ok())
-      throw InvalidArgument(mesh.name + ": " + out.skeleton->result.status.message);
-    grasping::SkeletonPlannerParams p;
-    p.timeout_s = timeout_s;
-    p.max_grasps = max_grasps;
-    p.seed = seed;
-    p.vertex_distance_m = vertex_distance_m;
-    p.round_ratio = round_ratio;
-    p.centre_candidates = centre_candidates;
-    p.surface_candidates = surface_candidates;
-    p.alternative_preshapes = alternative_preshapes;
-    p.hypothesis = hypothesis;
-    out.result = grasping::planSkeletonGrasps(*hand, object, out.skeleton->result.skeleton, p);
-  } else {
-    grasping::SurfacePlannerParams p;
-    p.timeout_s = timeout_s;
-    p.max_hypotheses = max_hypotheses;
-    p.max_grasps = max_grasps;
-    p.seed = seed;
-    p.hypothesis = hypothesis;
-    out.result = grasping::planSurfaceGrasps(*hand, object, p);
+  out.result = ranking::planGrasps(mesh.mesh, *hand, options);
+  // As the CLI: a mesh the skeleton stage cannot process is bad input.
+  if (out.result.skeleton_failed)
+    throw InvalidArgument(mesh.name + ": " + out.result.status.message);
+  if (out.result.skeleton) {
+    out.skeleton = SkeletonOutput{std::move(*out.result.skeleton), mesh};
+    out.result.skeleton.reset();
   }
-  // As `skelgrasp plan`: the best grasps scored by r and re-ranked (docs/planning.md).
-  out.ranking = evaluation::rankByRobustness(*hand, object, std::move(out.result.grasps),
-                                             hypothesis, ranking);
-  out.result.grasps = std::move(out.ranking.grasps);
-  out.ranking.grasps.clear();
   return out;
 }
 
@@ -251,10 +247,7 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
           "to_dict",
           [](const Plan& p) {
             nlohmann::json document = grasping::planToJson(p.result, *p.hand, p.object);
-            evaluation::addPlanRecords(
-                document, p.ranking,
-                evaluation::planTimingOf(p.skeleton ? &p.skeleton->result.timing : nullptr,
-                                         p.result.summary.planning_s, p.ranking.time_s));
+            evaluation::addPlanRecords(document, p.result.ranking, p.result.timing);
             return fromJson(document);
           },
           "grasps.json as ``skelgrasp plan`` writes it (schema skelgrasp.grasps/3), with the "
@@ -268,40 +261,40 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
   const grasping::SkeletonPlannerParams planner;
   const grasping::SurfacePlannerParams surface;
   const skeleton::SkeletonParams skel;
-  const evaluation::RobustRankingParams ranking;
-  m.def(
-      "plan", &plan, py::arg("mesh"), py::arg("hand"), py::arg("planner") = "skeleton",
-      py::arg("seed") = planner.seed, py::kw_only(), py::arg("timeout_s") = planner.timeout_s,
-      py::arg("max_grasps") = planner.max_grasps,
-      py::arg("min_epsilon") = planner.hypothesis.min_epsilon,
-      py::arg("mu") = planner.hypothesis.quality.friction,
-      py::arg("vertex_distance_m") = planner.vertex_distance_m,
-      py::arg("round_ratio") = planner.round_ratio,
-      py::arg("reference_compat") = planner.hypothesis.quality.reference_compat,
-      py::arg("fc_test") = std::string(toString(planner.hypothesis.quality.fc_test)),
-      py::arg("closing") = std::string(toString(planner.hypothesis.closing.method)),
-      py::arg("max_hypotheses") = surface.max_hypotheses,
-      py::arg("regularisation") = std::string(toString(skel.regularisation.method)),
-      py::arg("alpha_divisor") = skel.regularisation.alpha_divisor,
-      py::arg("offset_divisor") = skel.regularisation.offset_divisor,
-      py::arg("spur_radius_factor") = skel.spur_radius_factor,
-      py::arg("robustness") = ranking.enabled,
-      py::arg("robustness_samples") = ranking.robustness.samples,
-      py::arg("robustness_variant") = std::string(evaluation::toString(ranking.robustness.variant)),
-      py::arg("robustness_top_k") = ranking.top_k, py::arg("robustness_screen") = ranking.screen_k,
-      py::arg("robustness_screen_samples") = ranking.screen_samples,
-      py::arg("robustness_screen_by") = py::none(),
-      py::arg("robustness_confirm_samples") = ranking.confirm_samples,
-      py::arg("robustness_mu") = ranking.friction,
-      py::arg("robust_refine") = ranking.refinement.enabled,
-      py::arg("robust_refine_below_r") = ranking.refinement.search_below_r,
-      py::arg("centre_candidates") = planner.centre_candidates,
-      py::arg("surface_candidates") = planner.surface_candidates,
-      py::arg("wrench_volume") = planner.hypothesis.quality.compute_volume,
-      py::arg("torsional_friction") = planner.hypothesis.quality.torsional_friction_m,
-      py::arg("contact_patch") = std::string(toString(planner.hypothesis.closing.contact_patch)),
-      py::arg("alternative_preshapes") = planner.alternative_preshapes,
-      R"doc(
+  const ranking::RobustRankingParams ranking;
+  m.def("plan", &plan, py::arg("mesh"), py::arg("hand"), py::arg("planner") = "skeleton",
+        py::arg("seed") = planner.seed, py::kw_only(), py::arg("timeout_s") = planner.timeout_s,
+        py::arg("max_grasps") = planner.max_grasps,
+        py::arg("min_epsilon") = planner.hypothesis.min_epsilon,
+        py::arg("mu") = planner.hypothesis.quality.friction,
+        py::arg("vertex_distance_m") = planner.vertex_distance_m,
+        py::arg("round_ratio") = planner.round_ratio,
+        py::arg("reference_compat") = planner.hypothesis.quality.reference_compat,
+        py::arg("fc_test") = std::string(toString(planner.hypothesis.quality.fc_test)),
+        py::arg("closing") = std::string(toString(planner.hypothesis.closing.method)),
+        py::arg("max_hypotheses") = surface.max_hypotheses,
+        py::arg("regularisation") = std::string(toString(skel.regularisation.method)),
+        py::arg("alpha_divisor") = skel.regularisation.alpha_divisor,
+        py::arg("offset_divisor") = skel.regularisation.offset_divisor,
+        py::arg("spur_radius_factor") = skel.spur_radius_factor,
+        py::arg("robustness") = ranking.enabled,
+        py::arg("robustness_samples") = ranking.robustness.samples,
+        py::arg("robustness_variant") = std::string(ranking::toString(ranking.robustness.variant)),
+        py::arg("robustness_top_k") = ranking.top_k,
+        py::arg("robustness_screen") = ranking.screen_k,
+        py::arg("robustness_screen_samples") = ranking.screen_samples,
+        py::arg("robustness_screen_by") = py::none(),
+        py::arg("robustness_confirm_samples") = ranking.confirm_samples,
+        py::arg("robustness_mu") = ranking.friction,
+        py::arg("robust_refine") = ranking.refinement.enabled,
+        py::arg("robust_refine_below_r") = ranking.refinement.search_below_r,
+        py::arg("centre_candidates") = planner.centre_candidates,
+        py::arg("surface_candidates") = planner.surface_candidates,
+        py::arg("wrench_volume") = planner.hypothesis.quality.compute_volume,
+        py::arg("torsional_friction") = planner.hypothesis.quality.torsional_friction_m,
+        py::arg("contact_patch") = std::string(toString(planner.hypothesis.closing.contact_patch)),
+        py::arg("alternative_preshapes") = planner.alternative_preshapes,
+        R"doc(
 Plans grasps for ``mesh`` with ``hand`` (``skelgrasp plan``): planner 'skeleton' (paper Alg. 1)
 or 'surface' (surface-normal baseline). Deterministic for a seed. The defaults are the library's
 SkeletonPlannerParams / SurfacePlannerParams (no time limit: ``timeout_s=0``; the command line

@@ -316,7 +316,7 @@ ValueError with the command line's message.)doc");
         py::arg("robustness") = run_defaults.robust_ranking.enabled,
         py::arg("robustness_samples") = run_defaults.robust_ranking.robustness.samples,
         py::arg("robustness_variant") =
-            std::string(evaluation::toString(run_defaults.robust_ranking.robustness.variant)),
+            std::string(ranking::toString(run_defaults.robust_ranking.robustness.variant)),
         py::arg("robustness_top_k") = run_defaults.robust_ranking.top_k,
         py::arg("robustness_screen") = run_defaults.robust_ranking.screen_k,
         py::arg("robustness_screen_samples") = run_defaults.robust_ranking.screen_samples,

@@ -6,12 +6,12 @@
 #include "bindings.h"
 #include "convert.h"
 #include "skelgrasp/common/json.h"
-#include "skelgrasp/evaluation/robustness.h"
 #include "skelgrasp/evaluation/score.h"
 #include "skelgrasp/grasping/grasp_simulator.h"
 #include "skelgrasp/grasping/grasps_file.h"
 #include "skelgrasp/grasping/plan_output.h"
 #include "skelgrasp/grasping/quality.h"
+#include "skelgrasp/ranking/robustness.h"
 
 namespace skelgrasp::python {
 namespace {
@@ -95,14 +95,14 @@ py::list score(const Mesh& mesh, const HandPtr& hand, const py::object& grasps, 
   const auto quality = grasping::withHandContactModel(
       qualityParams(mu, fc_test, reference_compat, torsional_friction), *hand);
   if (robustness_samples < 0) throw InvalidArgument("robustness_samples: must be >= 0");
-  evaluation::RobustnessParams robustness;
+  ranking::RobustnessParams robustness;
   robustness.samples = robustness_samples;
-  robustness.variant = evaluation::parseRobustnessVariant(robustness_variant);
+  robustness.variant = ranking::parseRobustnessVariant(robustness_variant);
   robustness.seed = seed;
   robustness.quality = quality;
   robustness.closing.contact_patch = grasping::contactPatchFor(contact_patch, reference_compat);
   std::vector<grasping::WrenchSpaceResult> judged(list.size());
-  std::vector<std::optional<evaluation::RobustnessResult>> robust(list.size());
+  std::vector<std::optional<ranking::RobustnessResult>> robust(list.size());
   {
     py::gil_scoped_release release;
     const grasping::GraspObject object(mesh.mesh);
@@ -115,7 +115,7 @@ py::list score(const Mesh& mesh, const HandPtr& hand, const py::object& grasps, 
       // grasp_index 0 for every grasp: the common random numbers plan's ranking and `skelgrasp
       // score` use (robust_ranking.h), so plan's r is reproduced for the same seed and samples.
       if (robustness_samples > 0)
-        robust[i] = evaluation::evaluateRobustness(simulator, list[i].grasp, robustness, 0);
+        robust[i] = ranking::evaluateRobustness(simulator, list[i].grasp, robustness, 0);
     }
   }
   py::list out;
@@ -163,7 +163,7 @@ py::object scoreGraspsFile(const Mesh& mesh, const HandPtr& hand, const py::obje
   params.compute_robustness = robustness_samples > 0;
   if (robustness_samples < 0) throw InvalidArgument("robustness_samples: must be >= 0");
   if (params.compute_robustness) params.robustness.samples = robustness_samples;
-  params.robustness.variant = evaluation::parseRobustnessVariant(robustness_variant);
+  params.robustness.variant = ranking::parseRobustnessVariant(robustness_variant);
   params.robustness.seed = seed;
   params.closing.method = grasping::parseClosingMethod(closing);
   params.closing.contact_patch = grasping::parseContactPatch(contact_patch);
@@ -227,13 +227,13 @@ qy qz; object frame) and judges the contacts (``skelgrasp close``); ``torsional_
 ``reference_compat``). Raises ValueError for an unknown
 preshape or a pose that is not a rigid transform.)doc");
 
-  const evaluation::RobustnessParams robustness;
+  const ranking::RobustnessParams robustness;
   m.def("score", &score, py::arg("mesh"), py::arg("hand"), py::arg("grasps"), py::kw_only(),
         py::arg("mu") = quality.friction,
         py::arg("fc_test") = std::string(toString(quality.fc_test)),
         py::arg("reference_compat") = quality.reference_compat,
         py::arg("robustness_samples") = robustness.samples,
-        py::arg("robustness_variant") = std::string(evaluation::toString(robustness.variant)),
+        py::arg("robustness_variant") = std::string(ranking::toString(robustness.variant)),
         py::arg("seed") = robustness.seed,
         py::arg("torsional_friction") = quality.torsional_friction_m,
         py::arg("contact_patch") = std::string(toString(grasping::ClosingParams{}.contact_patch)),
@@ -250,7 +250,7 @@ contacts, None for the hand's model; and its ``contact_patch``). Returns one dic
   m.def("score_grasps", &scoreGraspsFile, py::arg("mesh"), py::arg("hand"), py::arg("grasps"),
         py::kw_only(), py::arg("mu") = score_params.frictions,
         py::arg("robustness_samples") = robustness.samples,
-        py::arg("robustness_variant") = std::string(evaluation::toString(robustness.variant)),
+        py::arg("robustness_variant") = std::string(ranking::toString(robustness.variant)),
         py::arg("seed") = robustness.seed,
         py::arg("closing") = std::string(toString(score_params.closing.method)),
         py::arg("object") = py::none(),

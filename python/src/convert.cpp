@@ -153,7 +153,7 @@ py::dict jointsDict(const grasping::HandModel& hand, const Eigen::VectorXd& q) {
   return joints;
 }
 
-evaluation::RobustRankingParams robustRankingParams(
+ranking::RobustRankingParams robustRankingParams(
     bool robustness, int samples, const std::string& variant, std::size_t top_k,
     std::optional<std::size_t> screen_k, std::optional<int> screen_samples,
     const std::optional<std::string>& screen_by, std::optional<int> confirm_samples,
@@ -168,15 +168,15 @@ evaluation::RobustRankingParams robustRankingParams(
     throw InvalidArgument("robust_refine_below_r: must be in [0, 1]");
   if (mu && !(std::isfinite(*mu) && *mu >= 0))
     throw InvalidArgument("robustness_mu: must be finite and >= 0");
-  evaluation::RobustRankingParams p;
+  ranking::RobustRankingParams p;
   p.enabled = robustness;
   p.robustness.samples = samples;
-  p.robustness.variant = evaluation::parseRobustnessVariant(variant);
+  p.robustness.variant = ranking::parseRobustnessVariant(variant);
   p.robustness.seed = seed;
   p.top_k = top_k;
   p.screen_k = screen_k;
   p.screen_samples = screen_samples;
-  if (screen_by) p.screen_candidates = evaluation::parseScreenCandidates(*screen_by);
+  if (screen_by) p.screen_candidates = ranking::parseScreenCandidates(*screen_by);
   p.confirm_samples = confirm_samples;
   p.refinement.search_below_r = refine_below_r;
   p.friction = mu;

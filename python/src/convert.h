@@ -16,11 +16,12 @@
 #include "skelgrasp/common/point_cloud.h"
 #include "skelgrasp/common/pose.h"
 #include "skelgrasp/evaluation/plan_record.h"
-#include "skelgrasp/evaluation/robust_ranking.h"
 #include "skelgrasp/grasping/grasp.h"
 #include "skelgrasp/grasping/hand_model.h"
 #include "skelgrasp/grasping/planners.h"
 #include "skelgrasp/perception/scan.h"
+#include "skelgrasp/ranking/plan_grasps.h"
+#include "skelgrasp/ranking/robust_ranking.h"
 #include "skelgrasp/skeleton/extraction.h"
 
 namespace skelgrasp::python {
@@ -64,13 +65,12 @@ struct Grasp {
 // What plan() returns: the planner's result with the hand, the object's name and (skeleton
 // planner) the skeleton, for to_dict(), render_plan() and score().
 struct Plan {
-  grasping::PlanResult result;
+  // The plan, its skeleton moved into `skeleton`: to_dict() writes the ranking's record and the
+  // stages' times, as `skelgrasp plan` does (evaluation/plan_record.h).
+  ranking::GraspPlan result;
   HandPtr hand;
   std::string object;
   std::optional<SkeletonOutput> skeleton;
-  // What the robust ranking did (its grasps moved into result): to_dict() writes it, with the
-  // stages' times, as `skelgrasp plan` does (evaluation/plan_record.h).
-  evaluation::RobustRankingResult ranking;
 };
 
 // N x 3 float64 (any float or int dtype converts) -> points; throws InvalidArgument naming `what`
@@ -99,12 +99,14 @@ py::object fromJson(const nlohmann::json& j);
 // `seed` also seeds the robustness samples. Throws InvalidArgument for samples or screen_samples <
 // 1, confirm_samples < 0, refine_below_r outside [0, 1], an unknown variant or an unknown
 // screen_by.
-evaluation::RobustRankingParams robustRankingParams(
-    bool robustness, int samples, const std::string& variant, std::size_t top_k,
-    std::optional<std::size_t> screen_k, std::optional<int> screen_samples,
-    const std::optional<std::string>& screen_by, std::optional<int> confirm_samples,
-    std::optional<double> mu, std::uint64_t seed, bool refine,
-    std::optional<double> refine_below_r);
+ranking::RobustRankingParams robustRankingParams(bool robustness, int samples,
+                                                 const std::string& variant, std::size_t top_k,
+                                                 std::optional<std::size_t> screen_k,
+                                                 std::optional<int> screen_samples,
+                                                 const std::optional<std::string>& screen_by,
+                                                 std::optional<int> confirm_samples,
+                                                 std::optional<double> mu, std::uint64_t seed,
+                                                 bool refine, std::optional<double> refine_below_r);
 
 // Contacts as a list of {point, normal, link, palm} dicts (Grasp.contacts, CloseResult.contacts).
 py::list contactsList(const std::vector<grasping::Contact>& contacts);

@@ -73,7 +73,7 @@ TEST_F(BatchTest, AnInterruptedRunResumesWithoutRedoingFinishedWork) {
 TEST_F(BatchTest, ARecordWithAMissingOrMistypedKeyIsAnErrorNamingFileLineAndKey) {
   const std::string out = test::tempDir("batch_damaged"), merged = test::tempDir("batch_dmerged");
   auto p = params(out);
-  p.planners = {Planner::kSkeleton};
+  p.planners = {ranking::Planner::kSkeleton};
   p.max_objects = 1;
   runBatch(p);
   ASSERT_EQ(lines(out + "/runs.jsonl").size(), 1u);
@@ -136,7 +136,7 @@ TEST_F(BatchTest, AResumeWithOtherOptionsRefusesUnlessRestarted) {
 TEST_F(BatchTest, HandsClosingAlternativePreshapesAreRecorded) {
   const std::string out = test::tempDir("batch_alternative_preshapes");
   auto p = params(out);
-  p.planners = {Planner::kSkeleton};
+  p.planners = {ranking::Planner::kSkeleton};
   p.max_objects = 1;
   runBatch(p);
   EXPECT_EQ(readJsonFile(out + "/batch.json")["options"]["alternative_preshapes"],
@@ -153,7 +153,7 @@ TEST_F(BatchTest, HandsClosingAlternativePreshapesAreRecorded) {
   const std::string armar_out = test::tempDir("batch_alternative_preshapes_armar3");
   auto armar = params(armar_out);
   armar.hands = {"armar3"};
-  armar.planners = {Planner::kSkeleton};
+  armar.planners = {ranking::Planner::kSkeleton};
   armar.max_objects = 1;
   runBatch(armar);
   EXPECT_FALSE(

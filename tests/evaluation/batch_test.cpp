@@ -64,13 +64,13 @@ TEST_F(BatchTest, RejectsBadParameters) {
   p.shard_count = 2;
   EXPECT_THROW(runBatch(p), InvalidArgument);
   // The ranking's own mistakes are refused before any work starts, as the ranking refuses them
-  // (checkRobustRankingParams): nothing is written.
+  // (ranking::checkRobustRankingParams): nothing is written.
   const auto bad_rankings = {
-      +[](RobustRankingParams& r) { r.confirm_samples = -1; },
-      +[](RobustRankingParams& r) { r.screen_samples = 0; },
-      +[](RobustRankingParams& r) { r.robustness.samples = 0; },
-      +[](RobustRankingParams& r) { r.refinement.search_below_r = 1.5; },
-      +[](RobustRankingParams& r) { r.friction = -0.1; },
+      +[](ranking::RobustRankingParams& r) { r.confirm_samples = -1; },
+      +[](ranking::RobustRankingParams& r) { r.screen_samples = 0; },
+      +[](ranking::RobustRankingParams& r) { r.robustness.samples = 0; },
+      +[](ranking::RobustRankingParams& r) { r.refinement.search_below_r = 1.5; },
+      +[](ranking::RobustRankingParams& r) { r.friction = -0.1; },
   };
   for (const auto spoil : bad_rankings) {
     auto q = params(dir);
@@ -83,12 +83,12 @@ TEST_F(BatchTest, RejectsBadParameters) {
 }
 
 TEST(PlannerTest, NamesRoundTripAndUnknownNamesAreRefused) {
-  for (const Planner planner : {Planner::kSkeleton, Planner::kSurface})
-    EXPECT_EQ(parsePlanner(toString(planner)), planner);
-  EXPECT_STREQ(toString(Planner::kSkeleton), "skeleton");
-  EXPECT_STREQ(toString(Planner::kSurface), "surface");
+  for (const ranking::Planner planner : {ranking::Planner::kSkeleton, ranking::Planner::kSurface})
+    EXPECT_EQ(ranking::parsePlanner(toString(planner)), planner);
+  EXPECT_STREQ(toString(ranking::Planner::kSkeleton), "skeleton");
+  EXPECT_STREQ(toString(ranking::Planner::kSurface), "surface");
   try {
-    parsePlanner("random");
+    ranking::parsePlanner("random");
     FAIL() << "an unknown planner was accepted";
   } catch (const InvalidArgument& e) {
     EXPECT_STREQ(e.what(), "unknown planner 'random' (use skeleton, surface)");
@@ -136,10 +136,10 @@ TEST_F(BatchTest, ThePlannersOrderDoesNotChangeTheirResults) {
                     backward = test::tempDir("batch_order_ba");
   auto p = params(forward);
   p.objects = {objects_.front()};
-  p.planners = {Planner::kSkeleton, Planner::kSurface};
+  p.planners = {ranking::Planner::kSkeleton, ranking::Planner::kSurface};
   runBatch(p);
   p.out_dir = backward;
-  p.planners = {Planner::kSurface, Planner::kSkeleton};
+  p.planners = {ranking::Planner::kSurface, ranking::Planner::kSkeleton};
   runBatch(p);
   const auto runs = byPlanner(forward + "/runs.jsonl");
   ASSERT_EQ(runs.size(), 2u);
@@ -212,7 +212,7 @@ TEST_F(BatchTest, RobustRankingRecordsTheReturnedGraspsRAndIsPartOfTheOptions) {
   // A batch without ranking records no ranking options and no such table.
   const std::string plain = test::tempDir("batch_no_ranking");
   auto q = params(plain);
-  q.planners = {Planner::kSkeleton};
+  q.planners = {ranking::Planner::kSkeleton};
   q.max_objects = 1;
   runBatch(q);
   EXPECT_FALSE(readJsonFile(plain + "/batch.json")["options"].contains("ranking"));
@@ -221,7 +221,7 @@ TEST_F(BatchTest, RobustRankingRecordsTheReturnedGraspsRAndIsPartOfTheOptions) {
   // Soft-finger contacts are named with their torsion.
   const std::string soft = test::tempDir("batch_soft");
   auto s = params(soft);
-  s.planners = {Planner::kSkeleton};
+  s.planners = {ranking::Planner::kSkeleton};
   s.max_objects = 1;
   s.quality.torsional_friction_m = 0.0023;
   runBatch(s);
@@ -238,7 +238,7 @@ TEST_F(BatchTest, TheRefinementsShareIsWhatTheSameBatchReturnsWithoutIt) {
   auto p = rankedParams(refined, 4, 8);
   // The ranking's own bar, not the SDH's lower one: with the few grasps of this batch the
   // refinement then moves some.
-  p.ranking.refinement.search_below_r = kDefaultSearchBelowR;
+  p.ranking.refinement.search_below_r = ranking::kDefaultSearchBelowR;
   runBatch(p);
   auto q = p;
   q.out_dir = unrefined;

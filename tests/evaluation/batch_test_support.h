@@ -68,7 +68,7 @@ class BatchTest : public ::testing::Test {
   // with 4 samples, scored with 6.
   BatchParams rankedParams(const std::string& out, std::size_t top_k, std::size_t screen_k) const {
     BatchParams p = params(out);
-    p.planners = {Planner::kSkeleton};
+    p.planners = {ranking::Planner::kSkeleton};
     p.ranking.enabled = true;
     p.ranking.top_k = top_k;
     p.ranking.screen_k = screen_k;

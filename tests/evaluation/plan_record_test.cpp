@@ -10,8 +10,8 @@
 namespace skelgrasp::evaluation {
 namespace {
 
-RobustRankingResult someRanking() {
-  RobustRankingResult ranking;
+ranking::RobustRankingResult someRanking() {
+  ranking::RobustRankingResult ranking;
   ranking.screened = 7;
   ranking.screen_pruned = 3;
   ranking.confirmed = 4;
@@ -22,7 +22,7 @@ RobustRankingResult someRanking() {
   ranking.scoring_s = 0.5;
   ranking.refinement_s = 0.125;
   ranking.enabled = true;
-  ranking.budget = {40, 8, 0.5, ScreenCandidates::kByPreScore, 6};
+  ranking.budget = {40, 8, 0.5, grasping::ScreenCandidates::kByPreScore, 6};
   return ranking;
 }
 
@@ -44,7 +44,7 @@ TEST(PlanRecord, RankingRecordCarriesTheCountsAndTheParts) {
 }
 
 TEST(PlanRecord, TimingSumsItsPartsAndLeavesAMissingSkeletonNull) {
-  PlanTiming timing;
+  ranking::PlanTiming timing;
   timing.planning_s = 0.5;
   timing.ranking_s = 2.0;
   nlohmann::json surface = planTimingJson(timing);
@@ -65,21 +65,21 @@ TEST(PlanRecord, TimingOfAPlanTakesTheSkeletonLessItsRegularisation) {
   skeleton::SkeletonTimings skeleton;
   skeleton.regularise_s = 0.25;
   skeleton.total_s = 0.75;  // regularisation, contraction, mapping and analysis
-  const PlanTiming timing = planTimingOf(&skeleton, 1.0, 2.0);
+  const ranking::PlanTiming timing = ranking::planTimingOf(&skeleton, 1.0, 2.0);
   ASSERT_TRUE(timing.regularise_s && timing.skeleton_s);
   EXPECT_DOUBLE_EQ(*timing.regularise_s, 0.25);
   EXPECT_DOUBLE_EQ(*timing.skeleton_s, 0.5);
   EXPECT_DOUBLE_EQ(timing.total_s(), 3.75);
-  const PlanTiming surface = planTimingOf(nullptr, 1.0, 2.0);
+  const ranking::PlanTiming surface = ranking::planTimingOf(nullptr, 1.0, 2.0);
   EXPECT_FALSE(surface.regularise_s || surface.skeleton_s);
   EXPECT_DOUBLE_EQ(surface.total_s(), 3.0);
 }
 
 TEST(PlanRecord, DisabledRankingIsNullAndTheDocumentKeepsItsMembers) {
   nlohmann::json document = {{"schema", "skelgrasp.grasps/3"}, {"grasps", nlohmann::json::array()}};
-  PlanTiming timing;
+  ranking::PlanTiming timing;
   timing.planning_s = 0.5;
-  RobustRankingResult disabled = someRanking();
+  ranking::RobustRankingResult disabled = someRanking();
   disabled.enabled = false;
   addPlanRecords(document, disabled, timing);
   EXPECT_TRUE(document["ranking"].is_null());
@@ -91,14 +91,14 @@ TEST(PlanRecord, DisabledRankingIsNullAndTheDocumentKeepsItsMembers) {
 }
 
 TEST(PlanRecord, RejectsTimesThatAreNoTimesAndDocumentsThatAreNoObjects) {
-  PlanTiming negative;
+  ranking::PlanTiming negative;
   negative.ranking_s = -1e-3;
   EXPECT_THROW(planTimingJson(negative), InvalidArgument);
-  PlanTiming not_a_number;
+  ranking::PlanTiming not_a_number;
   not_a_number.regularise_s = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(planTimingJson(not_a_number), InvalidArgument);
   nlohmann::json list = nlohmann::json::array();
-  EXPECT_THROW(addPlanRecords(list, someRanking(), PlanTiming{}), InvalidArgument);
+  EXPECT_THROW(addPlanRecords(list, someRanking(), ranking::PlanTiming{}), InvalidArgument);
 }
 
 }  // namespace

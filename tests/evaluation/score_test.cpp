@@ -39,7 +39,7 @@ std::vector<GraspPlacement> placementsOf(const grasping::PlanResult& plan) {
 class ScorePlan : public ::testing::TestWithParam<const char*> {};
 
 // score reproduces plan: the same contacts, force closure and epsilon for plan's own grasps at
-// plan's friction, and evaluateRobustness' r with grasp index 0 and the same seed.
+// plan's friction, and ranking::evaluateRobustness' r with grasp index 0 and the same seed.
 TEST_P(ScorePlan, ReproducesPlansNumbersForPlansGrasps) {
   const auto hand = grasping::loadBuiltinHand(GetParam());
   const TriangleMesh mesh = primitives::makeNamedShape("capsule");
@@ -73,18 +73,19 @@ TEST_P(ScorePlan, ReproducesPlansNumbersForPlansGrasps) {
     }
     for (const auto& at : scored.by_friction) {
       ASSERT_TRUE(at.robustness);
-      const RobustnessResult& r = *at.robustness;
+      const ranking::RobustnessResult& r = *at.robustness;
       EXPECT_EQ(r.samples, kSamples);
       EXPECT_LE(0.0, r.wilson_low);
       EXPECT_LE(r.wilson_low, r.score);
       EXPECT_LE(r.score, r.wilson_high);
       EXPECT_LE(r.wilson_high, 1.0);
     }
-    // The r plan and run attach: evaluateRobustness of plan's grasp, index 0, the same seed.
-    RobustnessParams robustness = params.robustness;
+    // The r plan and run attach: ranking::evaluateRobustness of plan's grasp, index 0, the same
+    // seed.
+    ranking::RobustnessParams robustness = params.robustness;
     robustness.quality.friction = params.frictions[0];
     robustness.quality.torsional_friction_m = hand.closingDefaults().torsional_friction_m;
-    const auto expected = evaluateRobustness(simulator, planned, robustness, 0);
+    const auto expected = ranking::evaluateRobustness(simulator, planned, robustness, 0);
     EXPECT_EQ(at_plan.robustness->force_closure, expected.force_closure);
     EXPECT_EQ(at_plan.robustness->collisions, expected.collisions);
   }

@@ -1,20 +1,19 @@
-// A program built against the installed package (find_package(skelgrasp)): grasps for a
-// generated bottle with the built-in SDH hand.
+// A program built against the installed package (find_package(skelgrasp)): ranked grasps for a
+// generated bottle with the built-in SDH hand, as `skelgrasp plan` gives them.
 #include <iostream>
 
 #include "skelgrasp/common/primitives.h"
-#include "skelgrasp/grasping/planners.h"
-#include "skelgrasp/skeleton/extraction.h"
+#include "skelgrasp/ranking/plan_grasps.h"
 
 int main() {
   using namespace skelgrasp;
   const TriangleMesh mesh = primitives::makeNamedShape("bottle");
-  const auto skeleton = skeleton::extractSkeleton(mesh);
   const grasping::HandModel hand = grasping::loadBuiltinHand("sdh");
-  const grasping::GraspObject object(mesh);
-  grasping::SkeletonPlannerParams params;
-  params.max_grasps = 2;
-  const auto plan = grasping::planSkeletonGrasps(hand, object, skeleton.skeleton, params);
-  std::cout << "consumer: " << plan.grasps.size() << " grasps on the bottle" << std::endl;
-  return plan.grasps.empty() ? 1 : 0;
+  ranking::PlanOptions options;
+  options.skeleton_planner.max_grasps = 2;
+  const ranking::GraspPlan plan = ranking::planGrasps(mesh, hand, options);
+  if (!plan.status.ok() || !plan.grasps.front().robustness) return 1;
+  std::cout << "consumer: " << plan.grasps.size() << " grasps on the bottle, the best with r "
+            << plan.grasps.front().robustness->r << std::endl;
+  return 0;
 }

@@ -6,21 +6,13 @@
 #include <vector>
 
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/evaluation/robust_ranking.h"
-#include "skelgrasp/evaluation/robustness.h"
 #include "skelgrasp/grasping/planners.h"
+#include "skelgrasp/ranking/plan_grasps.h"
+#include "skelgrasp/ranking/robust_ranking.h"
+#include "skelgrasp/ranking/robustness.h"
 #include "skelgrasp/skeleton/extraction.h"
 
 namespace skelgrasp::evaluation {
-
-// The planners a batch compares. Declared in the order of their names: summaries sort by it.
-enum class Planner {
-  kSkeleton,  // "skeleton": the paper's skeleton-based planner
-  kSurface,   // "surface": the baseline sampling the object's surface
-};
-// Throws InvalidArgument "unknown planner 'NAME' (use skeleton, surface)".
-Planner parsePlanner(const std::string& name);
-const char* toString(Planner planner);
 
 struct BatchParams {
   std::vector<std::string> objects;  // mesh files
@@ -28,7 +20,8 @@ struct BatchParams {
   // batch over all of it resumes them.
   std::size_t object_limit = 0;
   std::vector<std::string> hands = {"armar3", "sdh", "shadow"};  // built-in hand names
-  std::vector<Planner> planners = {Planner::kSkeleton, Planner::kSurface};
+  std::vector<ranking::Planner> planners = {ranking::Planner::kSkeleton,
+                                            ranking::Planner::kSurface};
   std::string out_dir = "evaluation";
   int jobs = 1;                          // objects evaluated in parallel
   int shard_index = 0, shard_count = 1;  // this process runs objects k with k % count == index
@@ -46,13 +39,13 @@ struct BatchParams {
   // Robustness for up to this many grasps per run, drawn uniformly (seeded) from the kept grasps;
   // 0 = all of them.
   std::size_t robustness_grasps = 20;
-  RobustnessParams robustness;  // samples (100), variant
+  ranking::RobustnessParams robustness;  // samples (100), variant
   // The grasps a user of `plan` gets: each run's grasps ranked by robustness as `plan` ranks them
   // (robust_ranking.h; its samples, variant and seed as set here, the run's seed, friction and
   // closing), and the mean r of the top_k returned grasps recorded per run. Off by default:
   // the paper's protocol scores a random sample of the planner's grasps (above) and nothing else.
-  RobustRankingParams ranking = [] {
-    RobustRankingParams p;
+  ranking::RobustRankingParams ranking = [] {
+    ranking::RobustRankingParams p;
     p.enabled = false;
     return p;
   }();

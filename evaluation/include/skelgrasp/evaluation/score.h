@@ -12,12 +12,12 @@
 #include <vector>
 
 #include "skelgrasp/common/error.h"
-#include "skelgrasp/evaluation/robustness.h"
 #include "skelgrasp/grasping/grasp_object.h"
 #include "skelgrasp/grasping/grasp_simulator.h"
 #include "skelgrasp/grasping/grasps_file.h"
 #include "skelgrasp/grasping/hand_model.h"
 #include "skelgrasp/grasping/quality.h"
+#include "skelgrasp/ranking/robustness.h"
 
 namespace skelgrasp::evaluation {
 
@@ -38,9 +38,9 @@ struct ScoreParams {
   bool compute_robustness = true;
   // Samples (100), variant (paper), pose error sigmas (the variant's) and seed (1). Its quality
   // and closing are ignored: `quality` with each friction and `closing` are used. Every grasp is
-  // scored with grasp_index 0 (evaluateRobustness), the convention plan and run share, so a
-  // grasp's r depends on its pose and the seed only and `score` reproduces plan's r.
-  RobustnessParams robustness;
+  // scored with grasp_index 0 (ranking::evaluateRobustness), the convention plan and run share, so
+  // a grasp's r depends on its pose and the seed only and `score` reproduces plan's r.
+  ranking::RobustnessParams robustness;
 };
 
 // One grasp judged at one friction coefficient.
@@ -50,8 +50,9 @@ struct FrictionScore {
   // The LP's margin l* (grasping::WrenchSpaceResult::closure_margin); NaN when no LP ran (hull
   // test, reference_compat).
   double closure_margin = 0;
-  double epsilon = 0;                          // 0 without force closure
-  std::optional<RobustnessResult> robustness;  // unset: not asked for, or the hand did not close
+  double epsilon = 0;  // 0 without force closure
+  std::optional<ranking::RobustnessResult>
+      robustness;  // unset: not asked for, or the hand did not close
 };
 
 struct GraspScore {

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "skelgrasp/common/error.h"
-#include "skelgrasp/evaluation/robustness.h"
+#include "skelgrasp/ranking/robustness.h"
 #include "skelgrasp/grasping/grasp_object.h"
 #include "skelgrasp/grasping/grasps_file.h"
 #include "skelgrasp/grasping/hand_model.h"
@@ -32,7 +32,7 @@ struct SimulateParams {
   int samples = 0;
   // The pose errors of r: seed, variant (its sigmas: 10 mm and 5 degrees for the default) and
   // explicit sigmas. Only samplePoseError's inputs are used.
-  RobustnessParams robustness;
+  ranking::RobustnessParams robustness;
   // The kinematic closing that finds the grasp's contacts, whose mean point the pose errors act
   // about (as for r).
   grasping::ClosingParams closing;

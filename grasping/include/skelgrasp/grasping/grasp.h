@@ -16,7 +16,7 @@ const char* toString(GraspType type);
 // The type toString names ("power", "precision"); nullopt for any other text.
 std::optional<GraspType> graspTypeNamed(const std::string& name);
 
-// How refinement for robustness (evaluation/robust_refinement.h) moved a scored grasp: the search
+// How refinement for robustness (ranking/robust_refinement.h) moved a scored grasp: the search
 // for a more robust pose near it, with the pose it kept relative to the planner's.
 struct GraspRobustRefinement {
   bool refined = false;    // the grasp is a moved pose (false: the planner's pose stayed best)
@@ -40,7 +40,7 @@ struct GraspRobustRefinement {
   std::optional<int> check_holds_after;
 };
 
-// Robustness r of a grasp (evaluation::evaluateRobustness): the share of `samples` perturbed
+// Robustness r of a grasp (ranking::evaluateRobustness): the share of `samples` perturbed
 // executions (pose error with standard deviations sigma_m and sigma_rad) that still close to force
 // closure at friction mu, with its 95 % Wilson interval. A plain record so the grasp stage can
 // carry it without depending on evaluation.
@@ -92,7 +92,7 @@ struct Grasp {
   bool force_closure = false;
   double epsilon = 0;
   std::optional<double> volume;  // grasp wrench space volume, when computed (--wrench-volume)
-  // Set for the grasps the robust ranking scored (evaluation/robust_ranking.h), else unset.
+  // Set for the grasps the robust ranking scored (ranking/robust_ranking.h), else unset.
   std::optional<GraspRobustness> robustness;
   std::optional<GraspRefinement> refinement;  // set when local refinement ran on this grasp
 };

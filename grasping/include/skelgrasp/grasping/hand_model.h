@@ -111,7 +111,7 @@ struct ClosingDefaults {
   double torsional_friction_m = 0;
 };
 
-// Which grasps the robust ranking screens (evaluation/robust_ranking.h, RobustRankingParams::
+// Which grasps the robust ranking screens (ranking/robust_ranking.h, RobustRankingParams::
 // screen_candidates).
 enum class ScreenCandidates {
   // The best by pre-score (epsilon x trust) over all grasps (the default until 2026-11-29).
@@ -124,7 +124,7 @@ enum class ScreenCandidates {
   // tripods reached up to 0.92; docs/results.md, "Screening every preshape").
   kPreshapesInTurn,
   // Each preshape in turn as above, but each preshape's grasps taken by their least finger travel
-  // (evaluation::leastFingerTravel, the largest first; ties by pre-score) instead of by epsilon: a
+  // (ranking::leastFingerTravel, the largest first; ties by pre-score) instead of by epsilon: a
   // clearance, whose rank correlation with r on the SDH's kept grasps is 0.43 at the median YCB
   // object against epsilon's 0.09. Over three seeds it lifted the SDH's top-10 r by about half a
   // point at the same time and lowered ARMAR-III's a little (docs/results.md, "Four more ways to
@@ -144,7 +144,7 @@ const char* toString(ScreenCandidates candidates);
 const std::vector<std::string>& screenCandidateNames();
 std::string screenCandidateChoices();
 
-// The robust ranking's budget for a hand (evaluation/robust_ranking.h), where the ranking's
+// The robust ranking's budget for a hand (ranking/robust_ranking.h), where the ranking's
 // parameters leave it to the hand. A hand whose perturbed executions cost more screens and
 // searches less, so that ranking one object stays within a few seconds; unset fields take the
 // ranking's own defaults. docs/hands.md, "Ranking budget".

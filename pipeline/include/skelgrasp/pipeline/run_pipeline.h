@@ -8,11 +8,11 @@
 #include <string>
 #include <vector>
 
-#include "skelgrasp/evaluation/robust_ranking.h"
 #include "skelgrasp/grasping/planners.h"
 #include "skelgrasp/grasping/scene.h"
 #include "skelgrasp/perception/scan.h"
 #include "skelgrasp/pipeline/reconstruct_scan.h"
+#include "skelgrasp/ranking/robust_ranking.h"
 #include "skelgrasp/skeleton/extraction.h"
 
 namespace skelgrasp::pipeline {
@@ -68,14 +68,14 @@ struct RunParams {
   grasping::SceneCheckParams approach;
   // Trust of a grasp = 1 - w + w * observed contact ratio: a grasp whose contacts lie on surface
   // the sensor saw is trusted more than one on filled-in surface. Ranking score (robust ranking,
-  // evaluation/robust_ranking.h): r * trust for the grasps scored for robustness (the best
+  // ranking/robust_ranking.h): r * trust for the grasps scored for robustness (the best
   // robust_ranking.top_k by screening, whose candidates are chosen by epsilon * trust), ranked
   // first; epsilon * trust for the others (all of
   // them with robust_ranking.enabled = false, the ranking before robustness).
   double observed_weight = 0.5;
   // The seed of r is robust_ranking.robustness.seed; the robustness is judged on the object alone
   // (the perturbed hand is not checked against the rest of the scene).
-  evaluation::RobustRankingParams robust_ranking;
+  ranking::RobustRankingParams robust_ranking;
 };
 
 struct RankedGrasp {

@@ -1,4 +1,4 @@
-#include "skelgrasp/evaluation/robust_ranking.h"
+#include "skelgrasp/ranking/robust_ranking.h"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -20,7 +20,7 @@
 #include "skelgrasp/skeleton/extraction.h"
 #include "test_support.h"
 
-namespace skelgrasp::evaluation {
+namespace skelgrasp::ranking {
 namespace {
 
 using test_fixtures::cylinder;
@@ -483,4 +483,4 @@ TEST(RobustRanking, TopRankedGraspsOfARealObjectAreMoreRobustThanTheAverage) {
 }
 
 }  // namespace
-}  // namespace skelgrasp::evaluation
+}  // namespace skelgrasp::ranking

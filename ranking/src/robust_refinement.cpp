@@ -1,4 +1,4 @@
-#include "skelgrasp/evaluation/robust_refinement.h"
+#include "skelgrasp/ranking/robust_refinement.h"
 
 #include <array>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/grasping/compass_search.h"
 
-namespace skelgrasp::evaluation {
+namespace skelgrasp::ranking {
 namespace {
 
 // In the compass's order (RobustRefinementParams: standoff first, as it cures starts in collision).
@@ -225,4 +225,4 @@ RobustRefinementOutcome refineForRobustness(grasping::GraspSimulator& simulator,
   return out;
 }
 
-}  // namespace skelgrasp::evaluation
+}  // namespace skelgrasp::ranking

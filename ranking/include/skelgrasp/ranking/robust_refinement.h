@@ -9,10 +9,10 @@
 #include <cstdint>
 #include <optional>
 
-#include "skelgrasp/evaluation/robustness.h"
 #include "skelgrasp/grasping/hypothesis.h"
+#include "skelgrasp/ranking/robustness.h"
 
-namespace skelgrasp::evaluation {
+namespace skelgrasp::ranking {
 
 // Scored grasps whose r is below this are searched, unless the parameters or the hand say
 // otherwise (RobustRefinementParams::search_below_r).
@@ -101,4 +101,4 @@ RobustRefinementOutcome refineForRobustness(grasping::GraspSimulator& simulator,
                                             const RobustRefinementParams& params,
                                             std::uint64_t stream);
 
-}  // namespace skelgrasp::evaluation
+}  // namespace skelgrasp::ranking

@@ -9,11 +9,11 @@
 
 #include "planned_object.h"
 #include "skelgrasp/common/primitives.h"
-#include "skelgrasp/evaluation/robust_ranking.h"
+#include "skelgrasp/ranking/robust_ranking.h"
 
 // The robust ranking's budget: which grasps screening takes (each preshape's best in turn, or the
 // best by epsilon) and where the budget comes from (the parameters, the hand, the defaults).
-namespace skelgrasp::evaluation {
+namespace skelgrasp::ranking {
 namespace {
 
 using test_fixtures::cylinder;
@@ -159,4 +159,4 @@ TEST(RobustRanking, UnsetBudgetsComeFromTheHandThenTheDefaults) {
 }
 
 }  // namespace
-}  // namespace skelgrasp::evaluation
+}  // namespace skelgrasp::ranking

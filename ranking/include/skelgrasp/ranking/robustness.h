@@ -12,7 +12,7 @@
 #include "skelgrasp/grasping/quality.h"
 #include "skelgrasp/grasping/settling.h"
 
-namespace skelgrasp::evaluation {
+namespace skelgrasp::ranking {
 
 enum class RobustnessVariant {
   kPaper,      // the hand is moved; sigma 10 mm and 5 degrees; fresh samples per grasp
@@ -125,4 +125,4 @@ RobustnessResult evaluateRobustnessSamples(grasping::GraspSimulator& simulator,
                                            const RobustnessParams& params,
                                            std::uint64_t grasp_index, int begin, int end);
 
-}  // namespace skelgrasp::evaluation
+}  // namespace skelgrasp::ranking

@@ -1,4 +1,4 @@
-#include "skelgrasp/evaluation/robustness.h"
+#include "skelgrasp/ranking/robustness.h"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -15,7 +15,7 @@
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/grasping/hypothesis.h"
 
-namespace skelgrasp::evaluation {
+namespace skelgrasp::ranking {
 
 RobustnessVariant parseRobustnessVariant(const std::string& text) {
   if (text == "paper") return RobustnessVariant::kPaper;
@@ -295,4 +295,4 @@ RobustnessResult evaluateRobustnessSamples(grasping::GraspSimulator& simulator,
   return evaluateSampleRange(simulator, grasp, params, grasp_index, begin, end, std::nullopt);
 }
 
-}  // namespace skelgrasp::evaluation
+}  // namespace skelgrasp::ranking

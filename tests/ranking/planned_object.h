@@ -7,11 +7,11 @@
 #include <string>
 
 #include "skelgrasp/common/primitives.h"
-#include "skelgrasp/evaluation/robust_ranking.h"
 #include "skelgrasp/grasping/planners.h"
+#include "skelgrasp/ranking/robust_ranking.h"
 #include "skelgrasp/skeleton/extraction.h"
 
-namespace skelgrasp::evaluation::test_fixtures {
+namespace skelgrasp::ranking::test_fixtures {
 
 struct Planned {
   grasping::HandModel hand;
@@ -48,4 +48,4 @@ inline RobustRankingParams fewSamples(int samples, std::size_t top_k) {
   return params;
 }
 
-}  // namespace skelgrasp::evaluation::test_fixtures
+}  // namespace skelgrasp::ranking::test_fixtures

@@ -1,4 +1,4 @@
-#include "skelgrasp/evaluation/robust_ranking.h"
+#include "skelgrasp/ranking/robust_ranking.h"
 
 #include <algorithm>
 #include <cmath>
@@ -14,7 +14,7 @@
 
 #include "skelgrasp/common/logging.h"
 
-namespace skelgrasp::evaluation {
+namespace skelgrasp::ranking {
 namespace {
 
 // evaluateRobustness's grasp_index: every scored grasp faces the same perturbations (common
@@ -491,4 +491,4 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
   return out;
 }
 
-}  // namespace skelgrasp::evaluation
+}  // namespace skelgrasp::ranking

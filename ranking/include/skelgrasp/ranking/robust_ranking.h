@@ -7,11 +7,11 @@
 #include <string>
 #include <vector>
 
-#include "skelgrasp/evaluation/robust_refinement.h"
-#include "skelgrasp/evaluation/robustness.h"
 #include "skelgrasp/grasping/hypothesis.h"
+#include "skelgrasp/ranking/robust_refinement.h"
+#include "skelgrasp/ranking/robustness.h"
 
-namespace skelgrasp::evaluation {
+namespace skelgrasp::ranking {
 
 // Defaults chosen so that ranking one object costs one to two seconds with the paper hands on the
 // YCB meshes (docs/planning.md has the measurements): up to 60 grasps screened with 10 samples
@@ -198,4 +198,4 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
 grasping::GraspRobustness graspRobustness(const RobustnessResult& result,
                                           const RobustnessParams& params);
 
-}  // namespace skelgrasp::evaluation
+}  // namespace skelgrasp::ranking

@@ -1,4 +1,4 @@
-#include "skelgrasp/evaluation/robustness.h"
+#include "skelgrasp/ranking/robustness.h"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -14,7 +14,7 @@
 #include "skelgrasp/grasping/planners.h"
 #include "skelgrasp/skeleton/extraction.h"
 
-namespace skelgrasp::evaluation {
+namespace skelgrasp::ranking {
 namespace {
 
 using grasping::Grasp;
@@ -440,4 +440,4 @@ TEST(Robustness, SettledHoldsWhereverTheGuardedVariantHolds) {
 }
 
 }  // namespace
-}  // namespace skelgrasp::evaluation
+}  // namespace skelgrasp::ranking

@@ -1,4 +1,4 @@
-#include "skelgrasp/evaluation/robust_refinement.h"
+#include "skelgrasp/ranking/robust_refinement.h"
 
 #include <gtest/gtest.h>
 
@@ -9,13 +9,13 @@
 #include "planned_object.h"
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/common/primitives.h"
-#include "skelgrasp/evaluation/robust_ranking.h"
 #include "skelgrasp/grasping/plan_output.h"
 #include "skelgrasp/grasping/planners.h"
+#include "skelgrasp/ranking/robust_ranking.h"
 #include "skelgrasp/skeleton/extraction.h"
 #include "test_support.h"
 
-namespace skelgrasp::evaluation {
+namespace skelgrasp::ranking {
 namespace {
 
 using test_fixtures::Planned;
@@ -330,4 +330,4 @@ TEST(RobustRefinement, RejectsBadParameters) {
 }
 
 }  // namespace
-}  // namespace skelgrasp::evaluation
+}  // namespace skelgrasp::ranking
