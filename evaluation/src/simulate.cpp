@@ -81,6 +81,10 @@ PhysicalRobustness physicalRobustness(const grasping::HandModel& hand,
   return robustness;
 }
 
+nlohmann::json phaseJson(const physics::ExecutionResult::PhaseCost& cost) {
+  return {{"cpu_s", cost.cpu_s}, {"steps", cost.steps}};
+}
+
 nlohmann::json executionJson(const physics::ExecutionResult& run) {
   nlohmann::json disturbances = nlohmann::json::array();
   for (const auto& d : run.disturbances) {
@@ -102,7 +106,12 @@ nlohmann::json executionJson(const physics::ExecutionResult& run) {
           {"touching_links", run.touching_links},
           {"disturbances", disturbances},
           {"steps", run.steps},
-          {"cpu_s", run.cpu_s}};
+          {"cpu_s", run.cpu_s},
+          {"cost",
+           {{"start", phaseJson(run.start_cost)},
+            {"closing", phaseJson(run.closing_cost)},
+            {"release", phaseJson(run.release_cost)},
+            {"disturbances", phaseJson(run.disturbance_cost)}}}};
 }
 
 nlohmann::json robustnessJson(const std::optional<PhysicalRobustness>& r) {

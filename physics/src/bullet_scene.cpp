@@ -42,6 +42,17 @@ constexpr double kArmatureS2 = 2.5e-3;
 constexpr double kBaseMassKg = 1.0;
 
 // Mass and diagonal inertia about the link frame's origin, from the shapes' boxes.
+// The motion of `joint` at `value`: a turn about its axis or a shift along it.
+Pose jointMotion(const grasping::Joint& joint, double value) {
+  Pose motion = Pose::Identity();
+  if (joint.type == JointType::kRevolute) {
+    motion.linear() = Eigen::AngleAxisd(value, joint.axis.normalized()).toRotationMatrix();
+  } else if (joint.type == JointType::kPrismatic) {
+    motion.translation() = value * joint.axis.normalized();
+  }
+  return motion;
+}
+
 std::pair<double, btVector3> linkInertia(const grasping::Link& link) {
   double mass = 0;
   Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
@@ -95,7 +106,6 @@ struct Scene::Impl {
   std::vector<btMultiBodyJointMotor*> motors;  // per hand joint: its closing servo, if any
   std::vector<double> joint_inertia;           // per hand joint: the links it moves, about its axis
   std::vector<double> hold_stiffness, hold_damping;  // per hand joint, kHold
-  double object_damping_s = 0;
   btAlignedObjectArray<btQuaternion> scratch_rotations;
   btAlignedObjectArray<btVector3> scratch_origins;
 
@@ -127,18 +137,27 @@ struct Scene::Impl {
     for (int j : order) {
       const auto& joint = joints[j];
       const int i = joint_to_multibody[j];
+      const bool simulated = isSimulated(j, drives);
       auto [mass, inertia] = linkInertia(links[joint.child_link]);
-      const double armature = joint.movable() ? kArmatureS2 * drives[j].torque_limit : 0.0;
+      const double armature = simulated ? kArmatureS2 * drives[j].torque_limit : 0.0;
       if (joint.type == JointType::kPrismatic) {
         mass += armature;
       } else {
         inertia += btVector3(armature, armature, armature);
       }
       const int parent = link_to_multibody[joint.parent_link];
+      const btVector3 zero(0, 0, 0);
+      if (!simulated) {
+        // Locked where the state has it: the joint's motion is part of the fixed transform.
+        const Pose locked = joint.origin * jointMotion(joint, state.joints[j]);
+        hand->setupFixed(i, mass, inertia, parent,
+                         toBt(Pose(locked.linear().transpose())).getRotation(),
+                         toBt(locked.translation()), zero);
+        continue;
+      }
       const btQuaternion parent_to_this =
           toBt(Pose(joint.origin.linear().transpose())).getRotation();
       const btVector3 pivot = toBt(joint.origin.translation());
-      const btVector3 zero(0, 0, 0);
       switch (joint.type) {
         case JointType::kRevolute:
           hand->setupRevolute(i, mass, inertia, parent, parent_to_this, toBt(joint.axis), pivot,
@@ -159,7 +178,7 @@ struct Scene::Impl {
     world.addMultiBody(hand.get());
     fixed_joints = state.joints;
     for (int j : order) {
-      if (!joints[j].movable()) continue;
+      if (!isSimulated(j, drives)) continue;
       hand->setJointPos(joint_to_multibody[j], state.joints[j]);
       hand->setJointVel(joint_to_multibody[j],
                         state.joint_velocities.size() ? state.joint_velocities[j] : 0.0);
@@ -169,6 +188,12 @@ struct Scene::Impl {
     hand->updateCollisionObjectWorldTransforms(scratch_rotations, scratch_origins);
     computeJointInertia(state.joints, drives);
     addDrives(drives);
+  }
+
+  // Whether hand joint `j` moves in the engine: a movable joint with a drive. The others are
+  // locked where the scene's state has them.
+  bool isSimulated(std::size_t j, const std::vector<JointDrive>& with) const {
+    return hand_model.joints()[j].movable() && with[j].mode != JointDrive::Mode::kFixed;
   }
 
   // Each joint's inertia about its axis: the links below it as the masses of linkInertia at their
@@ -239,7 +264,7 @@ struct Scene::Impl {
     for (std::size_t j = 0; j < joints.size(); ++j) {
       const JointDrive& drive = drives[j];
       const int i = joint_to_multibody[j];
-      if (!joints[j].movable() || drive.mode == JointDrive::Mode::kFixed) continue;
+      if (!isSimulated(j, drives)) continue;
       auto limit = std::make_unique<btMultiBodyJointLimitConstraint>(hand.get(), i, joints[j].lower,
                                                                      joints[j].upper);
       world.addMultiBodyConstraint(limit.get());
@@ -281,17 +306,6 @@ struct Scene::Impl {
     }
   }
 
-  void applyObjectDamping() {
-    if (!object || object_damping_s <= 0) return;
-    const double mass = physical_object->massKg();
-    object->applyCentralForce(-mass / object_damping_s * object->getLinearVelocity());
-    // About the principal axes: each axis damped with the same time constant.
-    const btMatrix3x3& basis = object->getWorldTransform().getBasis();
-    const btVector3 local = basis.transpose() * object->getAngularVelocity();
-    const btVector3 inertia = object->getLocalInertia();
-    object->applyTorque(basis * (-local * inertia / object_damping_s));
-  }
-
   void buildObject(const ObjectState& state, double friction) {
     // The body frame is the centre of mass with the principal axes: the rigid body takes a
     // diagonal inertia there.
@@ -302,8 +316,10 @@ struct Scene::Impl {
         (axes.transpose() * physical_object->inertia() * axes).diagonal().cwiseMax(1e-12);
     body_mesh = surface.borrowBodyMesh();
     btGImpactCollisionAlgorithm::registerAlgorithm(&dispatcher);
-    btRigidBody::btRigidBodyConstructionInfo info(physical_object->massKg(), nullptr,
-                                                  body_mesh->shape.get(), toBt(principal));
+    // A fixed object is a static body (mass 0 to the engine).
+    const double mass = state.fixed ? 0.0 : physical_object->massKg();
+    btRigidBody::btRigidBodyConstructionInfo info(
+        mass, nullptr, body_mesh->shape.get(), state.fixed ? btVector3(0, 0, 0) : toBt(principal));
     info.m_startWorldTransform = toBt(state.pose * body_in_object);
     info.m_friction = friction;
     info.m_restitution = 0.0;
@@ -339,10 +355,6 @@ void Scene::setObjectForce(const Eigen::Vector3d& force) {
   impl_->object->setGravity(toBt(force / impl_->physical_object->massKg()));
 }
 
-void Scene::setObjectDamping(double time_constant_s) {
-  impl_->object_damping_s = time_constant_s;
-}
-
 void Scene::setDrive(int joint, const JointDrive& drive) {
   const auto j = static_cast<std::size_t>(joint);
   SKELGRASP_DEMAND(j < impl_->drives.size());
@@ -357,8 +369,9 @@ void Scene::setDrive(int joint, const JointDrive& drive) {
 }
 
 double Scene::jointSpeed(int joint) const {
-  const int i = impl_->joint_to_multibody[static_cast<std::size_t>(joint)];
-  return i < 0 ? 0.0 : impl_->hand->getJointVel(i);
+  const auto j = static_cast<std::size_t>(joint);
+  if (!impl_->isSimulated(j, impl_->drives)) return 0.0;
+  return impl_->hand->getJointVel(impl_->joint_to_multibody[j]);
 }
 
 double Scene::holdStiffness(int joint, double requested) const {
@@ -367,7 +380,6 @@ double Scene::holdStiffness(int joint, double requested) const {
 
 void Scene::step() {
   impl_->applyHoldTorques();
-  impl_->applyObjectDamping();
   impl_->world.stepSimulation(impl_->time_step_s, 0, impl_->time_step_s);
 }
 
@@ -386,7 +398,7 @@ SceneState Scene::state() const {
   state.joints = impl_->fixed_joints;
   state.joint_velocities = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(joints.size()));
   for (std::size_t j = 0; j < joints.size(); ++j) {
-    if (!joints[j].movable()) continue;
+    if (!impl_->isSimulated(j, impl_->drives)) continue;
     state.joints[j] = impl_->hand->getJointPos(impl_->joint_to_multibody[j]);
     state.joint_velocities[j] = impl_->hand->getJointVel(impl_->joint_to_multibody[j]);
   }

@@ -32,7 +32,8 @@ struct JointDrive {
 
 // The object's rigid-body state in the world (world = the object frame at the grasp).
 struct ObjectState {
-  Pose pose = Pose::Identity();                               // object frame in the world
+  bool fixed = false;            // held where it is (a static body): the fingers close against it
+  Pose pose = Pose::Identity();  // object frame in the world
   Eigen::Vector3d linear_velocity = Eigen::Vector3d::Zero();  // of the centre of mass
   Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();
 };
@@ -57,9 +58,6 @@ class Scene {
 
   // A constant force on the object's centre of mass (N, world).
   void setObjectForce(const Eigen::Vector3d& force);
-  // Viscous damping of the object's motion with this time constant (s; 0: none): an object that
-  // a finger pushes slides with it but keeps no momentum, as on a support.
-  void setObjectDamping(double time_constant_s);
   void step();
   // Changes how hand joint `joint` is driven from the next step on (a closing joint that stopped
   // becomes a hold; a kFixed joint stays undriven).

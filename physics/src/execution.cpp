@@ -22,22 +22,16 @@ using internal::JointDrive;
 // jaw of 4 cm closes in the time a finger turns 0.8 rad.
 constexpr double kPrismaticSpeedPerRadian = 0.05;
 // The fingers have settled when every joint turns slower than this (rad/s) for still_time_s.
-constexpr double kSettledJointSpeed = 0.02;
 // A link touches the object when a contact point lies within this distance (m).
 constexpr double kTouchDistanceM = 0.001;
-// While the fingers close, the object's motion is damped with this time constant (s): a finger
-// that touches it first pushes it along, as on a support, instead of throwing it out of the hand.
-constexpr double kClosingDampingS = 0.02;
 // Once closed, each finger joint holds its grip as a spring towards a point beyond where it
 // stopped: it presses with this share of its torque limit and can press harder by the rest
 // before it gives way.
 constexpr double kGripShare = 0.5;
 // The springs' requested stiffness: the full torque limit at this angle (rad) or, for prismatic
-// joints, at this distance (m) from the target. Joints that do not close hold their preshape
-// value with kHoldAngleRad.
+// joints, at this distance (m) from the target.
 constexpr double kGripAngleRad = 0.1;
 constexpr double kGripDistanceM = 0.005;
-constexpr double kHoldAngleRad = 0.05;
 // The closing's end (fingers switched to their grips, the object free) settles for at most this
 // long (s) before the disturbances.
 constexpr double kReleaseTimeS = 0.5;
@@ -150,15 +144,9 @@ std::vector<JointDrive> closingDrives(const HandModel& hand, const grasping::Pre
         joints[joint].type == JointType::kPrismatic ? kPrismaticSpeedPerRadian : 1.0;
     return direction * params.closing_speed_rad_s * unit;
   };
-  for (std::size_t j = 0; j < joints.size(); ++j) {
-    drives[j].torque_limit = torque_limits[j];
-    if (!joints[j].movable()) continue;
-    drives[j].mode = JointDrive::Mode::kHold;
-    drives[j].target = preshape.joints[static_cast<Eigen::Index>(j)];
-    drives[j].stiffness = torque_limits[j] / (joints[j].type == JointType::kPrismatic
-                                                  ? kGripDistanceM * kHoldAngleRad / kGripAngleRad
-                                                  : kHoldAngleRad);
-  }
+  // Joints that do not close keep their preshape value, locked (drive kFixed): the preshape is
+  // their servo's target and the engine need not simulate a servo holding still.
+  for (std::size_t j = 0; j < joints.size(); ++j) drives[j].torque_limit = torque_limits[j];
   for (const auto& finger : hand.fingers()) {
     for (const auto& drive : finger.drives) {
       drives[drive.joint].mode = JointDrive::Mode::kClose;
@@ -289,7 +277,19 @@ ExecutionResult executeGrasp(const HandModel& hand, const PhysicalObject& object
   start.joints = preshape.joints;
   hand.normalise(start.joints);
   start.joint_velocities = Eigen::VectorXd::Zero(start.joints.size());
+  // Charges the CPU time and steps since the last mark to `phase`.
+  double mark_cpu = cpu_start;
+  int mark_steps = 0;
+  const auto charge = [&](ExecutionResult::PhaseCost& phase) {
+    const double now = threadCpuSeconds();
+    phase.cpu_s += now - mark_cpu;
+    phase.steps += result.steps - mark_steps;
+    mark_cpu = now;
+    mark_steps = result.steps;
+  };
+  ExecutionResult::PhaseCost* current_phase = &result.start_cost;
   const auto finish = [&]() {
+    charge(*current_phase);
     result.cpu_s = threadCpuSeconds() - cpu_start;
     return result;
   };
@@ -306,12 +306,15 @@ ExecutionResult executeGrasp(const HandModel& hand, const PhysicalObject& object
                                 result.penetrating_link, 1e3 * depth);
     return finish();
   }
+  charge(result.start_cost);
+  current_phase = &result.closing_cost;
+  start.object.fixed = true;
   internal::Scene closing(hand, hand_pose, drives, &object, start, params);
 
   // Closing: each closing joint turns at the closing speed until it is blocked (its servo
   // saturates: it has slowed below kBlockedSpeedShare of its speed for kBlockedTimeS), then holds
-  // its grip there; the object, damped as on a support, is pushed along until squeezed.
-  closing.setObjectDamping(kClosingDampingS);
+  // its grip there. The object is held where it is meanwhile, as the planners assume (on a support,
+  // or in a fixture): which finger happens to touch first does not shove it.
   const int blocked_steps = stepsFor(kBlockedTimeS, params);
   auto current = drives;
   std::vector<int> slow(current.size(), 0);
@@ -321,7 +324,6 @@ ExecutionResult executeGrasp(const HandModel& hand, const PhysicalObject& object
     closing.setDrive(static_cast<int>(j), current[j]);
   };
   const int closing_steps = stepsFor(params.closing_time_s, params);
-  StillWatch closing_watch(params, object, Pose::Identity());
   bool settled_closing = false;
   for (int s = 0; s < closing_steps && !settled_closing; ++s) {
     closing.step();
@@ -339,8 +341,7 @@ ExecutionResult executeGrasp(const HandModel& hand, const PhysicalObject& object
         closing_joints = true;
       }
     }
-    const auto state = closing.objectState();
-    settled_closing = closing_watch.stillAfterStep(state.pose) && !closing_joints;
+    settled_closing = !closing_joints;
   }
   for (std::size_t j = 0; j < current.size(); ++j) {
     if (current[j].mode == JointDrive::Mode::kClose) grip(j);
@@ -349,34 +350,35 @@ ExecutionResult executeGrasp(const HandModel& hand, const PhysicalObject& object
   for (int touching : closing.touchingLinks(kTouchDistanceM)) {
     finger_touches = finger_touches || hand.fingerOfLink(touching) >= 0;
   }
-  const Pose closed_pose = closing.objectState().pose;
   if (!finger_touches) {
     result.joints = closing.state().joints;
-    std::tie(result.closing_displacement_m, result.closing_rotation_rad) =
-        motionBetween(Pose::Identity(), closed_pose, object.centerOfMass());
     result.failed_phase = ExecutionPhase::kClosing;
-    result.reason = fmt::format("no finger touches the object after closing (it moved {:.1f} mm)",
-                                1e3 * result.closing_displacement_m);
+    result.reason = "no finger touches the object after closing";
     return finish();
   }
 
-  // The object is let go (no damping): it settles in the gripping hand.
-  closing.setObjectDamping(0.0);
-  StillWatch release_watch(params, object, closed_pose);
+  // The object is let go: it settles in the gripping hand.
+  charge(result.closing_cost);
+  current_phase = &result.release_cost;
+  internal::SceneState closed = closing.state();
+  closed.joint_velocities.setZero();
+  closed.object = internal::ObjectState{};
+  internal::Scene release(hand, hand_pose, current, &object, closed, params);
+  StillWatch release_watch(params, object, Pose::Identity());
   for (int s = 0; s < stepsFor(kReleaseTimeS, params); ++s) {
-    closing.step();
+    release.step();
     ++result.steps;
-    if (release_watch.stillAfterStep(closing.objectState().pose)) break;
+    if (release_watch.stillAfterStep(release.objectState().pose)) break;
   }
-  internal::SceneState settled = closing.state();
+  internal::SceneState settled = release.state();
   result.joints = settled.joints;
-  std::tie(result.closing_displacement_m, result.closing_rotation_rad) =
-      motionBetween(Pose::Identity(), settled.object.pose, object.centerOfMass());
-  for (int touching : closing.touchingLinks(kTouchDistanceM)) {
+  for (int touching : release.touchingLinks(kTouchDistanceM)) {
     result.touching_links.push_back(hand.links()[touching].name);
   }
-  const auto [released_by, released_turn] =
-      motionBetween(closed_pose, settled.object.pose, object.centerOfMass());
+  std::tie(result.closing_displacement_m, result.closing_rotation_rad) =
+      motionBetween(Pose::Identity(), settled.object.pose, object.centerOfMass());
+  const double released_by = result.closing_displacement_m;
+  const double released_turn = result.closing_rotation_rad;
   if (released_by >= params.max_displacement_m || released_turn >= params.max_rotation_rad) {
     result.failed_phase = ExecutionPhase::kClosing;
     result.reason = fmt::format(
@@ -385,6 +387,8 @@ ExecutionResult executeGrasp(const HandModel& hand, const PhysicalObject& object
     return finish();
   }
   const auto& grips = current;
+  charge(result.release_cost);
+  current_phase = &result.disturbance_cost;
 
   // The disturbances, each from the settled state.
   const double force = params.disturbance_force_n.value_or(object.massKg() * kStandardGravity);

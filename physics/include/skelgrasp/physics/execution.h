@@ -1,8 +1,9 @@
 #pragma once
 // The physics judge: one grasp executed in a rigid-body simulation (Bullet, docs/physics.md).
-// The hand is welded at the grasp pose in its preshape; the object is a free body; every finger
-// joint is driven towards its closing direction by torque-limited position control until the grasp
-// settles; then the object's weight (or a given force) pulls it along +-x, +-y, +-z in turn, each
+// The hand is welded at the grasp pose in its preshape; every finger joint is driven towards its
+// closing direction by torque-limited position control until it stops at the object (held where
+// it is meanwhile, as the planners assume) or its limit, then grips; the object, a free body, is
+// let go and settles; then its weight (or a given force) pulls it along +-x, +-y, +-z in turn, each
 // from the settled state. The grasp holds when the object moves less than a bound and turns less
 // than another relative to the hand in all six.
 #include <array>
@@ -49,8 +50,9 @@ struct JudgeParams {
   // the hand's description gives none: torque = force x the joint's lever to its fingertip.
   // Unset: the description's, else kDefaultFingertipForceN.
   std::optional<double> fingertip_force_n;
-  // Closing speed of the finger joints (rad/s; prismatic joints: closing_speed x 0.05 m/s).
-  double closing_speed_rad_s = 1.0;
+  // Closing speed of the finger joints (rad/s; prismatic joints: closing_speed x 0.05 m/s): a
+  // finger that meets nothing reaches its limit well within closing_time_s.
+  double closing_speed_rad_s = 2.0;
   // Engine integration step (s) and constraint solver iterations per step.
   double time_step_s = 1.0 / 250.0;
   int solver_iterations = 30;
@@ -86,8 +88,8 @@ struct ExecutionResult {
   // link's name.
   double start_penetration_m = 0;
   std::string penetrating_link;
-  // The closing: how far it moved the object, the finger links touching it when it ended and the
-  // joints reached.
+  // The closing and release: how far the object moved when the closed hand let it go (it is held
+  // while the fingers close), the links touching it once it settled and the joints reached.
   double closing_displacement_m = 0;
   double closing_rotation_rad = 0;
   std::vector<std::string> touching_links;
@@ -96,6 +98,13 @@ struct ExecutionResult {
   std::vector<DisturbanceResult> disturbances;
   int steps = 0;     // engine steps in all
   double cpu_s = 0;  // thread CPU time of the execution
+  // Where the time went: thread CPU time and engine steps of each phase (the start test takes no
+  // steps; the release is the closed hand letting the object go).
+  struct PhaseCost {
+    double cpu_s = 0;
+    int steps = 0;
+  };
+  PhaseCost start_cost, closing_cost, release_cost, disturbance_cost;
 };
 
 // The torque limit of every joint of `hand` (N m, or N for prismatic joints; 0 for fixed joints)
