@@ -52,6 +52,8 @@ void registerBenchJudgeCommand(CLI::App& app, Action& action);
 void registerBenchSegmentCommand(CLI::App& app, Action& action);
 // Adds `bench ranking`; call after registerBenchCommand.
 void registerBenchRankingCommand(CLI::App& app, Action& action);
+// Adds `bench physics`; call after registerBenchCommand.
+void registerBenchPhysicsCommand(CLI::App& app, Action& action);
 
 // Prints "skelgrasp: error: <message>" to stderr and returns kExitBadInput.
 int fail(const std::string& message);

@@ -88,6 +88,7 @@ int main(int argc, char** argv) {
   cli::registerBenchJudgeCommand(app, action);
   cli::registerBenchSegmentCommand(app, action);
   cli::registerBenchRankingCommand(app, action);
+  cli::registerBenchPhysicsCommand(app, action);
 #endif
 
   try {

@@ -79,6 +79,37 @@ TEST(SimulateCli, PlansGraspsOnABoxAreExecutedWithTheirOutcomes) {
   }
 }
 
+// bench physics on a folder of one generated mesh: a row per executed grasp, a summary per hand
+// whose counts agree with the rows.
+TEST(BenchPhysicsCli, RowsAndSummaryAgree) {
+  const std::string dir = test::tempDir("cli_bench_physics");
+  std::filesystem::create_directories(dir + "/meshes");
+  saveMesh(dir + "/meshes/box.ply", primitives::makeNamedShape("box"));
+  const CliRun run =
+      runCli("bench physics " + dir + "/meshes --hands parallel_gripper --grasps 2 " +
+                 "--samples 2 --robustness-samples 4 --json " + dir + "/out.json",
+             dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("rho(r,sr)"), std::string::npos) << run.out;
+  const nlohmann::json out = readJsonFile(dir + "/out.json");
+  EXPECT_EQ(out["schema"], "skelgrasp.bench_physics/1");
+  ASSERT_EQ(out["summary"].size(), 1u);
+  const auto& summary = out["summary"][0];
+  EXPECT_EQ(summary["objects"], 1);
+  EXPECT_EQ(summary["grasps"].get<std::size_t>(), out["grasps"].size());
+  std::size_t holds = 0;
+  for (const auto& g : out["grasps"]) {
+    holds += g["nominal_holds"].get<bool>();
+    ASSERT_TRUE(g["sim_r"].is_number());
+    EXPECT_GE(g["sim_r"].get<double>(), 0.0);
+    EXPECT_LE(g["sim_r"].get<double>(), 1.0);
+  }
+  if (!out["grasps"].empty()) {
+    EXPECT_NEAR(summary["nominal_hold_rate"].get<double>(),
+                static_cast<double>(holds) / static_cast<double>(out["grasps"].size()), 1e-12);
+  }
+}
+
 TEST(SimulateCliErrors, BadInputIsOneLineAndExitTwoAndWritesNothing) {
   const std::string dir = test::tempDir("cli_simulate_bad");
   saveMesh(dir + "/capsule.ply", primitives::makeNamedShape("capsule"));
