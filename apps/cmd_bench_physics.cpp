@@ -24,6 +24,7 @@
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/evaluation/physics_figures.h"
 #include "skelgrasp/evaluation/simulate.h"
+#include "skelgrasp/grasping/load_capacity.h"
 #include "skelgrasp/ranking/plan_grasps.h"
 
 namespace skelgrasp::cli {
@@ -100,6 +101,7 @@ int runBenchPhysics(const BenchPhysicsArgs& args) {
       progress.step(done++);
       std::vector<grasping::GraspPlacement> placements;
       std::vector<std::optional<double>> reported_r;
+      std::vector<double> capacities;
       double plan_s = 0;
       if (skeleton.status.ok()) {
         const ranking::GraspPlan plan = ranking::planGrasps(object, hand, options, inputs);
@@ -110,6 +112,11 @@ int runBenchPhysics(const BenchPhysicsArgs& args) {
               {nlohmann::json(static_cast<int>(g)), grasp.hand_pose, grasp.preshape});
           reported_r.push_back(grasp.robustness ? std::optional<double>(grasp.robustness->r)
                                                 : std::nullopt);
+          capacities.push_back(
+              grasping::loadCapacity(
+                  hand, grasp.hand_pose, grasp.joints, grasp.contacts, physical.centerOfMass(),
+                  grasping::withHandContactModel(options.hypothesis().quality, hand))
+                  .min);
         }
       }
       if (!placements.empty()) ++with_grasps[hand.name()];
@@ -146,6 +153,7 @@ int runBenchPhysics(const BenchPhysicsArgs& args) {
                         {"rank", g},
                         {"preshape", placements[g].preshape},
                         {"r", optionalJson(row.r)},
+                        {"load_capacity", capacities[g]},
                         {"nominal_holds", row.nominal_holds},
                         {"failed_phase", row.failed_phase},
                         {"reason", at.nominal.reason},

@@ -152,6 +152,7 @@ struct RobustnessOptions {
   std::optional<std::string> screen_by;  // unset: the hand's ranking budget
   std::optional<int> confirm_samples;    // unset: the hand's ranking budget
   std::optional<double> mu;              // unset: the planner's --mu
+  bool no_load_check = false;
   RobustRefineOptions refine;
 
   void addTo(CLI::App& cmd) {
@@ -172,6 +173,9 @@ struct RobustnessOptions {
     // No shown default: unset means the planner's friction.
     cmd.add_option("--robustness-mu", mu, "Friction coefficient of r (default: --mu)")
         ->check(finiteIn(0, kMaxFriction));
+    cmd.add_flag("--no-load-check", no_load_check,
+                 "r counts force closure alone, not whether the grip carries the object's weight "
+                 "(the paper's and reference variants never check it)");
     refine.addTo(cmd);
   }
 
@@ -187,6 +191,11 @@ struct RobustnessOptions {
     p.robustness.samples = samples;
     p.robustness.variant = ranking::parseRobustnessVariant(variant);
     p.robustness.seed = seed;
+    // The paper's criterion is force closure: its variants (paper, reference) stay as published.
+    if (no_load_check || p.robustness.variant == ranking::RobustnessVariant::kPaper ||
+        p.robustness.variant == ranking::RobustnessVariant::kReference) {
+      p.robustness.load.reset();
+    }
     p.friction = mu;
     refine.applyTo(p.refinement);
     return p;

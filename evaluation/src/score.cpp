@@ -103,6 +103,7 @@ nlohmann::json robustnessJson(const std::optional<ranking::RobustnessResult>& r)
           {"settled_holds", r->settled_holds},
           {"closing_failures", r->closing_failures},
           {"no_force_closure", r->no_force_closure},
+          {"too_weak", r->too_weak},
           {"time_s", r->time_s}};
 }
 

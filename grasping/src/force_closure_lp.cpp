@@ -201,4 +201,56 @@ SqueezeLpResult solveSqueezeLp(const std::vector<Wrench>& wrenches, const std::v
   return result;
 }
 
+LoadLpResult solveLoadLp(const std::vector<Wrench>& columns, const Wrench& load,
+                         const Eigen::MatrixXd& limits, const Eigen::VectorXd& bounds,
+                         double max_scale) {
+  const int n = static_cast<int>(columns.size());
+  if (limits.cols() != n || limits.rows() != bounds.size())
+    throw InvalidArgument("load LP: one limit column per wrench and one bound per limit row");
+  if (!load.allFinite() || !limits.allFinite() || !bounds.allFinite() ||
+      !(bounds.array() >= 0).all() || !(max_scale > 0) || !std::isfinite(max_scale))
+    throw InvalidArgument("load LP: non-finite load, limits or bounds, or a negative bound");
+  for (const auto& w : columns) {
+    if (!w.allFinite()) throw InvalidArgument("load LP: non-finite wrench");
+  }
+  thread_local const GlpkEnvironmentRelease release_at_thread_exit;
+  const QuietGlpk quiet;
+  const int m = static_cast<int>(limits.rows());
+  std::unique_ptr<glp_prob, ProblemDeleter> problem(glp_create_prob());
+  glp_prob* lp = problem.get();
+  glp_set_obj_dir(lp, GLP_MAX);
+  glp_add_rows(lp, kWrenchRows + std::max(m, 0));
+  for (int row = 1; row <= kWrenchRows; ++row) glp_set_row_bnds(lp, row, GLP_FX, 0.0, 0.0);
+  for (int r = 0; r < m; ++r) {
+    const double b = bounds[r];
+    glp_set_row_bnds(lp, kWrenchRows + 1 + r, b > 0 ? GLP_DB : GLP_FX, -b, b);
+  }
+  glp_add_cols(lp, n + 1);
+  Triplets matrix;
+  for (int c = 0; c < n; ++c) {
+    const int col = c + 1;
+    glp_set_col_bnds(lp, col, GLP_LO, 0.0, 0.0);
+    for (int k = 0; k < kWrenchRows; ++k) matrix.add(k + 1, col, columns[c][k]);
+    for (int r = 0; r < m; ++r) matrix.add(kWrenchRows + 1 + r, col, limits(r, c));
+  }
+  const int scale_col = n + 1;
+  glp_set_col_bnds(lp, scale_col, GLP_DB, 0.0, max_scale);
+  glp_set_obj_coef(lp, scale_col, 1.0);
+  for (int k = 0; k < kWrenchRows; ++k) matrix.add(k + 1, scale_col, load[k]);
+  matrix.loadInto(lp);
+  glp_smcp options;
+  glp_init_smcp(&options);
+  options.msg_lev = GLP_MSG_OFF;
+  options.presolve = GLP_OFF;
+  LoadLpResult result;
+  const int code = glp_simplex(lp, &options);
+  if (code != 0 || glp_get_status(lp) != GLP_OPT) {
+    result.error = "glp_simplex failed (code " + std::to_string(code) + ", status " +
+                   std::to_string(glp_get_status(lp)) + ")";
+    return result;
+  }
+  result.scale = glp_get_obj_val(lp);
+  return result;
+}
+
 }  // namespace skelgrasp::grasping

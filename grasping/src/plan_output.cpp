@@ -54,7 +54,8 @@ nlohmann::json graspToJson(const Grasp& g, const HandModel& hand) {
                          {"failures",
                           {{"start_collision", r.start_collisions},
                            {"closing", r.closing_failures},
-                           {"no_force_closure", r.no_force_closure}}},
+                           {"no_force_closure", r.no_force_closure},
+                           {"too_weak", r.too_weak}}},
                          {"settled_holds", r.settled_holds}};
     if (r.refinement) {
       const GraspRobustRefinement& f = *r.refinement;

@@ -237,12 +237,9 @@ struct Scene::Impl {
       const int index = static_cast<int>(l) == hand_model.rootLink() ? -1 : link_to_multibody[l];
       auto collider = std::make_unique<btMultiBodyLinkCollider>(hand.get(), index);
       collider->setCollisionShape(shape);
-      // A pair's friction is the product of the two bodies': the object's mu. Its torsional
-      // friction (a patch resisting a twist about its normal) is the link's length times the
-      // object's mu: the hand's soft-finger contact model (ClosingDefaults::torsional_friction_m),
-      // as the quality measure's.
+      // A pair's friction is the product of the two bodies': the object's mu (its torsional
+      // friction is set on the object, buildObject).
       collider->setFriction(1.0);
-      collider->setSpinningFriction(hand_model.closingDefaults().torsional_friction_m);
       collider->setRestitution(0.0);
       collider->setUserIndex(static_cast<int>(l));
       world.addCollisionObject(collider.get(), kHandGroup, kObjectGroup);
@@ -314,14 +311,30 @@ struct Scene::Impl {
     const Eigen::Matrix3d axes = body_in_object.linear();
     const Eigen::Vector3d principal =
         (axes.transpose() * physical_object->inertia() * axes).diagonal().cwiseMax(1e-12);
-    body_mesh = surface.borrowBodyMesh();
-    btGImpactCollisionAlgorithm::registerAlgorithm(&dispatcher);
-    // A fixed object is a static body (mass 0 to the engine).
+    // A fixed object is a static body (mass 0 to the engine) colliding as the static triangle mesh
+    // with its bounding-volume tree, in the object frame; a free one as its GImpact mesh in the
+    // body frame.
+    btCollisionShape* shape = nullptr;
+    Pose body_pose = state.pose * body_in_object;
+    if (state.fixed) {
+      shape = surface.staticMesh();
+      body_in_object = Pose::Identity();
+      body_pose = state.pose;
+    } else {
+      body_mesh = surface.borrowBodyMesh();
+      btGImpactCollisionAlgorithm::registerAlgorithm(&dispatcher);
+      shape = body_mesh->shape.get();
+    }
     const double mass = state.fixed ? 0.0 : physical_object->massKg();
     btRigidBody::btRigidBodyConstructionInfo info(
-        mass, nullptr, body_mesh->shape.get(), state.fixed ? btVector3(0, 0, 0) : toBt(principal));
-    info.m_startWorldTransform = toBt(state.pose * body_in_object);
+        mass, nullptr, shape, state.fixed ? btVector3(0, 0, 0) : toBt(principal));
+    info.m_startWorldTransform = toBt(body_pose);
     info.m_friction = friction;
+    // The engine's torsional friction of a pair is the object's spinning friction times the link's
+    // friction (1): a patch resists a twist about its normal up to this length times the normal
+    // force, the hand's soft-finger contact model (ClosingDefaults::torsional_friction_m) as the
+    // quality measure's.
+    info.m_spinningFriction = hand_model.closingDefaults().torsional_friction_m;
     info.m_restitution = 0.0;
     info.m_linearDamping = 0.0;
     info.m_angularDamping = 0.0;

@@ -10,6 +10,7 @@
 #include "bullet_scene.h"
 #include "bullet_shapes.h"
 #include "skelgrasp/common/error.h"
+#include "skelgrasp/grasping/hand_strength.h"
 
 namespace skelgrasp::physics {
 namespace {
@@ -25,9 +26,9 @@ constexpr double kPrismaticSpeedPerRadian = 0.05;
 // A link touches the object when a contact point lies within this distance (m).
 constexpr double kTouchDistanceM = 0.001;
 // Once closed, each finger joint holds its grip as a spring towards a point beyond where it
-// stopped: it presses with this share of its torque limit and can press harder by the rest
-// before it gives way.
-constexpr double kGripShare = 0.5;
+// stopped: it presses with grasping::kGripTorqueShare of its torque limit and can press harder by
+// the rest before it gives way.
+constexpr double kGripShare = grasping::kGripTorqueShare;
 // The springs' requested stiffness: the full torque limit at this angle (rad) or, for prismatic
 // joints, at this distance (m) from the target.
 constexpr double kGripAngleRad = 0.1;
@@ -42,6 +43,9 @@ constexpr double kClosingTorqueShare = 0.2;
 // slower than this share of its closing speed for kBlockedTimeS.
 constexpr double kBlockedSpeedShare = 0.2;
 constexpr double kBlockedTimeS = 0.02;
+// ... counted from this long after the closing starts (s): a servo takes a few steps to bring its
+// joint (and the drive's inertia) up to speed.
+constexpr double kServoStartupTimeS = 0.1;
 
 double threadCpuSeconds() {
   timespec now{};
@@ -78,46 +82,6 @@ void validate(const JudgeParams& p) {
   if (longest / p.time_step_s > 1e6) {
     throw InvalidArgument("physics: more than 1e6 steps per phase; raise time_step_s");
   }
-}
-
-// Every link below `link` in the tree (itself included).
-std::vector<int> subtreeLinks(const HandModel& hand, int link) {
-  std::vector<int> links = {link};
-  for (std::size_t k = 0; k < links.size(); ++k) {
-    for (const auto& joint : hand.joints()) {
-      if (joint.parent_link == links[k]) links.push_back(joint.child_link);
-    }
-  }
-  return links;
-}
-
-// The corners of a link shape's box in the link frame.
-std::vector<Eigen::Vector3d> shapeCorners(const grasping::CollisionShape& shape) {
-  Eigen::Vector3d half = Eigen::Vector3d::Zero();
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-  switch (shape.type) {
-    case grasping::ShapeType::kBox:
-      half = 0.5 * shape.box_size;
-      break;
-    case grasping::ShapeType::kSphere:
-      half = Eigen::Vector3d::Constant(shape.radius);
-      break;
-    case grasping::ShapeType::kCylinder:
-      half = Eigen::Vector3d(shape.radius, shape.radius, 0.5 * shape.length);
-      break;
-    case grasping::ShapeType::kMesh: {
-      const AxisAlignedBox box = shape.mesh->bounds();
-      half = 0.5 * box.extent();
-      centre = box.center();
-      break;
-    }
-  }
-  std::vector<Eigen::Vector3d> corners;
-  for (int i = 0; i < 8; ++i) {
-    const Eigen::Vector3d sign((i & 1) ? 1 : -1, (i & 2) ? 1 : -1, (i & 4) ? 1 : -1);
-    corners.push_back(shape.origin * (centre + sign.cwiseProduct(half)));
-  }
-  return corners;
 }
 
 double rotationAngle(const Eigen::Matrix3d& rotation) {
@@ -236,33 +200,7 @@ const char* toString(ExecutionPhase phase) {
 }
 
 std::vector<double> jointTorqueLimits(const HandModel& hand, const JudgeParams& params) {
-  const double force = params.fingertip_force_n.value_or(
-      hand.strength().fingertip_force_n.value_or(kDefaultFingertipForceN));
-  const auto& joints = hand.joints();
-  const auto poses = hand.linkPoses(hand.zeroConfiguration());
-  std::vector<double> limits(joints.size(), 0.0);
-  for (std::size_t j = 0; j < joints.size(); ++j) {
-    const auto& joint = joints[j];
-    if (!joint.movable()) continue;
-    if (joint.type == JointType::kPrismatic) {
-      limits[j] = force;
-      continue;
-    }
-    // The lever: the farthest point of the links the joint moves from its axis.
-    const Pose frame = poses[joint.parent_link] * joint.origin;
-    const Eigen::Vector3d axis = (frame.linear() * joint.axis).normalized();
-    double lever = 0;
-    for (int link : subtreeLinks(hand, joint.child_link)) {
-      for (const auto& shape : hand.links()[link].shapes) {
-        for (const auto& corner : shapeCorners(shape)) {
-          const Eigen::Vector3d r = poses[link] * corner - frame.translation();
-          lever = std::max(lever, (r - r.dot(axis) * axis).norm());
-        }
-      }
-    }
-    limits[j] = force * lever;
-  }
-  return limits;
+  return grasping::jointTorqueLimits(hand, params.fingertip_force_n);
 }
 
 ExecutionResult executeGrasp(const HandModel& hand, const PhysicalObject& object,
@@ -316,6 +254,7 @@ ExecutionResult executeGrasp(const HandModel& hand, const PhysicalObject& object
   // its grip there. The object is held where it is meanwhile, as the planners assume (on a support,
   // or in a fixture): which finger happens to touch first does not shove it.
   const int blocked_steps = stepsFor(kBlockedTimeS, params);
+  const int startup_steps = stepsFor(kServoStartupTimeS, params);
   auto current = drives;
   std::vector<int> slow(current.size(), 0);
   const auto grip = [&](std::size_t j) {
@@ -334,7 +273,9 @@ ExecutionResult executeGrasp(const HandModel& hand, const PhysicalObject& object
       // Speed towards closing: a joint pushed back counts as blocked too.
       const double speed =
           closing.jointSpeed(static_cast<int>(j)) * (current[j].velocity > 0 ? 1 : -1);
-      slow[j] = speed < kBlockedSpeedShare * std::abs(current[j].velocity) ? slow[j] + 1 : 0;
+      const bool starting = s < startup_steps;
+      slow[j] =
+          !starting && speed < kBlockedSpeedShare * std::abs(current[j].velocity) ? slow[j] + 1 : 0;
       if (slow[j] >= blocked_steps) {
         grip(j);
       } else {

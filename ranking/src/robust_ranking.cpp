@@ -320,6 +320,7 @@ grasping::GraspRobustness graspRobustness(const RobustnessResult& result,
   r.start_collisions = result.collisions - result.guarded_holds;
   r.closing_failures = result.closing_failures;
   r.no_force_closure = result.no_force_closure;
+  r.too_weak = result.too_weak;
   r.settled_holds = result.settled_holds;
   return r;
 }

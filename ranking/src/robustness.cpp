@@ -186,7 +186,18 @@ RobustnessResult evaluateSampleRange(grasping::GraspSimulator& simulator,
     kGuardedForceClosure,
     kSettledForceClosure,         // held after the object moved, from a free start
     kGuardedSettledForceClosure,  // the same after a guarded start
+    kTooWeak,                     // force closure, but the load check failed
     kSkipped
+  };
+  // The load check of a closing that reached force closure (params.load).
+  const grasping::QualityParams load_quality = quality;
+  const auto strongEnough = [&](const grasping::GraspSimulator& local, const Pose& hand_pose,
+                                const grasping::ClosingResult& closed) {
+    if (!params.load) return true;
+    const auto capacity =
+        grasping::loadCapacity(local.hand(), hand_pose, closed.joints, closed.contacts,
+                               local.object().centerOfMass(), load_quality, *params.load);
+    return capacity.error.empty() && capacity.min >= 1.0;
   };
   const auto heldOutcome = [](char outcome) {
     return outcome == kForceClosure || outcome == kGuardedForceClosure ||
@@ -212,6 +223,7 @@ RobustnessResult evaluateSampleRange(grasping::GraspSimulator& simulator,
       settling = grasping::settleGrasp(local, *start, preshape, closing, quality, params.settling);
     }
     if (settling.force_closure()) {
+      if (!strongEnough(local, settling.hand_pose, settling.closing)) return kTooWeak;
       if (settling.steps > 0) return collides ? kGuardedSettledForceClosure : kSettledForceClosure;
       return collides ? kGuardedForceClosure : kForceClosure;
     }
@@ -227,17 +239,21 @@ RobustnessResult evaluateSampleRange(grasping::GraspSimulator& simulator,
     // close() starts with the collision test of the open hand: one test per sample, not two.
     auto closed = local.close(hand_pose, preshape, closing);
     const bool collides = closed.reason == grasping::reason::kStartCollision;
+    std::optional<Pose> guardedStart;
     if (collides) {
       if (!guarded) return kCollision;
-      const std::optional<Pose> start =
+      guardedStart =
           guardedApproachStop(local, hand_pose, hand_pose.linear() * approach_in_hand, preshape);
-      if (!start) return kCollision;
-      closed = local.close(*start, preshape, closing);
+      if (!guardedStart) return kCollision;
+      closed = local.close(*guardedStart, preshape, closing);
     }
     // A guarded start that then fails is still a start in collision: the paper's pose was.
     if (!closed.status.ok()) return collides ? kCollision : kClosingFailed;
-    if (grasping::evaluateGrasp(closed.contacts, local.object(), quality).force_closure)
+    if (grasping::evaluateGrasp(closed.contacts, local.object(), quality).force_closure) {
+      const Pose at = collides ? Pose(*guardedStart) : hand_pose;
+      if (!strongEnough(local, at, closed)) return kTooWeak;
       return collides ? kGuardedForceClosure : kForceClosure;
+    }
     return collides ? kCollision : kNoForceClosure;
   };
   const auto runSample = [&](grasping::GraspSimulator& local, int i) {
@@ -268,6 +284,7 @@ RobustnessResult evaluateSampleRange(grasping::GraspSimulator& simulator,
     result.force_closure += heldOutcome(outcome);
     result.closing_failures += outcome == kClosingFailed;
     result.no_force_closure += outcome == kNoForceClosure;
+    result.too_weak += outcome == kTooWeak;
   }
   result.score = static_cast<double>(result.force_closure) / result.samples;
   std::tie(result.wilson_low, result.wilson_high) =

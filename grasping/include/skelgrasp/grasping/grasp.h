@@ -58,6 +58,8 @@ struct GraspRobustness {
   // Why the failed samples failed (they add up to samples - r * samples): the open hand started in
   // the object, the closing ended with too few contacts, or it closed without force closure.
   int start_collisions = 0, closing_failures = 0, no_force_closure = 0;
+  // With the load check: force closure reached, but the contacts cannot carry the weight.
+  int too_weak = 0;
   // Variant "settled": the holding samples that held only after the object moved in the hand.
   int settled_holds = 0;
   std::optional<GraspRobustRefinement> refinement;  // set when the search ran on this grasp

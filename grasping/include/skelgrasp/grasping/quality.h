@@ -132,6 +132,19 @@ SqueezeLpResult solveSqueezeLp(const std::vector<Wrench>& wrenches, const std::v
 // The residual's L1 norm at or below this (relative to a squeeze of 1 per group) is balance.
 constexpr double kSqueezeBalanceTolerance = 1e-7;
 
+// The largest multiple `scale` of `load` (a wrench on the object) that non-negative weights x of
+// `columns` (contact force edges as wrenches on the object, in physical units: N and N m) can
+// balance, sum_c x_c columns_c + scale load = 0, while every row r of `limits` keeps
+// |limits.row(r) x| <= bounds[r] (joint torques within their limits) and 0 <= scale <= max_scale.
+// error is non-empty when GLPK failed (scale then means nothing).
+struct LoadLpResult {
+  double scale = 0;
+  std::string error;
+};
+LoadLpResult solveLoadLp(const std::vector<Wrench>& columns, const Wrench& load,
+                         const Eigen::MatrixXd& limits, const Eigen::VectorXd& bounds,
+                         double max_scale);
+
 // Force closure by LP needs n l* > this (n wrenches; l* relative to its largest value 1/n). The
 // band (0, tolerance] is where the origin is on the hull's boundary up to rounding (GLPK's
 // simplex, Qhull's joggle); measurements: docs/hands.md.

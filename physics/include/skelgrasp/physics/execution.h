@@ -46,9 +46,9 @@ struct JudgeParams {
   double max_rotation_rad = radiansFromDegrees(15.0);
   // An open hand penetrating the object deeper than this at the start fails (m).
   double max_start_penetration_m = 0.001;
-  // Finger force limit at the fingertip (N, > 0) that sets each finger joint's torque limit where
-  // the hand's description gives none: torque = force x the joint's lever to its fingertip.
-  // Unset: the description's, else kDefaultFingertipForceN.
+  // Finger force limit at the fingertip (N, > 0) that sets each finger joint's torque limit:
+  // torque = force x the joint's lever to its fingertip (grasping/hand_strength.h). Unset: the
+  // hand's description's, else grasping::kDefaultFingertipForceN.
   std::optional<double> fingertip_force_n;
   // Closing speed of the finger joints (rad/s; prismatic joints: closing_speed x 0.05 m/s): a
   // finger that meets nothing reaches its limit well within closing_time_s.
@@ -57,10 +57,6 @@ struct JudgeParams {
   double time_step_s = 1.0 / 250.0;
   int solver_iterations = 30;
 };
-
-// A conservative fingertip force (N) for hands whose datasheet gives none: a judge stronger than
-// the real hand proves nothing (docs/physics.md, "Finger torques").
-inline constexpr double kDefaultFingertipForceN = 5.0;
 
 // Where an execution failed.
 enum class ExecutionPhase {
@@ -108,7 +104,8 @@ struct ExecutionResult {
 };
 
 // The torque limit of every joint of `hand` (N m, or N for prismatic joints; 0 for fixed joints)
-// under `params` (its fingertip force, else the hand's description, else the default).
+// under `params` (its fingertip force, else the hand's description's, else the default):
+// grasping::jointTorqueLimits.
 std::vector<double> jointTorqueLimits(const grasping::HandModel& hand, const JudgeParams& params);
 
 // Executes the grasp of `preshape` with the hand root at `hand_pose` (object frame). Throws

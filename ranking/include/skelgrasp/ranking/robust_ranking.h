@@ -25,9 +25,19 @@ inline constexpr int kDefaultScreenSamples = 10;
 inline constexpr int kDefaultConfirmSamples = 10;
 inline constexpr std::size_t kConfirmCandidatesPerScored = 2;
 
+// The load check of the ranking's r: the contacts must carry the object's weight (the physics
+// judge's 0.1 kg) in every direction with the fingers within their grip (kGripTorqueShare of their
+// torque limits), as the physics judge's closed hand grips it (docs/ranking.md, "Load check").
+inline grasping::LoadCapacityParams defaultLoadCheck() {
+  grasping::LoadCapacityParams load;
+  load.torque_share = grasping::kGripTorqueShare;
+  return load;
+}
+
 inline RobustnessParams defaultRankingRobustness() {
   RobustnessParams params;
   params.samples = kDefaultRankingSamples;
+  params.load = defaultLoadCheck();
   return params;
 }
 

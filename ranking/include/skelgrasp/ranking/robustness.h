@@ -9,6 +9,8 @@
 
 #include "skelgrasp/grasping/grasp.h"
 #include "skelgrasp/grasping/grasp_simulator.h"
+#include "skelgrasp/grasping/hand_strength.h"
+#include "skelgrasp/grasping/load_capacity.h"
 #include "skelgrasp/grasping/quality.h"
 #include "skelgrasp/grasping/settling.h"
 
@@ -45,6 +47,11 @@ struct RobustnessParams {
   grasping::QualityParams quality;
   grasping::ClosingParams closing;
   grasping::SettlingParams settling;  // kSettled only
+  // The load check: a sample that reaches force closure holds only when its contacts can also
+  // carry the object's weight along +-x, +-y, +-z with every finger joint within this share of its
+  // torque limit (grasping/load_capacity.h; capacity >= 1). Force closure alone assumes fingers of
+  // unbounded strength. Unset: force closure alone (the paper's criterion).
+  std::optional<grasping::LoadCapacityParams> load;
 };
 
 // The pose error standard deviations `params` stands for: its own, or its variant's defaults.
@@ -53,7 +60,8 @@ double orientationSigmaRad(const RobustnessParams& params);
 
 struct RobustnessResult {
   int samples = 0;
-  int force_closure = 0;  // samples that closed to force closure
+  // Samples that held: closed to force closure (and, with the load check, carried the weight).
+  int force_closure = 0;
   // Samples whose perturbed preshape pose hit the object: failures, except in kGuarded, which
   // backs them off and closes (guarded_holds of them then reached force closure).
   int collisions = 0;
@@ -67,13 +75,16 @@ struct RobustnessResult {
   // hold (collisions - guarded_holds) they add up to samples - force_closure, unless gave_up.
   int closing_failures = 0;
   int no_force_closure = 0;
+  // With the load check: samples that reached force closure but whose contacts cannot carry the
+  // object's weight in every direction (failures too, in the sum above).
+  int too_weak = 0;
   // evaluateRobustness's max_failures was exceeded: the counts (and score, interval) cover only
   // the samples run, and all that is known is that r < 1 - max_failures / samples.
   bool gave_up = false;
   // Per sample, in sample order: whether it held (false also for a sample skipped after
   // max_failures). With samplePoseError this says where around the grasp the holds lie.
   std::vector<bool> held;
-  double score = 0;                        // r = force_closure / samples
+  double score = 0;  // r = force_closure / samples (held: force closure and, checked, the weight)
   double wilson_low = 0, wilson_high = 0;  // 95 % Wilson score interval of r
   double time_s = 0;
 };
