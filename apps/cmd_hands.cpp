@@ -15,10 +15,10 @@
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/common/pose.h"
-#include "skelgrasp/grasping/contacts_io.h"
-#include "skelgrasp/grasping/grasp_simulator.h"
 #include "skelgrasp/grasping/hand_render.h"
-#include "skelgrasp/grasping/quality.h"
+#include "skelgrasp/grasping/io/contacts_io.h"
+#include "skelgrasp/grasping/quality/quality.h"
+#include "skelgrasp/grasping/simulation/grasp_simulator.h"
 #include "skelgrasp/ranking/robust_ranking.h"
 
 namespace skelgrasp::cli {

@@ -13,7 +13,7 @@
 #include "skeleton_options.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/evaluation/plan_record.h"
-#include "skelgrasp/grasping/plan_output.h"
+#include "skelgrasp/grasping/io/plan_output.h"
 #include "skelgrasp/ranking/plan_grasps.h"
 
 namespace skelgrasp::cli {

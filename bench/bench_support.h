@@ -5,7 +5,7 @@
 
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/common/primitives.h"
-#include "skelgrasp/grasping/grasp_simulator.h"
+#include "skelgrasp/grasping/simulation/grasp_simulator.h"
 
 namespace skelgrasp::bench {
 

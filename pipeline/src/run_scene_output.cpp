@@ -14,7 +14,7 @@
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/render.h"
 #include "skelgrasp/grasping/hand_render.h"
-#include "skelgrasp/grasping/plan_output.h"
+#include "skelgrasp/grasping/io/plan_output.h"
 #include "skelgrasp/pipeline/run_output.h"
 #include "skelgrasp/reconstruction/meshing.h"
 #include "skelgrasp/skeleton/output.h"

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "skelgrasp/common/primitives.h"
-#include "skelgrasp/grasping/planners.h"
+#include "skelgrasp/grasping/planning/planners.h"
 #include "skelgrasp/skeleton/extraction.h"
 
 namespace skelgrasp::evaluation {

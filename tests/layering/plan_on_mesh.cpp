@@ -3,8 +3,8 @@
 #include <iostream>
 
 #include "skelgrasp/common/primitives.h"
-#include "skelgrasp/grasping/grasp_object.h"
-#include "skelgrasp/grasping/planners.h"
+#include "skelgrasp/grasping/planning/planners.h"
+#include "skelgrasp/grasping/simulation/grasp_object.h"
 #include "skelgrasp/skeleton/extraction.h"
 
 int main() {

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "skelgrasp/common/primitives.h"
-#include "skelgrasp/grasping/planners.h"
+#include "skelgrasp/grasping/planning/planners.h"
 #include "skelgrasp/ranking/robust_ranking.h"
 #include "skelgrasp/skeleton/extraction.h"
 

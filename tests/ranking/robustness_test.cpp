@@ -11,7 +11,7 @@
 #include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/pose.h"
 #include "skelgrasp/common/primitives.h"
-#include "skelgrasp/grasping/planners.h"
+#include "skelgrasp/grasping/planning/planners.h"
 #include "skelgrasp/skeleton/extraction.h"
 
 namespace skelgrasp::ranking {

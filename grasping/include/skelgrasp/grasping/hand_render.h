@@ -5,7 +5,7 @@
 
 #include "skelgrasp/common/render.h"
 #include "skelgrasp/grasping/contact.h"
-#include "skelgrasp/grasping/hand_model.h"
+#include "skelgrasp/grasping/hand/hand_model.h"
 
 namespace skelgrasp::grasping {
 
