@@ -2,14 +2,14 @@
 // dependencies are checked by the Layering test (tests/CMakeLists.txt): no PCL, no VTK.
 #include <iostream>
 
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/grasping/planning/planners.h"
 #include "skelgrasp/grasping/simulation/grasp_object.h"
 #include "skelgrasp/skeleton/extraction.h"
 
 int main() {
   using namespace skelgrasp;
-  const TriangleMesh mesh = primitives::makeNamedShape("bottle");
+  const TriangleMesh mesh = geometry::shapes::makeNamedShape("bottle");
   const auto skeleton = skeleton::extractSkeleton(mesh);
   if (!skeleton.status.ok()) return 1;
   const auto hand = grasping::loadBuiltinHand("armar3");

@@ -9,7 +9,7 @@
 #include "real_hand_urdf.h"
 #include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/grasping/quality/quality.h"
 #include "skelgrasp/grasping/simulation/grasp_simulator.h"
 #include "test_support.h"
@@ -64,8 +64,8 @@ TEST_P(RealHands, ClosingWithRealMeshesIsCloseToThePrimitiveApproximation) {
   const HandModel real = loadRealHand(GetParam());
   const HandModel ours = loadBuiltinHand(GetParam().builtin);
   std::vector<std::pair<std::string, TriangleMesh>> objects = {
-      {"cylinder", primitives::makeCylinder(0.03, 0.2, 48, 10)},
-      {"box", primitives::makeBox({0.05, 0.07, 0.15}, 3)}};
+      {"cylinder", geometry::shapes::makeCylinder(0.03, 0.2, 48, 10)},
+      {"box", geometry::shapes::makeBox({0.05, 0.07, 0.15}, 3)}};
   objects.emplace_back("mustard",
                        loadMesh(test::sharedDataDir() + "/objects/ycb/006_mustard_bottle.ply"));
   double joint_error_sum = 0;

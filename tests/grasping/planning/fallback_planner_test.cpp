@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "skelgrasp/common/primitives.h"
 #include "skelgrasp/geometry/principal_axes.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/grasping/planning/planners.h"
 #include "skelgrasp/grasping/planning/scene.h"
 #include "skelgrasp/skeleton/extraction.h"
@@ -26,10 +26,10 @@ constexpr double kDiscThicknessM = 0.015;
 constexpr std::size_t kWantedGrasps = 5;  // issue 16: >= 5 force-closure grasps per hand
 
 TriangleMesh ball() {
-  return primitives::makeSphere(kBallRadiusM, 48, 24);
+  return geometry::shapes::makeSphere(kBallRadiusM, 48, 24);
 }
 TriangleMesh disc() {
-  return primitives::makeCylinder(kDiscRadiusM, kDiscThicknessM, 64, 3);
+  return geometry::shapes::makeCylinder(kDiscRadiusM, kDiscThicknessM, 64, 3);
 }
 
 struct Planned {
@@ -104,7 +104,7 @@ INSTANTIATE_TEST_SUITE_P(FallbackPlanner, PaperHand, ::testing::Values("armar3",
 
 TEST(FallbackPlanner, CapsuleServedByTheSkeletonIsLeftAlone) {
   const HandModel hand = loadBuiltinHand("armar3");
-  const TriangleMesh capsule = primitives::makeCapsule(0.03, 0.14, 48);
+  const TriangleMesh capsule = geometry::shapes::makeCapsule(0.03, 0.14, 48);
   SkeletonPlannerParams no_centre;
   no_centre.centre_candidates = false;
   no_centre.surface_candidates = 0;
@@ -144,7 +144,7 @@ std::vector<std::string> skeletonGraspKeys(const PlanResult& r) {
 // others, and recorded as nobody's rejection.
 TEST(FallbackPlanner, CentreCandidatesAddPowerAndPrecisionGraspsAboutTheCentre) {
   const HandModel hand = loadBuiltinHand("armar3");
-  const TriangleMesh capsule = primitives::makeCapsule(0.03, 0.14, 48);
+  const TriangleMesh capsule = geometry::shapes::makeCapsule(0.03, 0.14, 48);
   SkeletonPlannerParams with_centre;  // the centre candidates alone join the pool here
   with_centre.surface_candidates = 0;
   SkeletonPlannerParams no_centre = with_centre;
@@ -176,7 +176,7 @@ TEST(FallbackPlanner, CentreCandidatesAddPowerAndPrecisionGraspsAboutTheCentre) 
 // only those.
 TEST(FallbackPlanner, AlternativePreshapesOnlyAddGraspsOfTheirOwnPreshape) {
   const HandModel sdh = loadBuiltinHand("sdh");
-  const TriangleMesh capsule = primitives::makeCapsule(0.03, 0.14, 48);
+  const TriangleMesh capsule = geometry::shapes::makeCapsule(0.03, 0.14, 48);
   SkeletonPlannerParams with_alternatives;
   with_alternatives.surface_candidates = 0;  // the surface planner closes "power" only
   SkeletonPlannerParams without = with_alternatives;
@@ -242,13 +242,13 @@ TEST(FallbackPlanner, SmallObjectPreshapesCloseOnSmallObjectsOnly) {
     return std::count_if(r.grasps.begin(), r.grasps.end(),
                          [](const Grasp& g) { return g.preshape == "narrow_tripod"; });
   };
-  const auto small = planOn(primitives::makeSphere(radius_m, 48, 24), sdh);
+  const auto small = planOn(geometry::shapes::makeSphere(radius_m, 48, 24), sdh);
   EXPECT_LE(small.object->principalLengthM(), limit_m);
   EXPECT_GT(narrow(small.result), 0);
   expectSound(small.result, sdh, *small.object);
   SkeletonPlannerParams params;
   params.surface_candidates = 0;  // the surface planner closes "power" only
-  const TriangleMesh capsule = primitives::makeCapsule(radius_m, limit_m, 48);
+  const TriangleMesh capsule = geometry::shapes::makeCapsule(radius_m, limit_m, 48);
   const auto longer = planOn(capsule, sdh, params);
   EXPECT_GT(longer.object->principalLengthM(), limit_m);
   EXPECT_EQ(narrow(longer.result), 0);
@@ -260,14 +260,15 @@ TEST(FallbackPlanner, SmallObjectPreshapesCloseOnSmallObjectsOnly) {
 // its orientation; a ball's is its diameter (any axis will do), and a mesh without area, with no
 // axes, gets its bounding box diagonal rather than its length along an arbitrary axis.
 TEST(FallbackPlanner, ObjectLengthIsTheLengthAlongTheLongestPrincipalAxis) {
-  const TriangleMesh box = primitives::makeBox(Eigen::Vector3d(0.12, 0.05, 0.03));
+  const TriangleMesh box = geometry::shapes::makeBox(Eigen::Vector3d(0.12, 0.05, 0.03));
   EXPECT_NEAR(GraspObject(box).principalLengthM(), 0.12, 1e-9);
   TriangleMesh turned = box;
   const Eigen::Matrix3d rotation =
       (Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized())).toRotationMatrix();
   for (auto& v : turned.vertices) v = rotation * v + Eigen::Vector3d(0.3, -0.2, 0.1);
   EXPECT_NEAR(GraspObject(turned).principalLengthM(), 0.12, 1e-9);
-  EXPECT_NEAR(GraspObject(primitives::makeSphere(0.02, 48, 24)).principalLengthM(), 0.04, 1e-3);
+  EXPECT_NEAR(GraspObject(geometry::shapes::makeSphere(0.02, 48, 24)).principalLengthM(), 0.04,
+              1e-3);
   TriangleMesh sliver;
   sliver.vertices = {{0, 0, 0}, {0, 0.05, 0}, {0, 0.1, 0}};
   sliver.faces = {{0, 1, 2}};
@@ -279,7 +280,7 @@ TEST(FallbackPlanner, ObjectLengthIsTheLengthAlongTheLongestPrincipalAxis) {
 // larger half, the centre candidates fill up the rest.
 TEST(FallbackPlanner, CentreCandidatesGetTheRestOfAGraspLimit) {
   const HandModel hand = loadBuiltinHand("armar3");
-  const TriangleMesh capsule = primitives::makeCapsule(0.03, 0.14, 48);
+  const TriangleMesh capsule = geometry::shapes::makeCapsule(0.03, 0.14, 48);
   for (std::size_t limit : {1u, 5u}) {
     SkeletonPlannerParams limited;
     limited.max_grasps = limit;
@@ -298,7 +299,7 @@ TEST(FallbackPlanner, CentreCandidatesGetTheRestOfAGraspLimit) {
 TEST(FallbackPlanner, CentreCandidatesOfAGripperArePrecisionGrasps) {
   const HandModel hand = loadBuiltinHand("parallel_gripper");
   ASSERT_FALSE(hand.thresholds().power.has_value());
-  const TriangleMesh capsule = primitives::makeCapsule(0.02, 0.10, 48);
+  const TriangleMesh capsule = geometry::shapes::makeCapsule(0.02, 0.10, 48);
   const auto p = planOn(capsule, hand);
   std::size_t centre = 0;
   for (const auto& g : p.result.grasps) {
@@ -314,7 +315,7 @@ TEST(FallbackPlanner, CentreCandidatesOfAGripperArePrecisionGrasps) {
 // their own strategy name; the other strategies' grasps are unchanged.
 TEST(FallbackPlanner, SurfaceCandidatesJoinThePool) {
   const HandModel hand = loadBuiltinHand("armar3");
-  const TriangleMesh capsule = primitives::makeCapsule(0.03, 0.14, 48);
+  const TriangleMesh capsule = geometry::shapes::makeCapsule(0.03, 0.14, 48);
   ASSERT_EQ(SkeletonPlannerParams{}.surface_candidates, 50u);
   SkeletonPlannerParams with_surface, without_surface;
   constexpr std::size_t kSurfaceHypotheses = 30;
@@ -450,7 +451,7 @@ TEST(FallbackPlanner, TopStrategyComesFromAboveWhenThereIsASupportPlane) {
 TEST(FallbackPlanner, TopPosesAreAlsoTriedCentredBetweenTheFacesTheFingersCloseOn) {
   const HandModel hand = loadBuiltinHand("parallel_gripper");
   constexpr double kCircumradiusM = 0.04, kPlateHeightM = 0.02;
-  TriangleMesh plate = primitives::makeCylinder(kCircumradiusM, kPlateHeightM, 3, 2);
+  TriangleMesh plate = geometry::shapes::makeCylinder(kCircumradiusM, kPlateHeightM, 3, 2);
   plate.transform(Pose(Eigen::Translation3d(0, 0, kPlateHeightM / 2)));  // lying on z = 0
   const GraspObject object(plate);
   const SceneChecker table(hand, nullptr, SupportPlane{Eigen::Vector4d(0, 0, 1, 0)});

@@ -4,7 +4,7 @@
 #include <numeric>
 
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/grasping/planning/planners.h"
 #include "skelgrasp/skeleton/extraction.h"
 #include "test_support.h"
@@ -64,7 +64,7 @@ SkeletonPlannerParams skeletonStrategiesOnly() {
 TEST(SkeletonPlanner, CylinderGetsPowerGraspsApproachingAcrossTheAxis) {
   const HandModel hand = loadBuiltinHand("armar3");
   const SkeletonPlannerParams skeleton_only = skeletonStrategiesOnly();
-  const auto p = planOn(primitives::makeCylinder(0.035, 0.2, 48, 10), hand, skeleton_only);
+  const auto p = planOn(geometry::shapes::makeCylinder(0.035, 0.2, 48, 10), hand, skeleton_only);
   ASSERT_FALSE(p.result.grasps.empty());
   expectConsistent(p.result, hand, *p.object);
   std::size_t across = 0;
@@ -87,7 +87,7 @@ TEST(SkeletonPlanner, CylinderGetsPowerGraspsApproachingAcrossTheAxis) {
 TEST(SkeletonPlanner, ThinRodGetsOnlyPrecisionGrasps) {
   const HandModel hand = loadBuiltinHand("armar3");
   const SkeletonPlannerParams skeleton_only = skeletonStrategiesOnly();
-  const auto p = planOn(primitives::makeCylinder(0.005, 0.16, 16, 20), hand, skeleton_only);
+  const auto p = planOn(geometry::shapes::makeCylinder(0.005, 0.16, 16, 20), hand, skeleton_only);
   ASSERT_FALSE(p.result.grasps.empty());
   expectConsistent(p.result, hand, *p.object);
   for (const auto& g : p.result.grasps) EXPECT_EQ(g.type, GraspType::kPrecision);
@@ -96,7 +96,7 @@ TEST(SkeletonPlanner, ThinRodGetsOnlyPrecisionGrasps) {
 
 TEST(SkeletonPlanner, PrecisionRetreatBacksPrecisionGraspsOffFurther) {
   const HandModel hand = loadBuiltinHand("armar3");
-  const TriangleMesh rod = primitives::makeCylinder(0.005, 0.16, 16, 20);
+  const TriangleMesh rod = geometry::shapes::makeCylinder(0.005, 0.16, 16, 20);
   SkeletonPlannerParams params;
   params.precision_retreat_m = 0.008;
   params.fallback = false;
@@ -112,7 +112,7 @@ TEST(SkeletonPlanner, PrecisionRetreatBacksPrecisionGraspsOffFurther) {
 
 TEST(SkeletonPlanner, BoxGetsRectangularGraspsAlongItsPrincipalAxes) {
   const HandModel hand = loadBuiltinHand("armar3");
-  const auto p = planOn(primitives::makeBox({0.05, 0.09, 0.26}, 6), hand);
+  const auto p = planOn(geometry::shapes::makeBox({0.05, 0.09, 0.26}, 6), hand);
   ASSERT_FALSE(p.result.grasps.empty());
   expectConsistent(p.result, hand, *p.object);
   std::size_t rectangular = 0;
@@ -128,7 +128,7 @@ TEST(SkeletonPlanner, BoxGetsRectangularGraspsAlongItsPrincipalAxes) {
 
 TEST(SkeletonPlanner, MugGetsGraspsOnBodyAndHandle) {
   const HandModel hand = loadBuiltinHand("armar3");
-  const auto p = planOn(primitives::makeNamedShape("mug"), hand);
+  const auto p = planOn(geometry::shapes::makeNamedShape("mug"), hand);
   expectConsistent(p.result, hand, *p.object);
   std::size_t handle = 0, body = 0;
   for (const auto& g : p.result.grasps) {
@@ -142,7 +142,7 @@ TEST(SkeletonPlanner, MugGetsGraspsOnBodyAndHandle) {
 
 TEST(SkeletonPlanner, IsDeterministicForASeedAndHonoursLimits) {
   const HandModel hand = loadBuiltinHand("sdh");
-  const TriangleMesh mesh = primitives::makeNamedShape("bottle");
+  const TriangleMesh mesh = geometry::shapes::makeNamedShape("bottle");
   SkeletonPlannerParams params;
   params.max_grasps = 10;
   params.seed = 7;
@@ -164,7 +164,7 @@ TEST(SkeletonPlanner, IsDeterministicForASeedAndHonoursLimits) {
 TEST(SkeletonPlanner, ExplainsWhyNothingWasFound) {
   // The gripper opens 8 cm: nothing about a 20 cm ball fits its thresholds.
   const HandModel hand = loadBuiltinHand("parallel_gripper");
-  const auto p = planOn(primitives::makeSphere(0.1), hand);
+  const auto p = planOn(geometry::shapes::makeSphere(0.1), hand);
   EXPECT_TRUE(p.result.grasps.empty());
   EXPECT_EQ(p.result.status.code, StatusCode::kNoResult);
   EXPECT_GT(p.result.summary.hypotheses, 0u);
@@ -177,7 +177,7 @@ TEST(SkeletonPlanner, ExplainsWhyNothingWasFound) {
 TEST(SkeletonPlanner, PointContactsCanBeAskedForOnASoftFingeredHand) {
   const HandModel hand = loadBuiltinHand("parallel_gripper");
   ASSERT_GT(hand.closingDefaults().torsional_friction_m, 0);
-  const TriangleMesh rod = primitives::makeCylinder(0.012, 0.12, 32, 12);
+  const TriangleMesh rod = geometry::shapes::makeCylinder(0.012, 0.12, 32, 12);
   // The same poses as the point-contact plan below.
   const SkeletonPlannerParams skeleton_only = skeletonStrategiesOnly();
   const auto soft = planOn(rod, hand, skeleton_only);  // nullopt: the hand's soft fingers
@@ -197,7 +197,7 @@ TEST(SkeletonPlanner, PointContactsCanBeAskedForOnASoftFingeredHand) {
 
 TEST(SurfacePlanner, SamplesTheRequestedHypothesesWithReasons) {
   const HandModel hand = loadBuiltinHand("armar3");
-  const GraspObject object(primitives::makeCylinder(0.035, 0.2, 48, 10));
+  const GraspObject object(geometry::shapes::makeCylinder(0.035, 0.2, 48, 10));
   SurfacePlannerParams params;
   params.max_hypotheses = 60;
   params.seed = 3;

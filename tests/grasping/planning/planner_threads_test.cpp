@@ -7,7 +7,7 @@
 #include <functional>
 
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/grasping/planning/fallback_planner.h"
 #include "skelgrasp/grasping/planning/planners.h"
 #include "skelgrasp/skeleton/extraction.h"
@@ -74,7 +74,7 @@ void expectSkeletonPlanIndependentOfThreads(const TriangleMesh& mesh, const std:
 
 TEST(PlannerThreads, SkeletonPlanIsTheSameOnOneAndManyThreads) {
   for (const char* shape : {"mug", "box", "ball"})
-    expectSkeletonPlanIndependentOfThreads(primitives::makeNamedShape(shape), shape);
+    expectSkeletonPlanIndependentOfThreads(geometry::shapes::makeNamedShape(shape), shape);
 }
 
 TEST(PlannerThreads, SkeletonPlanOfRealMeshesIsTheSameOnOneAndManyThreads) {
@@ -87,7 +87,7 @@ TEST(PlannerThreads, SkeletonPlanOfRealMeshesIsTheSameOnOneAndManyThreads) {
 }
 
 TEST(PlannerThreads, SurfacePlanDrawsTheSamePosesOnOneAndManyThreads) {
-  const TriangleMesh mesh = primitives::makeNamedShape("capsule");
+  const TriangleMesh mesh = geometry::shapes::makeNamedShape("capsule");
   const GraspObject object(mesh);
   const HandModel hand = loadBuiltinHand("armar3");
   SurfacePlannerParams params;

@@ -6,7 +6,7 @@
 #include <random>
 
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/grasping/planning/planners.h"
 #include "skelgrasp/grasping/planning/refinement.h"
 #include "skelgrasp/skeleton/extraction.h"
@@ -124,7 +124,7 @@ void printTally(const char* what, const Tally& t) {
 
 TEST(Refinement, NeverWorseThanTheSeedOnACapsule) {
   const HandModel hand = loadBuiltinHand("armar3");
-  const Tally t = checkNeverWorse(primitives::makeCapsule(0.03, 0.12, 32), hand, 40);
+  const Tally t = checkNeverWorse(geometry::shapes::makeCapsule(0.03, 0.12, 32), hand, 40);
   printTally("capsule", t);
   EXPECT_GE(t.refined_kept, t.seeds_kept);
   EXPECT_GT(t.seeds_kept, 0);
@@ -148,7 +148,7 @@ TEST(Refinement, NeverWorseThanTheSeedOnARealMesh) {
 // with the offset (0.14 centred, 0.33 at +15 mm), so it is no analytic case.
 TEST(Refinement, CentresAnOffCentrePowerGraspOnACylinder) {
   const HandModel hand = loadBuiltinHand("sdh");
-  const TriangleMesh mesh = primitives::makeCylinder(0.035, 0.2, 48, 10);
+  const TriangleMesh mesh = geometry::shapes::makeCylinder(0.035, 0.2, 48, 10);
   const GraspObject object(mesh);
   GraspSimulator simulator(hand, object);
   const Preshape& preshape = hand.preshape("power");
@@ -188,7 +188,7 @@ TEST(Refinement, CentresAnOffCentrePowerGraspOnACylinder) {
 
 std::vector<Grasp> planCapsule(const RefinementParams& refinement) {
   const HandModel hand = loadBuiltinHand("armar3");
-  const TriangleMesh mesh = primitives::makeCapsule(0.03, 0.12, 32);
+  const TriangleMesh mesh = geometry::shapes::makeCapsule(0.03, 0.12, 32);
   const GraspObject object(mesh);
   const auto skel = skeleton::extractSkeleton(mesh);
   SkeletonPlannerParams params;

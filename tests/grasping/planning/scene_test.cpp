@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 #include <set>
 
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/grasping/planning/hypothesis.h"
 #include "skelgrasp/grasping/planning/planners.h"
 #include "skelgrasp/skeleton/extraction.h"
@@ -53,7 +53,7 @@ TEST(SceneOccupancy, UnknownSpaceCanCountAsOccupied) {
 TEST(SceneCheck, ApproachesThroughAWallAreRejected) {
   // A cylinder standing on z = 0 with a wall 6 cm beyond its +x side; the sensor is at -x.
   const auto hand = loadBuiltinHand("armar3");
-  TriangleMesh mesh = primitives::makeCylinder(0.035, 0.2, 48, 10);
+  TriangleMesh mesh = geometry::shapes::makeCylinder(0.035, 0.2, 48, 10);
   mesh.transform(Eigen::Isometry3d(Eigen::Translation3d(0, 0, 0.1)));
   const GraspObject object(mesh);
   const SceneOccupancy scene(wall(0.095, 0.3, 0.35), Eigen::Vector3d(-0.8, 0, 0.3));
@@ -93,7 +93,7 @@ TEST(SceneCheck, TheSupportPlaneBlocksHandsBelowIt) {
 TEST(SceneCheck, HandsComingDownOntoTheTableAreLiftedOffIt) {
   const HandModel hand = loadBuiltinHand("parallel_gripper");
   constexpr double kBlockHeightM = 0.03, kCentreHeightM = 0.005;
-  TriangleMesh block = primitives::makeBox(Eigen::Vector3d(0.06, 0.03, kBlockHeightM), 2);
+  TriangleMesh block = geometry::shapes::makeBox(Eigen::Vector3d(0.06, 0.03, kBlockHeightM), 2);
   block.transform(Pose(Eigen::Translation3d(0, 0, kBlockHeightM / 2)));  // standing on z = 0
   const GraspObject object(block);
   GraspSimulator simulator(hand, object);

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "skelgrasp/common/pose.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/grasping/quality/quality.h"
 #include "skelgrasp/grasping/simulation/grasp_simulator.h"
 
@@ -16,7 +16,7 @@ namespace {
 // closing along x across the 5 cm width.
 struct GripperOnBox {
   const HandModel gripper = loadBuiltinHand("parallel_gripper");
-  const GraspObject box{primitives::makeBox({0.05, 0.09, 0.16}, 2)};
+  const GraspObject box{geometry::shapes::makeBox({0.05, 0.09, 0.16}, 2)};
   GraspSimulator sim{gripper, box};
   const Preshape& preshape = gripper.preshape("precision");
   const Pose hand = sim.handPoseForGcp(poseFromZY({0, 0.035, 0}, {0, -1, 0}, {0, 0, 1}), preshape);
@@ -92,7 +92,7 @@ TEST(Closing, ParallelGripperJawsPushThroughTheCornersOfTheirPatches) {
 
 TEST(Closing, RejectsAHandThatStartsInCollision) {
   const HandModel gripper = loadBuiltinHand("parallel_gripper");
-  const GraspObject box(primitives::makeBox({0.05, 0.09, 0.16}, 2));
+  const GraspObject box(geometry::shapes::makeBox({0.05, 0.09, 0.16}, 2));
   GraspSimulator sim(gripper, box);
   const auto& preshape = gripper.preshape("precision");
   const Pose hand = sim.handPoseForGcp(poseFromZY({0, 0, 0}, {0, -1, 0}, {0, 0, 1}), preshape);
@@ -105,7 +105,7 @@ TEST(Closing, RejectsAHandThatStartsInCollision) {
 TEST(Closing, AHandEntirelyInsideAClosedObjectCollides) {
   // No link touches a triangle, but every link is inside: that is a collision, not a free pose.
   const HandModel hand = loadBuiltinHand("armar3");
-  const GraspObject block(primitives::makeBox({1.0, 1.0, 1.0}));
+  const GraspObject block(geometry::shapes::makeBox({1.0, 1.0, 1.0}));
   GraspSimulator sim(hand, block);
   EXPECT_GE(sim.firstLinkInCollision(Pose::Identity(), hand.preshape("power").joints), 0);
   Pose outside = Pose::Identity();
@@ -115,7 +115,7 @@ TEST(Closing, AHandEntirelyInsideAClosedObjectCollides) {
 
 TEST(Closing, ReportsTooFewContactsWhenClosingOnNothing) {
   const HandModel gripper = loadBuiltinHand("parallel_gripper");
-  const GraspObject box(primitives::makeBox({0.02, 0.02, 0.02}));
+  const GraspObject box(geometry::shapes::makeBox({0.02, 0.02, 0.02}));
   GraspSimulator sim(gripper, box);
   const auto& preshape = gripper.preshape("precision");
   const Pose hand =
@@ -145,7 +145,7 @@ PlacedClosing closeBackedOffAlongX(GraspSimulator& sim, const Preshape& preshape
 }
 
 TEST(Closing, HandsWrapACylinderWithinTheirJointLimits) {
-  const GraspObject cylinder(primitives::makeCylinder(0.03, 0.2, 48, 10));
+  const GraspObject cylinder(geometry::shapes::makeCylinder(0.03, 0.2, 48, 10));
   for (const std::string name : {"armar3", "sdh", "shadow"}) {
     const HandModel hand = loadBuiltinHand(name);
     GraspSimulator sim(hand, cylinder);
@@ -172,7 +172,7 @@ TEST(Closing, HandsWrapACylinderWithinTheirJointLimits) {
 // joints only and the bent fingers hook a handle from three sides with their distal links
 // (docs/hands.md). A 25 mm rod, approached across its axis.
 TEST(Closing, SdhClawHooksARodWithItsDistalLinksAndProximalJointsOnly) {
-  const GraspObject rod(primitives::makeCylinder(0.0125, 0.2, 48, 10));
+  const GraspObject rod(geometry::shapes::makeCylinder(0.0125, 0.2, 48, 10));
   const HandModel sdh = loadBuiltinHand("sdh");
   GraspSimulator sim(sdh, rod);
   const Preshape& claw = sdh.preshape("claw");
@@ -200,7 +200,7 @@ TEST(Closing, ShadowTendonMovesTheDistalPhalanxWithTheMiddleOne) {
   // J1 has no drive of its own: it follows J2 on the same tendon, and keeps going alone when the
   // middle phalanx is blocked (here by the palm, closing on nothing).
   const HandModel shadow = loadBuiltinHand("shadow");
-  const GraspObject far_away(primitives::makeBox({0.01, 0.01, 0.01}));
+  const GraspObject far_away(geometry::shapes::makeBox({0.01, 0.01, 0.01}));
   GraspSimulator sim(shadow, far_away);
   Pose pose = Pose::Identity();
   pose.translation() = Eigen::Vector3d(1, 1, 1);
@@ -217,7 +217,7 @@ TEST(Closing, ShadowTendonMovesTheDistalPhalanxWithTheMiddleOne) {
 
 TEST(Closing, UnsetStepsAreTheHandsDefaultsAndSetStepsAreUsed) {
   const HandModel gripper = loadBuiltinHand("parallel_gripper");
-  const GraspObject box(primitives::makeBox({0.05, 0.09, 0.16}, 2));
+  const GraspObject box(geometry::shapes::makeBox({0.05, 0.09, 0.16}, 2));
   GraspSimulator sim(gripper, box);
   const auto& preshape = gripper.preshape("precision");
   const Pose hand = sim.handPoseForGcp(poseFromZY({0, 0.035, 0}, {0, -1, 0}, {0, 0, 1}), preshape);
@@ -242,7 +242,7 @@ TEST(Closing, UnsetStepsAreTheHandsDefaultsAndSetStepsAreUsed) {
 
 TEST(Closing, IsDeterministic) {
   const HandModel hand = loadBuiltinHand("armar3");
-  const GraspObject capsule(primitives::makeCapsule(0.025, 0.12));
+  const GraspObject capsule(geometry::shapes::makeCapsule(0.025, 0.12));
   GraspSimulator a(hand, capsule), b(hand, capsule);
   const auto& preshape = hand.preshape("power");
   const Pose pose = a.handPoseForGcp(poseFromZY({0.02, 0, 0}, {-1, 0, 0}, {0, 0, 1}), preshape);

@@ -16,8 +16,8 @@
 
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
 #include "skelgrasp/geometry/mesh_query.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/grasping/simulation/distance_field.h"
 #include "skelgrasp/grasping/simulation/grasp_object.h"
 #include "test_support.h"
@@ -33,7 +33,7 @@ double boxSignedDistance(const Eigen::Vector3d& half, const Eigen::Vector3d& p) 
 
 TEST(DistanceField, BoxValuesWithinTheBoundAndLowerBoundsHold) {
   const Eigen::Vector3d size(0.06, 0.04, 0.1), half = size / 2;
-  const TriangleMesh mesh = primitives::makeBox(size);
+  const TriangleMesh mesh = geometry::shapes::makeBox(size);
   DistanceFieldParams params;
   params.band_m = 0.008;
   const DistanceField field(mesh, true, params);
@@ -71,7 +71,7 @@ TEST(DistanceField, BoxValuesWithinTheBoundAndLowerBoundsHold) {
 }
 
 TEST(DistanceField, SphereMeshAgreesWithExactMeshDistanceAndInsideTest) {
-  const TriangleMesh mesh = primitives::makeSphere(0.04, 48, 24);
+  const TriangleMesh mesh = geometry::shapes::makeSphere(0.04, 48, 24);
   const GraspObject object(mesh);
   ASSERT_TRUE(object.closed());
   const DistanceField& field = object.distanceField();
@@ -102,7 +102,7 @@ TEST(DistanceField, SphereMeshAgreesWithExactMeshDistanceAndInsideTest) {
 }
 
 TEST(DistanceField, BoxDistanceIsTheExactGapOfASolidBox) {
-  const TriangleMesh mesh = primitives::makeSphere(0.04, 48, 24);
+  const TriangleMesh mesh = geometry::shapes::makeSphere(0.04, 48, 24);
   const geometry::MeshQuery query(mesh);
   const DistanceField field(mesh, true);
   std::mt19937_64 rng(3);
@@ -159,7 +159,7 @@ TEST(DistanceField, BoxDistanceIsTheExactGapOfASolidBox) {
 // points are that corner and the point of the face below it.
 TEST(DistanceField, BoxDistanceOverAFlatFaceIsItsLowestCornersHeight) {
   const Eigen::Vector3d object_half(0.06, 0.06, 0.03);
-  const TriangleMesh mesh = primitives::makeBox(2 * object_half, 40);
+  const TriangleMesh mesh = geometry::shapes::makeBox(2 * object_half, 40);
   const DistanceField field(mesh, true);
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> unit(-1, 1);
@@ -244,9 +244,9 @@ std::vector<std::pair<Pose, Eigen::Vector3d>> boxesNearSurface(const TriangleMes
 std::vector<std::pair<std::string, TriangleMesh>> generatedAndYcbMeshes(
     const std::vector<std::string>& ycb_names) {
   std::vector<std::pair<std::string, TriangleMesh>> meshes = {
-      {"sphere", primitives::makeSphere(0.04, 48, 24)},
-      {"box", primitives::makeBox({0.06, 0.2, 0.04}, 4)},
-      {"torus", primitives::makeTorus(0.05, 0.015)}};
+      {"sphere", geometry::shapes::makeSphere(0.04, 48, 24)},
+      {"box", geometry::shapes::makeBox({0.06, 0.2, 0.04}, 4)},
+      {"torus", geometry::shapes::makeTorus(0.05, 0.015)}};
   const std::string shared = test::sharedDataDir();
   if (shared.empty()) {
     std::printf("shared data not found: real meshes skipped, generated ones compared\n");
@@ -357,7 +357,7 @@ TEST(DistanceField, BoxIntersectionIsAZeroGapWhateverTheHint) {
     EXPECT_GT(misses, 100) << name;
   }
   const Eigen::Vector3d object_half(0.05, 0.05, 0.05);
-  const DistanceField box_field(primitives::makeBox(2 * object_half, 4), true);
+  const DistanceField box_field(geometry::shapes::makeBox(2 * object_half, 4), true);
   Pose inside = Pose::Identity();
   inside.linear() =
       Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
@@ -371,7 +371,7 @@ TEST(DistanceField, BoxIntersectionIsAZeroGapWhateverTheHint) {
 // the closest ones), not the one the search happened to meet first.
 TEST(DistanceField, OfEquallyCloseFacesTheSameOneWhateverTheHint) {
   const Eigen::Vector3d object_half(0.06, 0.06, 0.03);
-  const TriangleMesh mesh = primitives::makeBox(2 * object_half, 40);
+  const TriangleMesh mesh = geometry::shapes::makeBox(2 * object_half, 40);
   const DistanceField field(mesh, true);
   const Eigen::Vector3d half(0.008, 0.01, 0.005);
   std::mt19937_64 rng(23);
@@ -402,11 +402,11 @@ TEST(DistanceField, OfEquallyCloseFacesTheSameOneWhateverTheHint) {
 TEST(DistanceField, GraspObjectRejectsBadFieldParamsWhenConstructed) {
   DistanceFieldParams params;
   params.band_m = -0.001;
-  EXPECT_THROW(GraspObject(primitives::makeBox({0.05, 0.05, 0.05}), params), InvalidArgument);
+  EXPECT_THROW(GraspObject(geometry::shapes::makeBox({0.05, 0.05, 0.05}), params), InvalidArgument);
 }
 
 TEST(DistanceField, MemoryGuardGrowsTheSpacingAndOpenMeshesAreUnsigned) {
-  TriangleMesh open = primitives::makeBox({0.1, 0.1, 0.1});
+  TriangleMesh open = geometry::shapes::makeBox({0.1, 0.1, 0.1});
   open.faces.pop_back();
   open.faces.pop_back();
   DistanceFieldParams params;

@@ -16,7 +16,7 @@
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/common/pose.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/grasping/quality/quality.h"
 #include "skelgrasp/grasping/simulation/grasp_simulator.h"
 #include "surface_poses.h"
@@ -289,7 +289,7 @@ TEST(FastClosing, BoxTestsOnTheFieldChangeNoClosing) {
 TEST(FastClosing, StaysStepwiseNearObstaclesOnGeneratedShapes) {
   // A closing on nothing (fingers meet each other and the palm) and on a cylinder: the same
   // configuration as the stepwise closing.
-  const GraspObject cylinder(primitives::makeCylinder(0.03, 0.2, 48, 10));
+  const GraspObject cylinder(geometry::shapes::makeCylinder(0.03, 0.2, 48, 10));
   for (const std::string name : {"armar3", "sdh", "shadow", "parallel_gripper"}) {
     const HandModel hand = loadBuiltinHand(name);
     GraspSimulator sim(hand, cylinder);

@@ -12,7 +12,7 @@
 #include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/common/pose.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/grasping/quality/quality.h"
 
 #include <nlohmann/json.hpp>
@@ -151,7 +151,7 @@ bool holdsStill(GraspSimulator& sim, const Pose& pose, const Preshape& preshape,
 }
 
 TEST(Settling, TheSdhPullsACylinderIntoItsPowerGraspAndHoldingHandsStayPut) {
-  const GraspObject cylinder(primitives::makeCylinder(0.03, 0.2, 48, 10));
+  const GraspObject cylinder(geometry::shapes::makeCylinder(0.03, 0.2, 48, 10));
   for (const std::string name : {"armar3", "sdh", "shadow"}) {
     const HandModel hand = loadBuiltinHand(name);
     GraspSimulator sim(hand, cylinder);
@@ -209,8 +209,8 @@ TEST(Settling, SkippingTheClosureTestWhileUnbalancedChangesNoOutcome) {
   plain.skip_closure_test_when_unbalanced = false;
   const SettlingParams shortcut;
   int settled_with_steps = 0, compared = 0;
-  for (const auto& mesh :
-       {primitives::makeCylinder(0.03, 0.2, 48, 10), primitives::makeSphere(0.035, 48, 24)}) {
+  for (const auto& mesh : {geometry::shapes::makeCylinder(0.03, 0.2, 48, 10),
+                           geometry::shapes::makeSphere(0.035, 48, 24)}) {
     const GraspObject object(mesh);
     for (const std::string name : {"armar3", "sdh", "shadow"}) {
       const HandModel hand = loadBuiltinHand(name);
@@ -257,7 +257,8 @@ TEST(Settling, AConeSteeperThanTheFrictionConeSquirtsOutOfParallelJaws) {
   for (const double top_radius : {0.0216, 0.005}) {
     const bool steep = top_radius < 0.01;
     SCOPED_TRACE(steep ? "steep" : "shallow");
-    const GraspObject frustum(primitives::makeFrustum(kBottomRadiusM, top_radius, kHeightM, 64));
+    const GraspObject frustum(
+        geometry::shapes::makeFrustum(kBottomRadiusM, top_radius, kHeightM, 64));
     GraspSimulator sim(gripper, frustum);
     Pose start = Pose::Identity();
     for (double y = 0.0; y < 0.15; y += 0.001) {
@@ -281,7 +282,7 @@ TEST(Settling, AConeSteeperThanTheFrictionConeSquirtsOutOfParallelJaws) {
 
 TEST(Settling, RejectsBadParameters) {
   const HandModel gripper = loadBuiltinHand("parallel_gripper");
-  const GraspObject box(primitives::makeBox({0.05, 0.09, 0.16}, 2));
+  const GraspObject box(geometry::shapes::makeBox({0.05, 0.09, 0.16}, 2));
   GraspSimulator sim(gripper, box);
   const auto& preshape = gripper.preshape("precision");
   const Pose pose = sim.handPoseForGcp(poseFromZY({0, 0.035, 0}, {0, -1, 0}, {0, 0, 1}), preshape);
@@ -343,8 +344,8 @@ TEST(Settling, ACoupledGripperSettlesToTheContactsOfIndependentJaws) {
   std::uniform_real_distribution<double> offset(-0.012, 0.012), tilt(-0.15, 0.15);
   int shifted = 0, shifted_agree = 0, rolled = 0, rolled_lost = 0;
   int rolled_still_holds = 0, rolled_settled_holds = 0, coupled_still = 0, independent_holds = 0;
-  for (const auto& mesh :
-       {primitives::makeBox({0.05, 0.09, 0.16}, 2), primitives::makeCylinder(0.025, 0.16, 48, 6)}) {
+  for (const auto& mesh : {geometry::shapes::makeBox({0.05, 0.09, 0.16}, 2),
+                           geometry::shapes::makeCylinder(0.025, 0.16, 48, 6)}) {
     const GraspObject object(mesh);
     GraspSimulator free_jaws(independent, object), coupled_jaws(coupled, object);
     for (int i = 0; i < 40; ++i) {

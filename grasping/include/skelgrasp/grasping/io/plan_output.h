@@ -1,12 +1,12 @@
 #pragma once
-// grasps.json (schema skelgrasp.grasps/3, docs/planning.md) and pictures of planned grasps.
+// grasps.json (schema skelgrasp.grasps/3, docs/planning.md) and the one-line summary of a plan
+// (its picture: presentation/plan_render.h).
 #include <nlohmann/json.hpp>
 
 #include <string>
 
 #include "skelgrasp/grasping/grasp.h"
 #include "skelgrasp/grasping/hand/hand_model.h"
-#include "skelgrasp/skeleton/skeleton.h"
 
 namespace skelgrasp::grasping {
 
@@ -20,12 +20,5 @@ nlohmann::json planToJson(const PlanResult& result, const HandModel& hand,
 // One-line summary: "<object> <hand> <planner>: N hypotheses, G generated, F force closure ...".
 std::string planSummaryLine(const PlanResult& result, const std::string& hand,
                             const std::string& object);
-
-// The object (grey), its skeleton if given, and one short line per grasp along its approach
-// direction ending at the grasp centre point (like the paper's Fig. 9), from two sides; plus the
-// best grasp with the closed hand.
-void renderPlanPng(const std::string& path, const TriangleMesh& object,
-                   const skeleton::Skeleton* skeleton, const PlanResult& result,
-                   const HandModel& hand, int panel_size = 480);
 
 }  // namespace skelgrasp::grasping

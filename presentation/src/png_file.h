@@ -6,11 +6,11 @@
 #include <cstdint>
 #include <string>
 
-namespace skelgrasp::render::internal {
+namespace skelgrasp::presentation::internal {
 
 // Writes an 8-bit 3-channel image stored as BGR rows (OpenCV's order) to `path`, atomically
 // (temporary sibling + rename). Throws InvalidArgument for bad sizes, IoError when writing fails.
 void writeBgrPng(const std::string& path, int width, int height, const std::uint8_t* pixels,
                  std::size_t row_stride_bytes);
 
-}  // namespace skelgrasp::render::internal
+}  // namespace skelgrasp::presentation::internal

@@ -7,7 +7,7 @@
 
 #include "skelgrasp/common/mesh.h"
 
-namespace skelgrasp::render {
+namespace skelgrasp::presentation {
 
 struct Camera {
   Eigen::Vector3d eye = Eigen::Vector3d(0.5, 0.5, 0.5);
@@ -68,4 +68,4 @@ void saveBarChartPng(const std::string& path, const std::string& title,
                      const std::vector<std::string>& x_labels, const std::vector<BarSeries>& series,
                      const std::string& y_label, int width = 900, int height = 420);
 
-}  // namespace skelgrasp::render
+}  // namespace skelgrasp::presentation

@@ -1,4 +1,4 @@
-#include "skelgrasp/common/scene_view.h"
+#include "skelgrasp/presentation/scene_view.h"
 
 #include <boost/archive/iterators/base64_from_binary.hpp>
 #include <boost/archive/iterators/transform_width.hpp>
@@ -8,9 +8,9 @@
 #include <limits>
 
 #include "skelgrasp/common/error.h"
-#include "skelgrasp/common/html_report.h"
+#include "skelgrasp/presentation/html_report.h"
 
-namespace skelgrasp {
+namespace skelgrasp::presentation {
 namespace {
 
 // 16-bit positions within an item's bounding box: 1/65535 of its extent (15 µm over a 1 m scan),
@@ -205,4 +205,4 @@ std::string SceneView3d::html(int height_px) const {
          "\n</script>\n";
 }
 
-}  // namespace skelgrasp
+}  // namespace skelgrasp::presentation

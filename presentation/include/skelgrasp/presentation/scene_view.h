@@ -14,7 +14,7 @@
 #include "skelgrasp/common/mesh.h"
 #include "skelgrasp/common/pose.h"
 
-namespace skelgrasp {
+namespace skelgrasp::presentation {
 
 struct SceneViewContact {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
@@ -61,4 +61,4 @@ namespace detail {
 extern const char* const kSceneViewScript;
 }  // namespace detail
 
-}  // namespace skelgrasp
+}  // namespace skelgrasp::presentation

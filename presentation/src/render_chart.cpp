@@ -10,9 +10,9 @@
 #include "png_file.h"
 #include "skelgrasp/common/atomic_file.h"
 #include "skelgrasp/common/error.h"
-#include "skelgrasp/common/render.h"
+#include "skelgrasp/presentation/render.h"
 
-namespace skelgrasp::render {
+namespace skelgrasp::presentation {
 
 void saveBarChartPng(const std::string& path, const std::string& title,
                      const std::vector<std::string>& x_labels, const std::vector<BarSeries>& series,
@@ -66,4 +66,4 @@ void saveBarChartPng(const std::string& path, const std::string& title,
   internal::writeBgrPng(path, image.cols, image.rows, image.ptr<std::uint8_t>(0), image.step[0]);
 }
 
-}  // namespace skelgrasp::render
+}  // namespace skelgrasp::presentation

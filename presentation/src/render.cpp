@@ -1,5 +1,5 @@
 // OpenCV is used only for the image buffer and 2D drawing; libpng encodes (png_file.h).
-#include "skelgrasp/common/render.h"
+#include "skelgrasp/presentation/render.h"
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
@@ -12,7 +12,7 @@
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/rasterise.h"
 
-namespace skelgrasp::render {
+namespace skelgrasp::presentation {
 namespace {
 
 // Smallest radius (metres) a camera frames, so a point-sized box still gets a finite distance.
@@ -206,4 +206,4 @@ void Canvas::saveGrid(const std::vector<const Canvas*>& panels, int columns,
   writePng(path, grid);
 }
 
-}  // namespace skelgrasp::render
+}  // namespace skelgrasp::presentation

@@ -1,8 +1,11 @@
-#include "skelgrasp/grasping/hand_render.h"
+#include "skelgrasp/presentation/hand_render.h"
 
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 
-namespace skelgrasp::grasping {
+namespace skelgrasp::presentation {
+// Hands drawn from the grasping stage's own types throughout.
+using namespace grasping;
+
 namespace {
 
 const Rgb kFingerColours[] = {
@@ -11,11 +14,11 @@ const Rgb kFingerColours[] = {
 TriangleMesh shapeMesh(const CollisionShape& shape) {
   switch (shape.type) {
     case ShapeType::kBox:
-      return primitives::makeBox(shape.box_size);
+      return geometry::shapes::makeBox(shape.box_size);
     case ShapeType::kSphere:
-      return primitives::makeSphere(shape.radius, 16, 8);
+      return geometry::shapes::makeSphere(shape.radius, 16, 8);
     case ShapeType::kCylinder:
-      return primitives::makeCylinder(shape.radius, shape.length, 24, 1);
+      return geometry::shapes::makeCylinder(shape.radius, shape.length, 24, 1);
     case ShapeType::kMesh:
       return *shape.mesh;
   }
@@ -65,8 +68,7 @@ TriangleMesh handMesh(const HandModel& hand, const Pose& hand_pose, const Eigen:
   return out;
 }
 
-void drawContacts(render::Canvas& canvas, const std::vector<Contact>& contacts,
-                  double normal_length_m) {
+void drawContacts(Canvas& canvas, const std::vector<Contact>& contacts, double normal_length_m) {
   for (const auto& c : contacts) {
     const Rgb colour = c.palm ? Rgb{255, 140, 0} : Rgb{220, 20, 60};
     canvas.drawLine(c.point, c.point + normal_length_m * c.normal, colour, 2);
@@ -89,10 +91,10 @@ void renderGraspPng(const std::string& path, const TriangleMesh& object, const H
   const Eigen::Vector3d side = anyPerpendicular(approach);
   const std::vector<Eigen::Vector3d> views = {side + 0.3 * approach.cross(side) - 0.4 * approach,
                                               approach.cross(side) + 0.3 * side - 0.4 * approach};
-  std::vector<render::Canvas> panels;
+  std::vector<Canvas> panels;
   for (const auto& view : views) {
     for (int closed = 0; closed < 2; ++closed) {
-      render::Canvas canvas(render::Camera::framing(box, view, panel_size, panel_size));
+      Canvas canvas(Camera::framing(box, view, panel_size, panel_size));
       canvas.drawMesh(grey, {200, 200, 200}, false);
       canvas.drawMesh(closed ? closed_hand : open_hand, {0, 0, 0});
       if (closed) drawContacts(canvas, contacts, 0.02);
@@ -100,7 +102,7 @@ void renderGraspPng(const std::string& path, const TriangleMesh& object, const H
       panels.push_back(std::move(canvas));
     }
   }
-  render::Canvas::saveGrid({&panels[0], &panels[1], &panels[2], &panels[3]}, 2, path);
+  Canvas::saveGrid({&panels[0], &panels[1], &panels[2], &panels[3]}, 2, path);
 }
 
-}  // namespace skelgrasp::grasping
+}  // namespace skelgrasp::presentation

@@ -2,9 +2,9 @@
 // SceneView3d::html embeds, builds three.js objects and renders on demand (no animation loop, so
 // an open report costs no CPU). The outcome is left in #sv3d's data-status ("ok" or
 // "error: ...") for tests in a headless browser and shown to the reader on failure.
-#include "skelgrasp/common/scene_view.h"
+#include "skelgrasp/presentation/scene_view.h"
 
-namespace skelgrasp::detail {
+namespace skelgrasp::presentation::detail {
 
 const char* const kSceneViewScript = R"js(
 (function () {
@@ -174,4 +174,4 @@ const char* const kSceneViewScript = R"js(
 })();
 )js";
 
-}  // namespace skelgrasp::detail
+}  // namespace skelgrasp::presentation::detail

@@ -6,7 +6,7 @@
 
 #include "skelgrasp/common/mesh.h"
 
-namespace skelgrasp::primitives {
+namespace skelgrasp::geometry::shapes {
 
 // Box centred at the origin with the given edge lengths; each face split into n x n squares.
 TriangleMesh makeBox(const Eigen::Vector3d& size, int subdivisions = 1);
@@ -37,4 +37,4 @@ TriangleMesh makeTorus(double major_radius, double minor_radius, int major_segme
 TriangleMesh makeNamedShape(const std::string& name);
 std::vector<std::string> namedShapes();
 
-}  // namespace skelgrasp::primitives
+}  // namespace skelgrasp::geometry::shapes

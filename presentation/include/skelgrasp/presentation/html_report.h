@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-namespace skelgrasp {
+namespace skelgrasp::presentation {
 
 class HtmlReport {
  public:
@@ -34,4 +34,4 @@ class HtmlReport {
 // HTML-escapes &, <, >, ", '.
 std::string escapeHtml(const std::string& text);
 
-}  // namespace skelgrasp
+}  // namespace skelgrasp::presentation

@@ -10,7 +10,7 @@
 #include "skelgrasp/common/atomic_file.h"
 #include "skelgrasp/common/error.h"
 
-namespace skelgrasp::render::internal {
+namespace skelgrasp::presentation::internal {
 
 namespace {
 
@@ -84,4 +84,4 @@ void writeBgrPng(const std::string& path, int width, int height, const std::uint
   });
 }
 
-}  // namespace skelgrasp::render::internal
+}  // namespace skelgrasp::presentation::internal

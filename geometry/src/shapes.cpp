@@ -1,11 +1,11 @@
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 
 #include <cmath>
 
 #include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/error.h"
 
-namespace skelgrasp::primitives {
+namespace skelgrasp::geometry::shapes {
 namespace {
 
 // Vertices closer than this are one vertex when the box's sides are welded (metres; the sides'
@@ -263,4 +263,4 @@ TriangleMesh makeNamedShape(const std::string& name) {
   throw InvalidArgument("unknown shape '" + name + "'");
 }
 
-}  // namespace skelgrasp::primitives
+}  // namespace skelgrasp::geometry::shapes

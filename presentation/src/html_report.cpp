@@ -1,10 +1,10 @@
-#include "skelgrasp/common/html_report.h"
+#include "skelgrasp/presentation/html_report.h"
 
 #include <algorithm>
 
 #include "skelgrasp/common/json.h"
 
-namespace skelgrasp {
+namespace skelgrasp::presentation {
 
 std::string escapeHtml(const std::string& text) {
   std::string out;
@@ -85,4 +85,4 @@ void HtmlReport::write(const std::string& path) const {
   writeFileAtomically(path, html());
 }
 
-}  // namespace skelgrasp
+}  // namespace skelgrasp::presentation

@@ -1,4 +1,4 @@
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 
 #include <gtest/gtest.h>
 
@@ -19,12 +19,14 @@ TEST(Primitives, SingleShapesAreClosedOutwardAndHaveTheRightVolume) {
     double tolerance;
   };
   const std::vector<Case> cases = {
-      {"box", primitives::makeBox({0.1, 0.2, 0.3}, 3), 0.006, 1e-12},
-      {"sphere", primitives::makeSphere(0.05, 64, 32), 4.0 / 3 * kPi * std::pow(0.05, 3), 0.01},
-      {"cylinder", primitives::makeCylinder(0.02, 0.1, 64), kPi * 0.0004 * 0.1, 0.01},
-      {"capsule", primitives::makeCapsule(0.02, 0.1, 64),
+      {"box", geometry::shapes::makeBox({0.1, 0.2, 0.3}, 3), 0.006, 1e-12},
+      {"sphere", geometry::shapes::makeSphere(0.05, 64, 32), 4.0 / 3 * kPi * std::pow(0.05, 3),
+       0.01},
+      {"cylinder", geometry::shapes::makeCylinder(0.02, 0.1, 64), kPi * 0.0004 * 0.1, 0.01},
+      {"capsule", geometry::shapes::makeCapsule(0.02, 0.1, 64),
        kPi * 0.0004 * 0.1 + 4.0 / 3 * kPi * std::pow(0.02, 3), 0.01},
-      {"torus", primitives::makeTorus(0.06, 0.01, 96, 32), 2 * kPi * kPi * 0.06 * 0.0001, 0.01},
+      {"torus", geometry::shapes::makeTorus(0.06, 0.01, 96, 32), 2 * kPi * kPi * 0.06 * 0.0001,
+       0.01},
   };
   for (const auto& c : cases) {
     const auto t = geometry::analyzeTopology(c.mesh);
@@ -36,8 +38,8 @@ TEST(Primitives, SingleShapesAreClosedOutwardAndHaveTheRightVolume) {
 }
 
 TEST(Primitives, NamedShapesAreClosedPartsOfPlausibleSize) {
-  for (const auto& name : primitives::namedShapes()) {
-    const TriangleMesh mesh = primitives::makeNamedShape(name);
+  for (const auto& name : geometry::shapes::namedShapes()) {
+    const TriangleMesh mesh = geometry::shapes::makeNamedShape(name);
     const auto t = geometry::analyzeTopology(mesh);
     EXPECT_TRUE(t.closed) << name;  // each part closed; parts may overlap
     EXPECT_GT(t.signed_volume, 0) << name;
@@ -45,7 +47,7 @@ TEST(Primitives, NamedShapesAreClosedPartsOfPlausibleSize) {
     EXPECT_GT(size, 0.04) << name;
     EXPECT_LT(size, 0.4) << name;
   }
-  EXPECT_THROW(primitives::makeNamedShape("teapot"), InvalidArgument);
+  EXPECT_THROW(geometry::shapes::makeNamedShape("teapot"), InvalidArgument);
 }
 
 }  // namespace
