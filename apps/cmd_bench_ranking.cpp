@@ -4,7 +4,7 @@
 // shortcuts (--compare): `pruning`, screening a candidate only until it cannot enter the scored
 // top_k (in pre-score order); `best-first`, screening best-first against pruning in pre-score
 // order; `closure-shortcut`, settling's closure test skipped while the squeeze is unbalanced
-// (grasping/simulation/settling.h); `cell-skipping`, the exact box gap skipping empty cells of the
+// (grasping/quality/settling.h); `cell-skipping`, the exact box gap skipping empty cells of the
 // triangle grid (DistanceFieldParams::skip_empty_cells); `jump-order`, the fast closing's jump
 // attempts stopping at the first link that allows no step
 // (ClosingParams::jump_stops_at_blocking_link); `refusals`, the fast closing's later passes not

@@ -9,8 +9,8 @@
 
 #include "skelgrasp/grasping/grasp.h"
 #include "skelgrasp/grasping/quality/quality.h"
+#include "skelgrasp/grasping/quality/settling.h"
 #include "skelgrasp/grasping/simulation/grasp_simulator.h"
-#include "skelgrasp/grasping/simulation/settling.h"
 
 namespace skelgrasp::ranking {
 
@@ -25,9 +25,10 @@ enum class RobustnessVariant {
                // ("considering the approach movement"). Every sample that holds in kPaper holds
                // here too.
   kSettled,    // the guarded variant's executions, with the object free to move: a closing that
-             // is not force closure settles (grasping/simulation/settling.h), the object pushed by
-             // the unbalanced squeeze until the contacts hold it, are balanced without closure, or
-             // it is pushed out of the hand. Every sample that holds in kGuarded holds here too.
+               // is not force closure settles (grasping/quality/settling.h), the object pushed
+               // by the unbalanced squeeze until the contacts hold it, are balanced without
+               // closure, or it is pushed out of the hand. Every sample that holds in kGuarded
+               // holds here too.
 };
 // "paper" | "reference" | "guarded" | "settled"
 RobustnessVariant parseRobustnessVariant(const std::string& text);

@@ -1,4 +1,4 @@
-#include "skelgrasp/grasping/simulation/settling.h"
+#include "skelgrasp/grasping/quality/settling.h"
 
 #include <algorithm>
 #include <cmath>

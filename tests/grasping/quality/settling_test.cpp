@@ -1,8 +1,8 @@
-// Settling (grasping/simulation/settling.h): the squeeze LP on analytic contact sets, and the
+// Settling (grasping/quality/settling.h): the squeeze LP on analytic contact sets, and the
 // object settling in closing hands on analytic shapes where the physics is known (a cylinder pulled
 // into a power grasp, a cone squeezed out of parallel jaws when it is steeper than the friction
 // cone).
-#include "skelgrasp/grasping/simulation/settling.h"
+#include "skelgrasp/grasping/quality/settling.h"
 
 #include <gtest/gtest.h>
 
