@@ -64,7 +64,7 @@ bench: build
 	@$(SKELGRASP) bench skeleton --help > /dev/null && echo "see README: Benchmarks"
 
 format:
-	@find common geometry perception reconstruction skeleton grasping ranking pipeline evaluation datasets apps tests bench fuzz python \
+	@find common geometry perception reconstruction skeleton grasping ranking presentation pipeline evaluation datasets apps tests bench fuzz python \
 	  \( -name '*.h' -o -name '*.cpp' \) 2>/dev/null | xargs -r clang-format -i
 
 clean:

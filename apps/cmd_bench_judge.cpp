@@ -14,8 +14,8 @@
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/grasping/grasp_simulator.h"
-#include "skelgrasp/grasping/quality.h"
+#include "skelgrasp/grasping/quality/quality.h"
+#include "skelgrasp/grasping/simulation/grasp_simulator.h"
 #include "skelgrasp/ranking/robustness.h"
 
 namespace skelgrasp::cli {

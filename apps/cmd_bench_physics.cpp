@@ -24,7 +24,7 @@
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/evaluation/physics_figures.h"
 #include "skelgrasp/evaluation/simulate.h"
-#include "skelgrasp/grasping/load_capacity.h"
+#include "skelgrasp/grasping/quality/load_capacity.h"
 #include "skelgrasp/ranking/plan_grasps.h"
 
 namespace skelgrasp::cli {

@@ -4,23 +4,23 @@
 // shortcuts (--compare): `pruning`, screening a candidate only until it cannot enter the scored
 // top_k (in pre-score order); `best-first`, screening best-first against pruning in pre-score
 // order; `closure-shortcut`, settling's closure test skipped while the squeeze is unbalanced
-// (grasping/settling.h); `cell-skipping`, the exact box gap skipping empty cells of the triangle
-// grid (DistanceFieldParams::skip_empty_cells); `jump-order`, the fast closing's jump attempts
-// stopping at the first link that allows no step (ClosingParams::jump_stops_at_blocking_link);
-// `refusals`, the fast closing's later passes not testing again a refused step while the fingers it
-// was tested against stand where they stood (ClosingParams::skip_repeated_refusals); `gap-hints`,
-// the fast closing's exact box gaps starting from the face the box was closest to in its last
-// query (ClosingParams::gap_hints); `box-tests`, the hand's box shapes tested for intersection
-// with the object on its distance field rather than by FCL (DistanceFieldParams::
-// box_intersection_tests). Two
-// comparisons are not of an exact shortcut but of a choice: `screen-by`, screening the best by
-// epsilon (old) or each preshape's best in turn (new, RobustRankingParams::screen_candidates); its
-// paths return different grasps, and the mean r of each path's scored grasps says which is worth
-// more. Both paths run each hand's own ranking budget (since 2026-11-29 the Shadow hand's is
-// smaller: its figures from before are not comparable with later ones), except that screen-by
-// sets each path's screening choice whatever the hand's description says. `confirm` is a choice
-// too: the screening's contenders without (old) or with (new) the default confirmation samples
-// (RobustRankingParams::confirm_samples), whatever the hand's budget says.
+// (grasping/quality/settling.h); `cell-skipping`, the exact box gap skipping empty cells of the
+// triangle grid (DistanceFieldParams::skip_empty_cells); `jump-order`, the fast closing's jump
+// attempts stopping at the first link that allows no step
+// (ClosingParams::jump_stops_at_blocking_link); `refusals`, the fast closing's later passes not
+// testing again a refused step while the fingers it was tested against stand where they stood
+// (ClosingParams::skip_repeated_refusals); `gap-hints`, the fast closing's exact box gaps starting
+// from the face the box was closest to in its last query (ClosingParams::gap_hints); `box-tests`,
+// the hand's box shapes tested for intersection with the object on its distance field rather than
+// by FCL (DistanceFieldParams:: box_intersection_tests). Two comparisons are not of an exact
+// shortcut but of a choice: `screen-by`, screening the best by epsilon (old) or each preshape's
+// best in turn (new, RobustRankingParams::screen_candidates); its paths return different grasps,
+// and the mean r of each path's scored grasps says which is worth more. Both paths run each hand's
+// own ranking budget (since 2026-11-29 the Shadow hand's is smaller: its figures from before are
+// not comparable with later ones), except that screen-by sets each path's screening choice whatever
+// the hand's description says. `confirm` is a choice too: the screening's contenders without (old)
+// or with (new) the default confirmation samples (RobustRankingParams::confirm_samples), whatever
+// the hand's budget says.
 #include <fmt/format.h>
 #include <tbb/global_control.h>
 

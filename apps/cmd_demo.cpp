@@ -11,12 +11,12 @@
 #include "option_checks.h"
 #include "output_paths.h"
 #include "run_command.h"
-#include "skelgrasp/common/html_report.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/datasets/input.h"
 #include "skelgrasp/perception/cloud_io.h"
 #include "skelgrasp/perception/demo_scene.h"
+#include "skelgrasp/presentation/html_report.h"
 
 namespace skelgrasp::cli {
 namespace {
@@ -50,7 +50,7 @@ void writeDemoIndex(const std::string& out, const perception::DemoScene& scene,
                     const std::string& hand, int views) {
   const auto run = readJsonFile(out + "/grasps.json");
   const auto& objects = run["objects"];
-  HtmlReport index("skelgrasp demo");
+  presentation::HtmlReport index("skelgrasp demo");
   index.paragraph(fmt::format(
       "A table scene made in code, scanned from {} viewpoints by a simulated Primesense-like "
       "camera (scene.pcd), and `skelgrasp run --object all` with hand {}: {} objects found, "
@@ -62,7 +62,7 @@ void writeDemoIndex(const std::string& out, const perception::DemoScene& scene,
   for (std::size_t k = 1; k < scene.meshes.size(); ++k) {
     const int id = nearestRunObject(objects, scene.centres[k]);
     if (id < 0) {
-      rows += "<tr><td>" + escapeHtml(scene.names[k]) +
+      rows += "<tr><td>" + presentation::escapeHtml(scene.names[k]) +
               "</td><td>-</td><td></td><td></td><td>not found</td></tr>\n";
       continue;
     }
@@ -70,9 +70,9 @@ void writeDemoIndex(const std::string& out, const perception::DemoScene& scene,
     rows += fmt::format(
         "<tr><td>{}</td><td><a href=\"report.html#object-{}\">object {}</a></td><td>{}</td>"
         "<td>{}</td><td>{}</td></tr>\n",
-        escapeHtml(scene.names[k]), id, id, o["points"].get<std::size_t>(),
+        presentation::escapeHtml(scene.names[k]), id, id, o["points"].get<std::size_t>(),
         o["grasps"].get<std::size_t>(),
-        o["reason"].is_null() ? "ok" : escapeHtml(o["reason"].get<std::string>()));
+        o["reason"].is_null() ? "ok" : presentation::escapeHtml(o["reason"].get<std::string>()));
   }
   index.rawHtml(rows + "</table>\n");
   index.rawHtml(

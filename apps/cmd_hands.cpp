@@ -15,10 +15,10 @@
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/common/pose.h"
-#include "skelgrasp/grasping/contacts_io.h"
-#include "skelgrasp/grasping/grasp_simulator.h"
-#include "skelgrasp/grasping/hand_render.h"
-#include "skelgrasp/grasping/quality.h"
+#include "skelgrasp/grasping/io/contacts_io.h"
+#include "skelgrasp/grasping/quality/quality.h"
+#include "skelgrasp/grasping/simulation/grasp_simulator.h"
+#include "skelgrasp/presentation/hand_render.h"
 #include "skelgrasp/ranking/robust_ranking.h"
 
 namespace skelgrasp::cli {
@@ -161,8 +161,8 @@ int runClose(const CloseArgs& args) {
                               {"volume", numberOrNull(quality.volume)},
                               {"hull_facets", quality.hull_facets}};
   if (!args.render.empty()) {
-    grasping::renderGraspPng(args.render, object.mesh(), hand, hand_pose, preshape.joints,
-                             closing.joints, closing.contacts);
+    presentation::renderGraspPng(args.render, object.mesh(), hand, hand_pose, preshape.joints,
+                                 closing.joints, closing.contacts);
   }
   if (args.json) {
     std::cout << out.dump(2) << std::endl;

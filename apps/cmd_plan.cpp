@@ -13,7 +13,8 @@
 #include "skeleton_options.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/evaluation/plan_record.h"
-#include "skelgrasp/grasping/plan_output.h"
+#include "skelgrasp/grasping/io/plan_output.h"
+#include "skelgrasp/presentation/plan_render.h"
 #include "skelgrasp/ranking/plan_grasps.h"
 
 namespace skelgrasp::cli {
@@ -50,8 +51,8 @@ int runPlan(const PlanArgs& args) {
   evaluation::addPlanRecords(document, plan.ranking, plan.timing);
   OutputTransaction outputs;
   if (!args.render.empty()) {
-    grasping::renderPlanPng(outputs.stage(args.render), mesh,
-                            plan.skeleton ? &plan.skeleton->skeleton : nullptr, plan, hand);
+    presentation::renderPlanPng(outputs.stage(args.render), mesh,
+                                plan.skeleton ? &plan.skeleton->skeleton : nullptr, plan, hand);
   }
   writeJsonFile(outputs.stage(args.out), document);
   outputs.commit();

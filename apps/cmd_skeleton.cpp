@@ -8,7 +8,8 @@
 #include "skeleton_options.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
+#include "skelgrasp/presentation/skeleton_render.h"
 #include "skelgrasp/skeleton/output.h"
 
 namespace skelgrasp::cli {
@@ -30,7 +31,7 @@ int runSkeletonOnFile(const std::string& mesh_path, const std::string& out_dir,
     saveMesh(outputs.stage(out_dir + "/regularised.ply"), result.regularised_mesh);
   }
   if (!options.render_path.empty()) {
-    skeleton::renderSkeletonPng(input, result.skeleton, outputs.stage(options.render_path));
+    presentation::renderSkeletonPng(input, result.skeleton, outputs.stage(options.render_path));
   }
   writeJsonFile(outputs.stage(out_dir + "/skeleton.json"),
                 skeleton::skeletonToJson(result, input, info));
@@ -57,13 +58,13 @@ void registerShapeCommand(CLI::App& app, Action& action) {
   auto name = std::make_shared<std::string>();
   auto out = std::make_shared<std::string>();
   std::string names;
-  for (const auto& n : primitives::namedShapes()) names += (names.empty() ? "" : ", ") + n;
+  for (const auto& n : geometry::shapes::namedShapes()) names += (names.empty() ? "" : ", ") + n;
   cmd->add_option("NAME", *name, "Shape: " + names)->required();
   cmd->add_option("--out", *out, "Output mesh file (.ply .obj .off .stl)")->required();
   cmd->callback([=, &action] {
     action = [=] {
       checkOutputFileOption(*out);
-      saveMesh(*out, primitives::makeNamedShape(*name));
+      saveMesh(*out, geometry::shapes::makeNamedShape(*name));
       std::cout << "wrote " << *name << " to " << *out << std::endl;
       return kExitOk;
     };

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "skelgrasp/grasping/grasp_export.h"
-#include "skelgrasp/grasping/hand_model.h"
+#include "skelgrasp/grasping/hand/hand_model.h"
+#include "skelgrasp/grasping/io/grasp_export.h"
 
 namespace skelgrasp::cli {
 

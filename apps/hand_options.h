@@ -2,7 +2,7 @@
 // Command-line options selecting a hand, shared by the commands that use one.
 #include <CLI/CLI.hpp>
 
-#include "skelgrasp/grasping/hand_model.h"
+#include "skelgrasp/grasping/hand/hand_model.h"
 
 namespace skelgrasp::cli {
 

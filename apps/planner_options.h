@@ -10,7 +10,7 @@
 #include <optional>
 
 #include "quality_options.h"
-#include "skelgrasp/grasping/planners.h"
+#include "skelgrasp/grasping/planning/planners.h"
 
 namespace skelgrasp::cli {
 

@@ -9,8 +9,8 @@
 #include <string>
 
 #include "option_checks.h"
-#include "skelgrasp/grasping/grasp_simulator.h"
-#include "skelgrasp/grasping/quality.h"
+#include "skelgrasp/grasping/quality/quality.h"
+#include "skelgrasp/grasping/simulation/grasp_simulator.h"
 
 namespace skelgrasp::cli {
 

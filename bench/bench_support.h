@@ -4,8 +4,8 @@
 #include <string>
 
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
-#include "skelgrasp/grasping/grasp_simulator.h"
+#include "skelgrasp/geometry/shapes.h"
+#include "skelgrasp/grasping/simulation/grasp_simulator.h"
 
 namespace skelgrasp::bench {
 
@@ -14,8 +14,9 @@ inline const grasping::GraspObject& benchObject() {
   static const grasping::GraspObject object = [] {
     const std::string path =
         std::string(SKELGRASP_SHARED_DATA_DIR) + "/objects/ycb/006_mustard_bottle.ply";
-    return grasping::GraspObject(
-        std::filesystem::exists(path) ? loadMesh(path) : primitives::makeNamedShape("bottle"));
+    return grasping::GraspObject(std::filesystem::exists(path)
+                                     ? loadMesh(path)
+                                     : geometry::shapes::makeNamedShape("bottle"));
   }();
   return object;
 }

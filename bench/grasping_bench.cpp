@@ -10,8 +10,8 @@
 
 #include "bench_support.h"
 #include "skelgrasp/common/logging.h"
-#include "skelgrasp/grasping/grasp_simulator.h"
-#include "skelgrasp/grasping/quality.h"
+#include "skelgrasp/grasping/quality/quality.h"
+#include "skelgrasp/grasping/simulation/grasp_simulator.h"
 
 namespace {
 

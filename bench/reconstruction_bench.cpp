@@ -7,7 +7,7 @@
 #include <filesystem>
 
 #include "skelgrasp/common/logging.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/perception/cloud_io.h"
 #include "skelgrasp/perception/depth_camera.h"
 #include "skelgrasp/pipeline/reconstruct_scan.h"
@@ -22,9 +22,9 @@ const std::string kMugScene =
 perception::Scan scanOf(const std::string& input) {
   perception::Scan scan;
   if (input == "rendered") {
-    TriangleMesh table = primitives::makeBox({1.0, 0.8, 0.04}, 4);
+    TriangleMesh table = geometry::shapes::makeBox({1.0, 0.8, 0.04}, 4);
     table.transform(Pose(Eigen::Translation3d(0, 0, -0.02)));
-    TriangleMesh mug = primitives::makeNamedShape("mug");
+    TriangleMesh mug = geometry::shapes::makeNamedShape("mug");
     scan.cloud =
         perception::renderDepth({table, mug}, perception::lookAt({0.55, 0.05, 0.6}, {0, 0, 0.05}))
             .cloud;

@@ -9,7 +9,7 @@
 
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/skeleton/extraction.h"
 
 namespace {
@@ -23,7 +23,7 @@ TriangleMesh ycbMug() {
 
 void BM_Regularise(benchmark::State& state, const std::string& shape) {
   setLogLevel(spdlog::level::warn);
-  const TriangleMesh mesh = shape == "ycb_mug" ? ycbMug() : primitives::makeNamedShape(shape);
+  const TriangleMesh mesh = shape == "ycb_mug" ? ycbMug() : geometry::shapes::makeNamedShape(shape);
   if (mesh.empty()) {
     state.SkipWithError("../shared/data not found");
     return;
@@ -33,7 +33,7 @@ void BM_Regularise(benchmark::State& state, const std::string& shape) {
 
 void BM_Contract(benchmark::State& state, const std::string& shape) {
   setLogLevel(spdlog::level::warn);
-  const TriangleMesh mesh = shape == "ycb_mug" ? ycbMug() : primitives::makeNamedShape(shape);
+  const TriangleMesh mesh = shape == "ycb_mug" ? ycbMug() : geometry::shapes::makeNamedShape(shape);
   if (mesh.empty()) {
     state.SkipWithError("../shared/data not found");
     return;

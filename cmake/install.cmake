@@ -7,7 +7,7 @@ include(CMakePackageConfigHelpers)
 
 set(SKELGRASP_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/skelgrasp)
 set(SKELGRASP_EXPORTED_MODULES common geometry geometry_cgal perception reconstruction skeleton
-                               grasping physics ranking pipeline evaluation datasets)
+                               grasping physics ranking presentation pipeline evaluation datasets)
 
 foreach(module ${SKELGRASP_EXPORTED_MODULES})
   set(target skelgrasp_${module})

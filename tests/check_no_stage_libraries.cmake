@@ -1,5 +1,7 @@
 # Fails when BINARY depends on a shared library matching FORBIDDEN (a regex), per `ldd`.
-# A program that plans on a mesh (skeleton + grasping) must not pull in the perception stack.
+# A program that plans on a mesh (skeleton, grasping, ranking) must not pull in the perception
+# stack nor the picture libraries; the launcher and the mesh commands' program have lists of their
+# own (tests/CMakeLists.txt).
 # Without ldd it stops with "ldd not found", which the test's SKIP_REGULAR_EXPRESSION skips.
 find_program(LDD_PROGRAM ldd)
 if(NOT LDD_PROGRAM)

@@ -8,7 +8,7 @@
 #include "hdf5_io.h"
 #include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/error.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/perception/depth_camera.h"
 #include "skelgrasp/perception/image_io.h"
 
@@ -35,10 +35,10 @@ TriangleMesh writeYcbRawFixture(const std::string& folder, const YcbRawFixtureSp
   }
   TriangleMesh object = spec.object;
   if (object.empty()) {
-    object = primitives::makeCylinder(0.035, 0.10, 48, 8);
+    object = geometry::shapes::makeCylinder(0.035, 0.10, 48, 8);
     object.transform(Pose(Eigen::Translation3d(0, 0, 0.05)));
   }
-  TriangleMesh turntable = primitives::makeCylinder(0.2, 0.02, 64, 1);
+  TriangleMesh turntable = geometry::shapes::makeCylinder(0.2, 0.02, 64, 1);
   turntable.transform(Pose(Eigen::Translation3d(0, 0, -0.01)));
 
   namespace fs = std::filesystem;

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "skelgrasp/evaluation/batch.h"
-#include "skelgrasp/grasping/hand_model.h"
+#include "skelgrasp/grasping/hand/hand_model.h"
 
 namespace skelgrasp::evaluation::internal {
 

@@ -8,7 +8,7 @@
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/evaluation/score.h"
-#include "skelgrasp/grasping/grasp_simulator.h"
+#include "skelgrasp/grasping/simulation/grasp_simulator.h"
 
 namespace skelgrasp::evaluation {
 namespace {

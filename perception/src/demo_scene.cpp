@@ -5,7 +5,7 @@
 
 #include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/error.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/perception/cloud_ops.h"
 #include "skelgrasp/perception/depth_camera.h"
 #include "skelgrasp/perception/filters.h"
@@ -30,7 +30,7 @@ TriangleMesh placed(TriangleMesh mesh, double x, double y,
 DemoScene makeDemoScene(std::uint64_t seed, int views, const std::vector<DemoPlacement>& moved) {
   if (views < 1) throw InvalidArgument("demo scene: at least one view");
   DemoScene scene;
-  TriangleMesh table = primitives::makeBox({1.2, 0.8, 0.04}, 6);
+  TriangleMesh table = geometry::shapes::makeBox({1.2, 0.8, 0.04}, 6);
   table.transform(Pose(Eigen::Translation3d(0, 0, -0.02)));
   auto add = [&](const std::string& name, TriangleMesh mesh) {
     scene.names.push_back(name);
@@ -38,17 +38,17 @@ DemoScene makeDemoScene(std::uint64_t seed, int views, const std::vector<DemoPla
     scene.meshes.push_back(std::move(mesh));
   };
   add("table", table);
-  add("bottle", placed(primitives::makeNamedShape("bottle"), 0.02, -0.26));
-  add("mug", placed(primitives::makeNamedShape("mug"), 0.16, -0.04,
+  add("bottle", placed(geometry::shapes::makeNamedShape("bottle"), 0.02, -0.26));
+  add("mug", placed(geometry::shapes::makeNamedShape("mug"), 0.16, -0.04,
                     Eigen::AngleAxisd(kPi / 4, Eigen::Vector3d::UnitZ())));
   // Tall enough for the power interval of the large hands (ARMAR-III: 9.4 cm along the skeleton);
   // the 16 cm named box contracts to a shorter trunk and gets no skeleton grasp.
-  add("box", placed(primitives::makeBox({0.05, 0.08, 0.20}, 4), -0.12, 0.10,
+  add("box", placed(geometry::shapes::makeBox({0.05, 0.08, 0.20}, 4), -0.12, 0.10,
                     Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ())));
   // Standing on its head like a mallet, handle up.
-  add("hammer", placed(primitives::makeNamedShape("hammer"), 0.12, 0.25,
+  add("hammer", placed(geometry::shapes::makeNamedShape("hammer"), 0.12, 0.25,
                        Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitX())));
-  add("ball", placed(primitives::makeNamedShape("ball"), -0.16, -0.20));
+  add("ball", placed(geometry::shapes::makeNamedShape("ball"), -0.16, -0.20));
   for (const auto& m : moved) {
     const auto it = std::find(scene.names.begin() + 1, scene.names.end(), m.name);
     if (it == scene.names.end()) throw InvalidArgument("demo scene: no object '" + m.name + "'");

@@ -8,7 +8,7 @@
 #include <Eigen/Core>
 
 #include "skelgrasp/common/pose.h"
-#include "skelgrasp/grasping/hand_model.h"
+#include "skelgrasp/grasping/hand/hand_model.h"
 #include "skelgrasp/physics/execution.h"
 #include "skelgrasp/physics/physical_object.h"
 

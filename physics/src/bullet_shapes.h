@@ -13,7 +13,7 @@
 
 #include "skelgrasp/common/mesh.h"
 #include "skelgrasp/common/pose.h"
-#include "skelgrasp/grasping/hand_model.h"
+#include "skelgrasp/grasping/hand/hand_model.h"
 
 namespace skelgrasp::physics::internal {
 

@@ -10,7 +10,7 @@
 #include "bullet_scene.h"
 #include "bullet_shapes.h"
 #include "skelgrasp/common/error.h"
-#include "skelgrasp/grasping/hand_strength.h"
+#include "skelgrasp/grasping/hand/hand_strength.h"
 
 namespace skelgrasp::physics {
 namespace {

@@ -8,12 +8,14 @@
 #include "run_report_grasps.h"
 #include "run_scene_view.h"
 #include "skelgrasp/common/atomic_file.h"
-#include "skelgrasp/common/html_report.h"
 #include "skelgrasp/common/json.h"
-#include "skelgrasp/common/render.h"
-#include "skelgrasp/grasping/hand_render.h"
-#include "skelgrasp/grasping/plan_output.h"
+#include "skelgrasp/grasping/io/plan_output.h"
 #include "skelgrasp/pipeline/run_output.h"
+#include "skelgrasp/presentation/hand_render.h"
+#include "skelgrasp/presentation/html_report.h"
+#include "skelgrasp/presentation/plan_render.h"
+#include "skelgrasp/presentation/render.h"
+#include "skelgrasp/presentation/skeleton_render.h"
 #include "skelgrasp/reconstruction/meshing.h"
 #include "skelgrasp/skeleton/output.h"
 
@@ -58,7 +60,7 @@ void renderScanPng(const std::string& path, const perception::Scan& scan,
   }
   if (box.empty()) return;
   const Eigen::Vector3d from = scan.cloud.sensor_origin - box.center();
-  render::Canvas canvas(render::Camera::framing(
+  presentation::Canvas canvas(presentation::Camera::framing(
       box, from.norm() > 1e-6 ? from : Eigen::Vector3d(0, -1, 1), 2 * kPanel, kPanel));
   const std::size_t stride = std::max<std::size_t>(1, scan.cloud.size() / 120000);
   for (std::size_t i = 0; i < scan.cloud.size(); i += stride) {
@@ -148,27 +150,28 @@ void renderScan(const std::string& path, const RunResult& r, const perception::S
 
 void renderSegments(const std::string& path, const RunResult& r) {
   const TriangleMesh coloured = skeleton::colourBySegment(r.mesh, r.skeleton->skeleton);
-  std::vector<render::Canvas> panels;
+  std::vector<presentation::Canvas> panels;
   for (const Eigen::Vector3d& view :
        {Eigen::Vector3d(1, -1.2, 0.8), Eigen::Vector3d(-1, 1.2, 0.5)}) {
-    render::Canvas canvas(render::Camera::framing(r.mesh.bounds(), view, kPanel, kPanel));
+    presentation::Canvas canvas(
+        presentation::Camera::framing(r.mesh.bounds(), view, kPanel, kPanel));
     canvas.drawMesh(coloured, {200, 200, 200});
     canvas.drawText(8, 4, "reconstruction coloured by segment (grey: branching)");
     panels.push_back(std::move(canvas));
   }
-  render::Canvas::saveGrid({&panels[0], &panels[1]}, 2, path);
+  presentation::Canvas::saveGrid({&panels[0], &panels[1]}, 2, path);
 }
 
 // One grasp with the hand closed, in its surroundings (obstacle points within reach).
 void renderBestGrasp(const std::string& path, const RunResult& r, const HandModel& hand,
                      const RankedGrasp& ranked) {
   const Grasp& g = ranked.grasp;
-  const TriangleMesh hand_mesh = handMesh(hand, g.hand_pose, g.joints);
+  const TriangleMesh hand_mesh = presentation::handMesh(hand, g.hand_pose, g.joints);
   AxisAlignedBox box = r.mesh.bounds();
   for (const auto& v : hand_mesh.vertices) box.extend(v);
   const Eigen::Vector3d approach = g.gcp_pose.rotation().col(2);
   const Eigen::Vector3d side = anyPerpendicular(approach);
-  render::Canvas canvas(render::Camera::framing(
+  presentation::Canvas canvas(presentation::Camera::framing(
       box, side - 0.6 * approach + 0.4 * approach.cross(side), kPanel, kPanel));
   const Eigen::Vector3d centre = box.center();
   const double reach = 0.6 * box.diagonal();
@@ -179,7 +182,7 @@ void renderBestGrasp(const std::string& path, const RunResult& r, const HandMode
   object.vertex_colors.clear();
   canvas.drawMesh(object, {215, 200, 170}, false);
   canvas.drawMesh(hand_mesh, {0, 0, 0});
-  drawContacts(canvas, g.contacts, 0.02);
+  presentation::drawContacts(canvas, g.contacts, 0.02);
   canvas.drawText(
       8, 4,
       fmt::format("#{} {} {} eps {:.3f} observed {:.0f}% {}score {:.3f}", g.id, toString(g.type),
@@ -202,7 +205,7 @@ void writeRunOutputs(const std::string& dir, const RunResult& r, const HandModel
   // temporaries, and a directory without grasps.json is visibly incomplete.
   OutputTransaction outputs;
   const auto staged = [&](const std::string& file) { return outputs.stage(dir + "/" + file); };
-  HtmlReport report("skelgrasp run: " + input_name + " with " + hand.name());
+  presentation::HtmlReport report("skelgrasp run: " + input_name + " with " + hand.name());
   report.paragraph(r.status.ok()
                        ? fmt::format("{} ranked grasps on the target object.", r.ranked.size())
                        : "No grasp: " + r.status.message);
@@ -234,12 +237,12 @@ void writeRunOutputs(const std::string& dir, const RunResult& r, const HandModel
              skeleton::colourByVertexType(r.mesh, r.skeleton->skeleton));
     renderSegments(staged("reconstruction.png"), r);
     report.image("reconstruction.png", "Reconstruction coloured by skeleton segment");
-    skeleton::renderSkeletonPng(r.mesh, r.skeleton->skeleton, staged("skeleton.png"));
+    presentation::renderSkeletonPng(r.mesh, r.skeleton->skeleton, staged("skeleton.png"));
     report.image("skeleton.png", "Segmentation (paper colours) and skeleton");
     PlanResult shown;
     shown.planner = "skeleton";
     for (const auto& ranked : r.ranked) shown.grasps.push_back(ranked.grasp);
-    renderPlanPng(staged("grasps.png"), r.mesh, &r.skeleton->skeleton, shown, hand);
+    presentation::renderPlanPng(staged("grasps.png"), r.mesh, &r.skeleton->skeleton, shown, hand);
     report.image("grasps.png", "Approach directions of all grasps; the best grasp closed");
   }
   report.heading("Grasps");

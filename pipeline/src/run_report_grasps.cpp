@@ -24,7 +24,7 @@ std::string variantPhrase(const std::string& variant) {
 
 }  // namespace
 
-void addGraspTable(HtmlReport& report, const std::vector<RankedGrasp>& ranked) {
+void addGraspTable(presentation::HtmlReport& report, const std::vector<RankedGrasp>& ranked) {
   std::vector<std::vector<std::string>> rows;
   for (std::size_t k = 0; k < ranked.size(); ++k) {
     const auto& g = ranked[k].grasp;
@@ -86,7 +86,8 @@ std::string robustnessHistogramSvg(const std::vector<std::size_t>& counts) {
   return svg;
 }
 
-void addRobustnessHistogram(HtmlReport& report, const std::vector<RankedGrasp>& ranked) {
+void addRobustnessHistogram(presentation::HtmlReport& report,
+                            const std::vector<RankedGrasp>& ranked) {
   std::vector<std::size_t> counts(kHistogramBins, 0);
   std::size_t scored = 0;
   const grasping::GraspRobustness* any = nullptr;
@@ -118,7 +119,7 @@ void addRobustnessHistogram(HtmlReport& report, const std::vector<RankedGrasp>& 
   report.rawHtml(robustnessHistogramSvg(counts));
 }
 
-void addRejectionTable(HtmlReport& report, const grasping::PlanSummary& summary) {
+void addRejectionTable(presentation::HtmlReport& report, const grasping::PlanSummary& summary) {
   std::vector<std::vector<std::string>> reasons;
   for (const auto& [why, count] : summary.rejections)
     reasons.push_back({why, std::to_string(count)});

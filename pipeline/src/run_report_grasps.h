@@ -4,22 +4,23 @@
 #include <string>
 #include <vector>
 
-#include "skelgrasp/common/html_report.h"
 #include "skelgrasp/pipeline/run_pipeline.h"
+#include "skelgrasp/presentation/html_report.h"
 
 namespace skelgrasp::pipeline::internal {
 
 // Rank, type, strategy, epsilon, observed contacts, r [95 % interval] and its failed samples by
 // cause ("-" when not scored) and the rank score, one row per grasp.
-void addGraspTable(HtmlReport& report, const std::vector<RankedGrasp>& ranked);
+void addGraspTable(presentation::HtmlReport& report, const std::vector<RankedGrasp>& ranked);
 
 // An inline SVG bar chart (no file, works offline) of r over the scored grasps, in ten bins of
 // 0.1; a sentence instead when no grasp was scored.
-void addRobustnessHistogram(HtmlReport& report, const std::vector<RankedGrasp>& ranked);
+void addRobustnessHistogram(presentation::HtmlReport& report,
+                            const std::vector<RankedGrasp>& ranked);
 
 // Why the planner's hypotheses were rejected: a table of the rejection reasons and of the first
 // colliding link of scene collisions, and the hypothesis, generated and force-closure counts.
-void addRejectionTable(HtmlReport& report, const grasping::PlanSummary& summary);
+void addRejectionTable(presentation::HtmlReport& report, const grasping::PlanSummary& summary);
 
 // The SVG of that chart (for tests): `counts` per bin of width 1 / counts.size().
 std::string robustnessHistogramSvg(const std::vector<std::size_t>& counts);

@@ -10,12 +10,13 @@
 #include "run_report_grasps.h"
 #include "run_scene_view.h"
 #include "skelgrasp/common/atomic_file.h"
-#include "skelgrasp/common/html_report.h"
 #include "skelgrasp/common/json.h"
-#include "skelgrasp/common/render.h"
-#include "skelgrasp/grasping/hand_render.h"
-#include "skelgrasp/grasping/plan_output.h"
+#include "skelgrasp/grasping/io/plan_output.h"
 #include "skelgrasp/pipeline/run_output.h"
+#include "skelgrasp/presentation/hand_render.h"
+#include "skelgrasp/presentation/html_report.h"
+#include "skelgrasp/presentation/plan_render.h"
+#include "skelgrasp/presentation/render.h"
 #include "skelgrasp/reconstruction/meshing.h"
 #include "skelgrasp/skeleton/output.h"
 
@@ -130,7 +131,7 @@ void renderSceneScan(const std::string& path, const SceneRunResult& r,
                           "scan: objects by colour (see the table), support plane grey");
 }
 
-void addObjectTable(HtmlReport& report, const SceneRunResult& r) {
+void addObjectTable(presentation::HtmlReport& report, const SceneRunResult& r) {
   std::vector<std::vector<std::string>> rows;
   for (const auto& o : r.objects) {
     const Rgb c = objectColour(o.id);
@@ -147,8 +148,8 @@ void addObjectTable(HtmlReport& report, const SceneRunResult& r) {
   report.rawHtml(links + "</p>\n");
 }
 
-void addObjectSection(HtmlReport& report, OutputTransaction& outputs, const std::string& dir,
-                      const SceneObjectRun& o, const HandModel& hand) {
+void addObjectSection(presentation::HtmlReport& report, OutputTransaction& outputs,
+                      const std::string& dir, const SceneObjectRun& o, const HandModel& hand) {
   // The id is the anchor the overview's links (and the demo's index) point to.
   report.rawHtml(fmt::format("<h2 id=\"object-{0}\">Object {0}</h2>\n", o.id));
   report.paragraph(fmt::format(
@@ -160,7 +161,8 @@ void addObjectSection(HtmlReport& report, OutputTransaction& outputs, const std:
   shown.planner = "skeleton";
   for (const auto& ranked : o.ranked) shown.grasps.push_back(ranked.grasp);
   const std::string file = fmt::format("grasps_{}.png", o.id);
-  renderPlanPng(outputs.stage(dir + "/" + file), o.mesh, &o.skeleton->skeleton, shown, hand);
+  presentation::renderPlanPng(outputs.stage(dir + "/" + file), o.mesh, &o.skeleton->skeleton, shown,
+                              hand);
   report.image(file, fmt::format("Object {}: approach directions; the best grasp closed", o.id));
   internal::addGraspTable(report, o.ranked);
   internal::addRobustnessHistogram(report, o.ranked);
@@ -180,7 +182,8 @@ void writeSceneRunOutputs(const std::string& dir, const SceneRunResult& r, const
   // As writeRunOutputs: every file staged, renamed together, grasps.json last.
   OutputTransaction outputs;
   const auto staged = [&](const std::string& file) { return outputs.stage(dir + "/" + file); };
-  HtmlReport report("skelgrasp run: every object of " + input_name + " with " + hand.name());
+  presentation::HtmlReport report("skelgrasp run: every object of " + input_name + " with " +
+                                  hand.name());
   report.paragraph(fmt::format("{} of {} objects got grasps. {}", r.objectsWithGrasps(),
                                r.objects.size(), r.status.ok() ? "" : r.status.message));
   report.heading("3D view");

@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "skelgrasp/grasping/hand_render.h"
+#include "skelgrasp/presentation/hand_render.h"
 #include "skelgrasp/skeleton/output.h"
 
 namespace skelgrasp::pipeline {
@@ -16,7 +16,8 @@ const Rgb kScanGrey{120, 130, 150};
 const Rgb kObjectBeige{215, 200, 170};
 const Rgb kSkeletonBlack{20, 20, 20};
 
-void addScan(SceneView3d& view, const perception::Scan& scan, const RunSceneViewParams& params) {
+void addScan(presentation::SceneView3d& view, const perception::Scan& scan,
+             const RunSceneViewParams& params) {
   std::vector<Eigen::Vector3d> points;
   std::vector<Rgb> colours;
   const bool coloured = scan.cloud.hasColors();
@@ -28,7 +29,7 @@ void addScan(SceneView3d& view, const perception::Scan& scan, const RunSceneView
   view.addPoints("scan", points, colours, params.scan_point_size_m, params.max_scan_points);
 }
 
-void addSkeleton(SceneView3d& view, const skeleton::Skeleton& skel) {
+void addSkeleton(presentation::SceneView3d& view, const skeleton::Skeleton& skel) {
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> segments;
   for (const auto& e : skel.edges) {
     segments.emplace_back(skel.vertices[e[0]].position, skel.vertices[e[1]].position);
@@ -37,18 +38,19 @@ void addSkeleton(SceneView3d& view, const skeleton::Skeleton& skel) {
 }
 
 // Each link's geometry is embedded once; a grasp is only its link poses.
-std::vector<int> addHandParts(SceneView3d& view, const grasping::HandModel& hand) {
+std::vector<int> addHandParts(presentation::SceneView3d& view, const grasping::HandModel& hand) {
   std::vector<int> part_of_link(hand.links().size(), -1);
   for (std::size_t l = 0; l < hand.links().size(); ++l) {
-    const TriangleMesh mesh = linkMesh(hand, static_cast<int>(l));
-    if (!mesh.empty()) part_of_link[l] = view.addPart(mesh, linkColour(hand, static_cast<int>(l)));
+    const TriangleMesh mesh = presentation::linkMesh(hand, static_cast<int>(l));
+    if (!mesh.empty())
+      part_of_link[l] = view.addPart(mesh, presentation::linkColour(hand, static_cast<int>(l)));
   }
   return part_of_link;
 }
 
-void addGrasps(SceneView3d& view, const std::vector<RankedGrasp>& ranked, std::size_t shown,
-               const grasping::HandModel& hand, const std::vector<int>& part_of_link,
-               const std::string& label_prefix) {
+void addGrasps(presentation::SceneView3d& view, const std::vector<RankedGrasp>& ranked,
+               std::size_t shown, const grasping::HandModel& hand,
+               const std::vector<int>& part_of_link, const std::string& label_prefix) {
   for (std::size_t k = 0; k < std::min(shown, ranked.size()); ++k) {
     const Grasp& g = ranked[k].grasp;
     const auto link_poses = hand.linkPoses(g.joints);
@@ -56,7 +58,7 @@ void addGrasps(SceneView3d& view, const std::vector<RankedGrasp>& ranked, std::s
     for (std::size_t l = 0; l < link_poses.size(); ++l) {
       if (part_of_link[l] >= 0) parts.emplace_back(part_of_link[l], g.hand_pose * link_poses[l]);
     }
-    std::vector<SceneViewContact> contacts;
+    std::vector<presentation::SceneViewContact> contacts;
     for (const auto& c : g.contacts) contacts.push_back({c.point, c.normal});
     view.addGrasp(
         fmt::format("{}#{} {} {} — ε {:.3f}, score {:.3f}, {} contacts", label_prefix, k,
@@ -65,7 +67,7 @@ void addGrasps(SceneView3d& view, const std::vector<RankedGrasp>& ranked, std::s
   }
 }
 
-void addObject(SceneView3d& view, const std::string& layer, const TriangleMesh& mesh,
+void addObject(presentation::SceneView3d& view, const std::string& layer, const TriangleMesh& mesh,
                const std::optional<skeleton::SkeletonResult>& skeleton) {
   if (mesh.empty()) return;
   const bool segmented = skeleton && skeleton->status.ok();
@@ -76,9 +78,10 @@ void addObject(SceneView3d& view, const std::string& layer, const TriangleMesh& 
 
 }  // namespace
 
-SceneView3d runSceneView(const RunResult& r, const grasping::HandModel& hand,
-                         const perception::Scan& scan, const RunSceneViewParams& params) {
-  SceneView3d view;
+presentation::SceneView3d runSceneView(const RunResult& r, const grasping::HandModel& hand,
+                                       const perception::Scan& scan,
+                                       const RunSceneViewParams& params) {
+  presentation::SceneView3d view;
   addScan(view, scan, params);
   addObject(view, "object", r.mesh, r.skeleton);
   const auto parts = addHandParts(view, hand);
@@ -86,9 +89,10 @@ SceneView3d runSceneView(const RunResult& r, const grasping::HandModel& hand,
   return view;
 }
 
-SceneView3d sceneRunView(const SceneRunResult& r, const grasping::HandModel& hand,
-                         const perception::Scan& scan, const RunSceneViewParams& params) {
-  SceneView3d view;
+presentation::SceneView3d sceneRunView(const SceneRunResult& r, const grasping::HandModel& hand,
+                                       const perception::Scan& scan,
+                                       const RunSceneViewParams& params) {
+  presentation::SceneView3d view;
   addScan(view, scan, params);
   const auto parts = addHandParts(view, hand);
   for (const auto& object : r.objects) {

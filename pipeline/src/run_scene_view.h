@@ -1,9 +1,9 @@
 #pragma once
 // The 3D view of a run's report (docs/report.md): the scan, the object(s) coloured by skeleton
 // segment, the skeleton and the ranked grasps with the hand closed and their contacts.
-#include "skelgrasp/common/scene_view.h"
 #include "skelgrasp/pipeline/run_pipeline.h"
 #include "skelgrasp/pipeline/run_scene.h"
+#include "skelgrasp/presentation/scene_view.h"
 
 namespace skelgrasp::pipeline {
 
@@ -17,11 +17,13 @@ struct RunSceneViewParams {
   std::size_t grasps_per_object = 3;
 };
 
-SceneView3d runSceneView(const RunResult& r, const grasping::HandModel& hand,
-                         const perception::Scan& scan, const RunSceneViewParams& params = {});
+presentation::SceneView3d runSceneView(const RunResult& r, const grasping::HandModel& hand,
+                                       const perception::Scan& scan,
+                                       const RunSceneViewParams& params = {});
 
 // Every object of a scene run: its mesh by segment, its skeleton and its best grasps.
-SceneView3d sceneRunView(const SceneRunResult& r, const grasping::HandModel& hand,
-                         const perception::Scan& scan, const RunSceneViewParams& params = {});
+presentation::SceneView3d sceneRunView(const SceneRunResult& r, const grasping::HandModel& hand,
+                                       const perception::Scan& scan,
+                                       const RunSceneViewParams& params = {});
 
 }  // namespace skelgrasp::pipeline

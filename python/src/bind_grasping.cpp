@@ -9,9 +9,10 @@
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/evaluation/plan_record.h"
 #include "skelgrasp/evaluation/score.h"
-#include "skelgrasp/grasping/hand_render.h"
-#include "skelgrasp/grasping/plan_output.h"
-#include "skelgrasp/grasping/planners.h"
+#include "skelgrasp/grasping/io/plan_output.h"
+#include "skelgrasp/grasping/planning/planners.h"
+#include "skelgrasp/presentation/hand_render.h"
+#include "skelgrasp/presentation/plan_render.h"
 #include "skelgrasp/ranking/plan_grasps.h"
 #include "skelgrasp/ranking/robust_ranking.h"
 #include "skelgrasp/ranking/robustness.h"
@@ -330,9 +331,9 @@ the SDH's 'claw', 'precision_tripod' and (small objects only) 'narrow_tripod' tr
       "render_plan",
       [](const std::string& path, const Plan& p, const Mesh& mesh) {
         py::gil_scoped_release release;
-        grasping::renderPlanPng(path, mesh.mesh,
-                                p.skeleton ? &p.skeleton->result.skeleton : nullptr, p.result,
-                                *p.hand);
+        presentation::renderPlanPng(path, mesh.mesh,
+                                    p.skeleton ? &p.skeleton->result.skeleton : nullptr, p.result,
+                                    *p.hand);
       },
       py::arg("path"), py::arg("plan"), py::arg("mesh"),
       "PNG of the object, its skeleton and every grasp's approach, plus the best grasp with the "
@@ -342,8 +343,8 @@ the SDH's 'claw', 'precision_tripod' and (small objects only) 'narrow_tripod' tr
       [](const std::string& path, const Grasp& g, const Mesh& mesh) {
         const auto& preshape = g.hand->preshape(g.grasp.preshape);
         py::gil_scoped_release release;
-        grasping::renderGraspPng(path, mesh.mesh, *g.hand, g.grasp.hand_pose, preshape.joints,
-                                 g.grasp.joints, g.grasp.contacts);
+        presentation::renderGraspPng(path, mesh.mesh, *g.hand, g.grasp.hand_pose, preshape.joints,
+                                     g.grasp.joints, g.grasp.contacts);
       },
       py::arg("path"), py::arg("grasp"), py::arg("mesh"),
       "PNG of the object with the hand in its preshape and closed, from two sides.");

@@ -7,10 +7,10 @@
 #include "convert.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/evaluation/score.h"
-#include "skelgrasp/grasping/grasp_simulator.h"
-#include "skelgrasp/grasping/grasps_file.h"
-#include "skelgrasp/grasping/plan_output.h"
-#include "skelgrasp/grasping/quality.h"
+#include "skelgrasp/grasping/io/grasps_file.h"
+#include "skelgrasp/grasping/io/plan_output.h"
+#include "skelgrasp/grasping/quality/quality.h"
+#include "skelgrasp/grasping/simulation/grasp_simulator.h"
 #include "skelgrasp/ranking/robustness.h"
 
 namespace skelgrasp::python {

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "skelgrasp/common/logging.h"
-#include "skelgrasp/grasping/compass_search.h"
+#include "skelgrasp/grasping/planning/compass_search.h"
 
 namespace skelgrasp::ranking {
 namespace {

@@ -13,7 +13,7 @@
 
 #include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/logging.h"
-#include "skelgrasp/grasping/hypothesis.h"
+#include "skelgrasp/grasping/planning/hypothesis.h"
 
 namespace skelgrasp::ranking {
 

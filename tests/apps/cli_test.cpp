@@ -14,7 +14,7 @@
 #include "cli_support.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "test_support.h"
 
 namespace skelgrasp {
@@ -29,7 +29,7 @@ using test::withDir;
 
 TEST(Cli, SkeletonWritesOutputsAndOneSummaryLine) {
   const std::string dir = test::tempDir("cli_ok");
-  saveMesh(dir + "/capsule.ply", primitives::makeNamedShape("capsule"));
+  saveMesh(dir + "/capsule.ply", geometry::shapes::makeNamedShape("capsule"));
   const CliRun run = runCli("skeleton " + dir + "/capsule.ply --out " + dir + "/out", dir);
   EXPECT_EQ(run.exit_code, 0) << run.err;
   EXPECT_EQ(countLines(run.out), 1);
@@ -124,7 +124,7 @@ TEST(Cli, QualityScoresAContactFile) {
 
 TEST(Cli, CloseReportsJointsContactsAndQuality) {
   const std::string dir = test::tempDir("cli_close");
-  saveMesh(dir + "/box.ply", primitives::makeBox({0.05, 0.09, 0.16}, 2));
+  saveMesh(dir + "/box.ply", geometry::shapes::makeBox({0.05, 0.09, 0.16}, 2));
   // Gripper approaching along -y, jaws closing across the 5 cm width.
   const std::string pose = "\"0 0.035 0 0.7071068 0.7071068 0 0\"";
   const CliRun run =
@@ -153,7 +153,7 @@ TEST(Cli, CloseReportsJointsContactsAndQuality) {
 // (the Shadow hand's description sets 40 x 8 and r < 0.5; docs/hands.md, "Ranking budget").
 TEST(Cli, PlanRecordsTheRankingBudgetItRanWith) {
   const std::string dir = test::tempDir("cli_plan_budget");
-  saveMesh(dir + "/capsule.ply", primitives::makeNamedShape("capsule"));
+  saveMesh(dir + "/capsule.ply", geometry::shapes::makeNamedShape("capsule"));
   const CliRun run = runCli("plan " + dir +
                                 "/capsule.ply --hand shadow --robustness-samples 4 "
                                 "--robustness-screen 12 --out " +
@@ -184,7 +184,7 @@ TEST(Cli, PlanRecordsTheRankingBudgetItRanWith) {
 
 TEST(Cli, PlanWritesTheDocumentedGraspsJson) {
   const std::string dir = test::tempDir("cli_plan");
-  saveMesh(dir + "/bottle.ply", primitives::makeNamedShape("bottle"));
+  saveMesh(dir + "/bottle.ply", geometry::shapes::makeNamedShape("bottle"));
   const CliRun run = runCli("plan " + dir + "/bottle.ply --hand sdh --max-grasps 5 --out " + dir +
                                 "/grasps.json --render " + dir + "/grasps.png",
                             dir);
@@ -244,7 +244,7 @@ TEST(Cli, PlanWritesTheDocumentedGraspsJson) {
 // Robust ranking (docs/planning.md): the best K grasps by epsilon get r and come first, by r.
 TEST(Cli, PlanScoresAndRanksByRobustness) {
   const std::string dir = test::tempDir("cli_plan_robust");
-  saveMesh(dir + "/bottle.ply", primitives::makeNamedShape("bottle"));
+  saveMesh(dir + "/bottle.ply", geometry::shapes::makeNamedShape("bottle"));
   const std::string plan = "plan " + dir + "/bottle.ply --hand sdh --max-grasps 6 --seed 3 --out ";
   const CliRun run = runCli(plan + dir +
                                 "/robust.json --robustness-samples 12 --robustness-top-k 4 "
@@ -491,7 +491,7 @@ TEST(Cli, PlanWorksUnderAnAddressSpaceLimit) {
 #endif
   constexpr long kAddressSpaceLimitKiB = 6L * 1024 * 1024;  // 6 GiB
   const std::string dir = test::tempDir("cli_ulimit");
-  saveMesh(dir + "/capsule.ply", primitives::makeNamedShape("capsule"));
+  saveMesh(dir + "/capsule.ply", geometry::shapes::makeNamedShape("capsule"));
   const std::string cmd = "ulimit -v " + std::to_string(kAddressSpaceLimitKiB) + " && " +
                           SKELGRASP_CLI_PATH + " plan " + dir +
                           "/capsule.ply --hand sdh --max-grasps 2 --out " + dir +
@@ -532,7 +532,7 @@ TEST(Cli, BenchJudgeWritesOldAndNewMediansPerHand) {
 // plan both ways; without --threads one thread only (the paper's one-core timing).
 TEST(Cli, BenchPlanComparesOneThreadWithMoreOnTheSamePlans) {
   const std::string dir = test::tempDir("bench_plan_threads");
-  saveMesh(dir + "/box.ply", primitives::makeNamedShape("box"));
+  saveMesh(dir + "/box.ply", geometry::shapes::makeNamedShape("box"));
   const auto one =
       test::runCli("bench plan " + dir + "/box.ply --hands sdh --json " + dir + "/one.json", dir);
   ASSERT_EQ(one.exit_code, 0) << one.err;
@@ -553,7 +553,7 @@ TEST(Cli, BenchPlanComparesOneThreadWithMoreOnTheSamePlans) {
 TEST(Cli, BenchRankingComparesEachShortcutOffAndOnOnTheSameGrasps) {
   const std::string dir = test::tempDir("bench_ranking");
   // The SDH on the generated box: over 60 kept grasps, so the ranking screens and cuts short.
-  saveMesh(dir + "/box.ply", primitives::makeNamedShape("box"));
+  saveMesh(dir + "/box.ply", geometry::shapes::makeNamedShape("box"));
   const auto run =
       test::runCli("bench ranking " + dir + "/box.ply --hands sdh --json " + dir + "/r.json", dir);
   ASSERT_EQ(run.exit_code, 0) << run.err;

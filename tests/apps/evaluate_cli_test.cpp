@@ -13,7 +13,7 @@
 #include "cli_support.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "test_support.h"
 
 namespace skelgrasp {
@@ -41,7 +41,7 @@ std::string objectsDir(const std::string& dir, const std::vector<std::string>& s
   const std::string objects = dir + "/objects";
   std::filesystem::create_directories(objects);
   for (const auto& shape : shapes) {
-    saveMesh(objects + "/" + shape + ".ply", primitives::makeNamedShape(shape));
+    saveMesh(objects + "/" + shape + ".ply", geometry::shapes::makeNamedShape(shape));
   }
   return objects;
 }

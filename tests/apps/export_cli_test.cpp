@@ -11,8 +11,8 @@
 #include "cli_support.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
-#include "skelgrasp/grasping/hand_model.h"
+#include "skelgrasp/geometry/shapes.h"
+#include "skelgrasp/grasping/hand/hand_model.h"
 #include "test_support.h"
 
 namespace skelgrasp {
@@ -42,7 +42,7 @@ class ExportCli : public ::testing::TestWithParam<std::string> {};
 TEST_P(ExportCli, MoveItAndJointStatesMatchGraspsJsonAndTheUrdf) {
   const std::string hand = GetParam();
   const std::string dir = test::tempDir("cli_export_" + hand);
-  saveMesh(dir + "/bottle.ply", primitives::makeNamedShape("bottle"));
+  saveMesh(dir + "/bottle.ply", geometry::shapes::makeNamedShape("bottle"));
   CliRun run = runCli("plan " + dir + "/bottle.ply --hand " + hand + " --out " + dir +
                           "/grasps.json --export moveit,joint_states",
                       dir);

@@ -10,7 +10,7 @@
 #include "perception/synthetic_scenes.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/perception/cloud_io.h"
 #include "test_support.h"
 
@@ -44,7 +44,7 @@ TEST_P(LimitsCli, RefusesWithOneLineNamingTheEstimate) {
   const std::string dir = test::tempDir("cli_limits_" + c.name);
   perception::savePointCloud(dir + "/scene.pcd",
                              test::renderTableScene(41, {0.55, 0.05, 0.6}, true).cloud);
-  saveMesh(dir + "/capsule.ply", primitives::makeNamedShape("capsule"));
+  saveMesh(dir + "/capsule.ply", geometry::shapes::makeNamedShape("capsule"));
   // The most a contact file may hold (grasping::ContactFileLimits): its 6D hull needs ~120 MB.
   writeContacts(dir + "/contacts.json", 100);
   const CliRun r = runCli(withDir(c.args, dir), dir);
@@ -82,7 +82,7 @@ INSTANTIATE_TEST_SUITE_P(
 
 TEST(LimitsCli, RaisingTheLimitIsAcceptedAndDefaultsRun) {
   const std::string dir = test::tempDir("cli_limits_ok");
-  saveMesh(dir + "/capsule.ply", primitives::makeNamedShape("capsule"));
+  saveMesh(dir + "/capsule.ply", geometry::shapes::makeNamedShape("capsule"));
   const CliRun r =
       runCli("-q skeleton " + dir + "/capsule.ply --memory-limit 0.5 --out " + dir + "/out", dir);
   EXPECT_EQ(r.exit_code, 0) << r.err;

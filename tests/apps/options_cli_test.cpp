@@ -11,7 +11,7 @@
 #include "perception/synthetic_scenes.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/perception/cloud_io.h"
 #include "test_support.h"
 
@@ -26,9 +26,9 @@ using test::withDir;
 
 // Writes the small inputs the cases name: a box mesh, a contact file and an objects folder.
 void writeInputs(const std::string& dir) {
-  saveMesh(dir + "/box.ply", primitives::makeBox({0.05, 0.09, 0.16}, 2));
+  saveMesh(dir + "/box.ply", geometry::shapes::makeBox({0.05, 0.09, 0.16}, 2));
   std::filesystem::create_directories(dir + "/objects");
-  saveMesh(dir + "/objects/box.ply", primitives::makeBox({0.05, 0.09, 0.16}, 2));
+  saveMesh(dir + "/objects/box.ply", geometry::shapes::makeBox({0.05, 0.09, 0.16}, 2));
   std::ofstream(dir + "/contacts.json")
       << R"({"contacts": [{"point": [0.03, 0, 0], "normal": [1, 0, 0]},
                           {"point": [-0.03, 0, 0], "normal": [-1, 0, 0]}]})";

@@ -8,7 +8,7 @@
 #include "cli_support.h"
 #include "perception/synthetic_scenes.h"
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/perception/cloud_io.h"
 #include "test_support.h"
 
@@ -46,7 +46,7 @@ void expectOneErrorLine(const CliRun& run, const std::string& path, const std::s
 
 TEST(OutputPathsCli, BadRenderPathFailsBeforeTheSkeletonIsComputed) {
   const std::string dir = test::tempDir("cli_out_render");
-  saveMesh(dir + "/capsule.ply", primitives::makeNamedShape("capsule"));
+  saveMesh(dir + "/capsule.ply", geometry::shapes::makeNamedShape("capsule"));
   fs::create_directories(dir + "/out");
   const CliRun run = runCli("skeleton " + dir + "/capsule.ply --out " + dir +
                                 "/out --render /no/such/dir/x.png --write-regularised",
@@ -60,7 +60,7 @@ TEST(OutputPathsCli, BadRenderPathFailsBeforeTheSkeletonIsComputed) {
 
 TEST(OutputPathsCli, OutputBelowARegularFileOrOntoADirectoryIsRefused) {
   const std::string dir = test::tempDir("cli_out_bad_paths");
-  saveMesh(dir + "/box.ply", primitives::makeNamedShape("box"));
+  saveMesh(dir + "/box.ply", geometry::shapes::makeNamedShape("box"));
   std::ofstream(dir + "/plain.txt") << "a file, not a directory";
   fs::create_directories(dir + "/a_directory.json");
   const struct {
@@ -102,7 +102,7 @@ TEST(OutputPathsCli, LaterOutputFailingLeavesNoneOfTheEarlierOnes) {
   // regularised.ply is a directory: the check of --out passes, segmentation.ply is written, then
   // regularised.ply fails. Neither it nor skeleton.json nor segmentation.ply may appear.
   const std::string dir = test::tempDir("cli_out_rollback");
-  saveMesh(dir + "/capsule.ply", primitives::makeNamedShape("capsule"));
+  saveMesh(dir + "/capsule.ply", geometry::shapes::makeNamedShape("capsule"));
   fs::create_directories(dir + "/out/regularised.ply");
   const CliRun run = runCli("-q skeleton " + dir + "/capsule.ply --out " + dir +
                                 "/out --write-regularised --render " + dir + "/render.png",
@@ -116,7 +116,7 @@ TEST(OutputPathsCli, LaterOutputFailingLeavesNoneOfTheEarlierOnes) {
 
 TEST(OutputPathsCli, SuccessfulSkeletonWritesEverythingAndNoTemporaries) {
   const std::string dir = test::tempDir("cli_out_ok");
-  saveMesh(dir + "/capsule.ply", primitives::makeNamedShape("capsule"));
+  saveMesh(dir + "/capsule.ply", geometry::shapes::makeNamedShape("capsule"));
   const CliRun run = runCli("skeleton " + dir + "/capsule.ply --out " + dir +
                                 "/new/out --write-regularised --render " + dir + "/pics/r.png",
                             dir);

@@ -10,7 +10,7 @@
 #include "cli_support.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "test_support.h"
 
 namespace skelgrasp {
@@ -55,7 +55,7 @@ class SchedulerTest : public ::testing::Test {
     objects_ = dir_ + "/objects";
     std::filesystem::create_directories(objects_);
     for (const char* shape : {"capsule", "bottle", "hammer", "mug"}) {
-      saveMesh(objects_ + "/" + shape + ".ply", primitives::makeNamedShape(shape));
+      saveMesh(objects_ + "/" + shape + ".ply", geometry::shapes::makeNamedShape(shape));
     }
     const auto run = runCli(
         "evaluate --objects " + objects_ + " --out " + dir_ + "/single" + kFastOptions, dir_);

@@ -8,7 +8,7 @@
 #include "cli_support.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "test_support.h"
 
 namespace skelgrasp {
@@ -129,7 +129,7 @@ INSTANTIATE_TEST_SUITE_P(Hands, ScoreCli, ::testing::Values("armar3", "sdh", "sh
 // force closure and r stays inside its interval.
 TEST(ScoreCliCapsule, TwoFrictionsInOneRun) {
   const std::string dir = test::tempDir("cli_score_capsule");
-  saveMesh(dir + "/capsule.ply", primitives::makeNamedShape("capsule"));
+  saveMesh(dir + "/capsule.ply", geometry::shapes::makeNamedShape("capsule"));
   const CliRun plan = runCli(
       "plan " + dir + "/capsule.ply --hand sdh --max-grasps 3 --out " + dir + "/grasps.json", dir);
   ASSERT_EQ(plan.exit_code, 0) << plan.err;
@@ -229,7 +229,7 @@ TEST(ScoreCliYcb, RunFileWithSeveralObjects) {
 
 TEST(ScoreCliErrors, BadInputIsOneLineAndExitTwoAndWritesNothing) {
   const std::string dir = test::tempDir("cli_score_bad");
-  saveMesh(dir + "/capsule.ply", primitives::makeNamedShape("capsule"));
+  saveMesh(dir + "/capsule.ply", geometry::shapes::makeNamedShape("capsule"));
   const std::string pose =
       R"("hand_pose": {"position": [0, 0, 0.2], "quaternion_wxyz": [1, 0, 0, 0]})";
   std::ofstream(dir + "/broken.json") << "{\"schema\": \"skelgrasp.grasps/1\", \"grasps\": [";

@@ -9,7 +9,7 @@
 #include "cli_support.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "test_support.h"
 
 namespace skelgrasp {
@@ -22,7 +22,7 @@ using test::runCli;
 // A plan of the parallel gripper on a generated box, simulated with two frictions and samples.
 TEST(SimulateCli, PlansGraspsOnABoxAreExecutedWithTheirOutcomes) {
   const std::string dir = test::tempDir("cli_simulate_box");
-  saveMesh(dir + "/box.ply", primitives::makeNamedShape("box"));
+  saveMesh(dir + "/box.ply", geometry::shapes::makeNamedShape("box"));
   const CliRun plan = runCli("plan " + dir + "/box.ply --hand parallel_gripper --max-grasps 3 " +
                                  "--robustness-samples 4 --out " + dir + "/grasps.json",
                              dir);
@@ -84,7 +84,7 @@ TEST(SimulateCli, PlansGraspsOnABoxAreExecutedWithTheirOutcomes) {
 TEST(BenchPhysicsCli, RowsAndSummaryAgree) {
   const std::string dir = test::tempDir("cli_bench_physics");
   std::filesystem::create_directories(dir + "/meshes");
-  saveMesh(dir + "/meshes/box.ply", primitives::makeNamedShape("box"));
+  saveMesh(dir + "/meshes/box.ply", geometry::shapes::makeNamedShape("box"));
   const CliRun run =
       runCli("bench physics " + dir + "/meshes --hands parallel_gripper --grasps 2 " +
                  "--samples 2 --robustness-samples 4 --json " + dir + "/out.json",
@@ -112,7 +112,7 @@ TEST(BenchPhysicsCli, RowsAndSummaryAgree) {
 
 TEST(SimulateCliErrors, BadInputIsOneLineAndExitTwoAndWritesNothing) {
   const std::string dir = test::tempDir("cli_simulate_bad");
-  saveMesh(dir + "/capsule.ply", primitives::makeNamedShape("capsule"));
+  saveMesh(dir + "/capsule.ply", geometry::shapes::makeNamedShape("capsule"));
   std::ofstream(dir + "/good.json")
       << R"({"schema": "skelgrasp.grasps/1", "hand": "sdh", "grasps": [{"id": 0,
            "hand_pose": {"position": [0, 0, 0.3], "quaternion_wxyz": [1, 0, 0, 0]}}]})";

@@ -7,7 +7,7 @@
 
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/file_header.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "test_support.h"
 
 namespace skelgrasp {
@@ -20,7 +20,7 @@ void writeText(const std::string& path, const std::string& text) {
 class MeshIoRoundTrip : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(MeshIoRoundTrip, PreservesGeometry) {
-  const TriangleMesh box = primitives::makeBox({0.1, 0.2, 0.3}, 2);
+  const TriangleMesh box = geometry::shapes::makeBox({0.1, 0.2, 0.3}, 2);
   const std::string path = test::tempDir("io_" + GetParam()) + "/box." + GetParam();
   saveMesh(path, box);
   MeshLoadInfo info;
@@ -40,7 +40,7 @@ TEST_P(MeshIoRoundTrip, PreservesGeometry) {
 INSTANTIATE_TEST_SUITE_P(Formats, MeshIoRoundTrip, ::testing::Values("ply", "obj", "off", "stl"));
 
 TEST(MeshIo, PlyKeepsVertexColours) {
-  TriangleMesh mesh = primitives::makeBox({1, 1, 1});
+  TriangleMesh mesh = geometry::shapes::makeBox({1, 1, 1});
   mesh.scale(0.1);
   mesh.vertex_colors.assign(mesh.numVertices(), Rgb{10, 20, 30});
   const std::string path = test::tempDir("io_colour") + "/c.ply";
@@ -52,7 +52,7 @@ TEST(MeshIo, PlyKeepsVertexColours) {
 }
 
 TEST(MeshIo, ExtraUcharVertexPropertiesRoundTripInVertexOrder) {
-  TriangleMesh mesh = primitives::makeSphere(0.05, 16, 8);
+  TriangleMesh mesh = geometry::shapes::makeSphere(0.05, 16, 8);
   mesh.vertex_colors.assign(mesh.numVertices(), Rgb{1, 2, 3});
   std::vector<std::uint8_t> observed(mesh.numVertices()), parity(mesh.numVertices());
   for (std::size_t i = 0; i < observed.size(); ++i) {
@@ -71,7 +71,7 @@ TEST(MeshIo, ExtraUcharVertexPropertiesRoundTripInVertexOrder) {
 }
 
 TEST(MeshIo, ExtraVertexPropertiesAreValidated) {
-  const TriangleMesh mesh = primitives::makeBox({0.1, 0.1, 0.1});
+  const TriangleMesh mesh = geometry::shapes::makeBox({0.1, 0.1, 0.1});
   const std::string dir = test::tempDir("io_props_bad");
   const std::vector<std::uint8_t> short_values(mesh.numVertices() - 1, 1);
   const std::vector<std::uint8_t> values(mesh.numVertices(), 1);
@@ -88,7 +88,7 @@ TEST(MeshIo, BoundsSkipNonFinitePoints) {
 }
 
 TEST(MeshIo, MillimetreInputIsDetectedAndScaled) {
-  TriangleMesh mesh = primitives::makeBox({80, 60, 120});  // a box in mm
+  TriangleMesh mesh = geometry::shapes::makeBox({80, 60, 120});  // a box in mm
   const std::string path = test::tempDir("io_mm") + "/mm.obj";
   saveMesh(path, mesh);
   MeshLoadInfo info;

@@ -13,7 +13,7 @@
 #include "batch_test_support.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "test_support.h"
 
 namespace skelgrasp::evaluation {
@@ -197,7 +197,7 @@ TEST_F(BatchTest, RetryFailedEvaluatesFailedObjectsAgain) {
   EXPECT_EQ(stats.objects_retried, 1u);
   EXPECT_EQ(lines(out + "/runs.jsonl").size(), 4u);  // replaced, not added
   // The file is fixed: the retried runs succeed and replace the failed records.
-  saveMesh(broken, primitives::makeNamedShape("capsule"));
+  saveMesh(broken, geometry::shapes::makeNamedShape("capsule"));
   stats = runBatch(p);
   EXPECT_EQ(stats.objects_run, 1u);
   EXPECT_EQ(stats.runs_failed, 0u);
@@ -215,7 +215,7 @@ TEST_F(BatchTest, AnObjectWhoseFileChangedIsEvaluatedAgain) {
   p.objects.resize(2);
   runBatch(p);
   const auto old_hash = lines(out + "/runs.jsonl")[0]["object_hash"];
-  saveMesh(objects_[0], primitives::makeNamedShape("hammer"));
+  saveMesh(objects_[0], geometry::shapes::makeNamedShape("hammer"));
   const auto stats = runBatch(p);
   EXPECT_EQ(stats.objects_run, 1u);
   EXPECT_EQ(stats.objects_changed, 1u);

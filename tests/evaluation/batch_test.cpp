@@ -12,7 +12,7 @@
 #include "batch_test_support.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "test_support.h"
 
 namespace skelgrasp::evaluation {
@@ -99,8 +99,8 @@ TEST_F(BatchTest, SameNamedMeshesInDifferentFoldersAreDistinctRunsWithDistinctSe
   const std::string objects = test::tempDir("batch_same_names"), out = objects + "/out";
   std::filesystem::create_directories(objects + "/a");
   std::filesystem::create_directories(objects + "/b");
-  saveMesh(objects + "/a/mesh.ply", primitives::makeNamedShape("capsule"));
-  saveMesh(objects + "/b/mesh.ply", primitives::makeNamedShape("bottle"));
+  saveMesh(objects + "/a/mesh.ply", geometry::shapes::makeNamedShape("capsule"));
+  saveMesh(objects + "/b/mesh.ply", geometry::shapes::makeNamedShape("bottle"));
   auto p = params(out);
   p.objects = {objects + "/a/mesh.ply", objects + "/b/mesh.ply"};
   EXPECT_EQ(runBatch(p).objects_run, 2u);

@@ -11,8 +11,8 @@
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
 #include "skelgrasp/evaluation/batch.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "test_support.h"
 
 namespace skelgrasp::evaluation::batch_test {
@@ -49,7 +49,7 @@ class BatchTest : public ::testing::Test {
                          ::testing::UnitTest::GetInstance()->current_test_info()->name());
     for (const char* shape : {"capsule", "bottle", "hammer"}) {
       objects_.push_back(dir_ + "/" + shape + ".ply");
-      saveMesh(objects_.back(), primitives::makeNamedShape(shape));
+      saveMesh(objects_.back(), geometry::shapes::makeNamedShape(shape));
     }
   }
   BatchParams params(const std::string& out) const {

@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "skelgrasp/common/primitives.h"
-#include "skelgrasp/grasping/planners.h"
+#include "skelgrasp/geometry/shapes.h"
+#include "skelgrasp/grasping/planning/planners.h"
 #include "skelgrasp/skeleton/extraction.h"
 
 namespace skelgrasp::evaluation {
@@ -42,7 +42,7 @@ class ScorePlan : public ::testing::TestWithParam<const char*> {};
 // plan's friction, and ranking::evaluateRobustness' r with grasp index 0 and the same seed.
 TEST_P(ScorePlan, ReproducesPlansNumbersForPlansGrasps) {
   const auto hand = grasping::loadBuiltinHand(GetParam());
-  const TriangleMesh mesh = primitives::makeNamedShape("capsule");
+  const TriangleMesh mesh = geometry::shapes::makeNamedShape("capsule");
   const grasping::GraspObject object(mesh);
   const auto plan = planFew(hand, object, mesh, 3);
   ASSERT_FALSE(plan.grasps.empty()) << GetParam();
@@ -95,7 +95,7 @@ INSTANTIATE_TEST_SUITE_P(Hands, ScorePlan, ::testing::Values("armar3", "sdh", "s
 
 TEST(Score, IsDeterministicForASeedAndSkipsRobustnessWhenAsked) {
   const auto hand = grasping::loadBuiltinHand("sdh");
-  const TriangleMesh mesh = primitives::makeNamedShape("capsule");
+  const TriangleMesh mesh = geometry::shapes::makeNamedShape("capsule");
   const grasping::GraspObject object(mesh);
   const auto placements = placementsOf(planFew(hand, object, mesh, 2));
   ASSERT_FALSE(placements.empty());
@@ -125,7 +125,7 @@ TEST(Score, IsDeterministicForASeedAndSkipsRobustnessWhenAsked) {
 
 TEST(Score, AHandInsideTheObjectIsAClosingFailureNotAnError) {
   const auto hand = grasping::loadBuiltinHand("sdh");
-  const grasping::GraspObject object(primitives::makeNamedShape("capsule"));
+  const grasping::GraspObject object(geometry::shapes::makeNamedShape("capsule"));
   GraspPlacement inside;  // the hand's root at the object's centre: it starts in collision
   inside.id = "foreign-1";
   inside.preshape = grasping::defaultPreshapeName(hand);
@@ -141,7 +141,7 @@ TEST(Score, AHandInsideTheObjectIsAClosingFailureNotAnError) {
 
 TEST(Score, RefusesBadParameters) {
   const auto hand = grasping::loadBuiltinHand("sdh");
-  const grasping::GraspObject object(primitives::makeNamedShape("capsule"));
+  const grasping::GraspObject object(geometry::shapes::makeNamedShape("capsule"));
   ScoreParams none;
   none.frictions.clear();
   EXPECT_THROW(scoreGrasps(hand, object, {}, none), InvalidArgument);

@@ -3,28 +3,28 @@
 #include <gtest/gtest.h>
 
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "test_support.h"
 
 namespace skelgrasp::geometry {
 namespace {
 
 TEST(MeshTopology, ClosedPrimitivesHaveTheirGenus) {
-  const auto sphere = analyzeTopology(primitives::makeSphere(0.1));
+  const auto sphere = analyzeTopology(geometry::shapes::makeSphere(0.1));
   EXPECT_TRUE(sphere.closed);
   EXPECT_EQ(sphere.components, 1u);
   EXPECT_EQ(sphere.genus.value(), 0);
   EXPECT_EQ(sphere.inconsistently_oriented_edges, 0u);
   EXPECT_GT(sphere.signed_volume, 0);
 
-  const auto torus = analyzeTopology(primitives::makeTorus(0.1, 0.02));
+  const auto torus = analyzeTopology(geometry::shapes::makeTorus(0.1, 0.02));
   EXPECT_TRUE(torus.closed);
   EXPECT_EQ(torus.genus.value(), 1);
   EXPECT_EQ(torus.euler_characteristic, 0);
 }
 
 TEST(MeshTopology, OpenMeshHasBoundaryAndNoGenus) {
-  TriangleMesh mesh = primitives::makeBox({1, 1, 1});
+  TriangleMesh mesh = geometry::shapes::makeBox({1, 1, 1});
   mesh.faces.pop_back();
   const auto t = analyzeTopology(mesh);
   EXPECT_FALSE(t.closed);
@@ -33,8 +33,8 @@ TEST(MeshTopology, OpenMeshHasBoundaryAndNoGenus) {
 }
 
 TEST(MeshTopology, CountsPartsAndNonManifoldEdges) {
-  TriangleMesh mesh = primitives::makeBox({1, 1, 1});
-  TriangleMesh other = primitives::makeBox({1, 1, 1});
+  TriangleMesh mesh = geometry::shapes::makeBox({1, 1, 1});
+  TriangleMesh other = geometry::shapes::makeBox({1, 1, 1});
   other.transform(Eigen::Isometry3d(Eigen::Translation3d(5, 0, 0)));
   mesh.append(other);
   auto t = analyzeTopology(mesh);
@@ -50,7 +50,7 @@ TEST(MeshTopology, CountsPartsAndNonManifoldEdges) {
 }
 
 TEST(MeshTopology, FlippedMeshHasNegativeVolume) {
-  TriangleMesh mesh = primitives::makeSphere(0.05);
+  TriangleMesh mesh = geometry::shapes::makeSphere(0.05);
   mesh.flipOrientation();
   EXPECT_LT(analyzeTopology(mesh).signed_volume, 0);
 }

@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
 #include "skelgrasp/geometry/mesh_query.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "test_support.h"
 
 namespace skelgrasp::geometry {
@@ -21,7 +21,7 @@ void expectClosedSingleOutward(const RegularisationResult& r) {
 }
 
 TEST(Regularisation, FusesOverlappingPartsIntoOneManifold) {
-  const TriangleMesh mug = primitives::makeNamedShape("mug");
+  const TriangleMesh mug = geometry::shapes::makeNamedShape("mug");
   ASSERT_EQ(analyzeTopology(mug).components, 2u);
   const auto r = regularise(mug);
   expectClosedSingleOutward(r);
@@ -31,7 +31,7 @@ TEST(Regularisation, FusesOverlappingPartsIntoOneManifold) {
 }
 
 TEST(Regularisation, ClosesAnOpenMeshAndFixesInvertedWinding) {
-  TriangleMesh open = primitives::makeSphere(0.05);
+  TriangleMesh open = geometry::shapes::makeSphere(0.05);
   open.faces.resize(open.faces.size() - 20);  // a hole at the top
   open.flipOrientation();
   ASSERT_FALSE(analyzeTopology(open).closed);
@@ -42,7 +42,7 @@ TEST(Regularisation, ClosesAnOpenMeshAndFixesInvertedWinding) {
 
 TEST(Regularisation, AcceptsATriangleSoup) {
   // Every triangle with its own three vertices: no shared indices at all.
-  const TriangleMesh box = primitives::makeBox({0.05, 0.05, 0.1}, 2);
+  const TriangleMesh box = geometry::shapes::makeBox({0.05, 0.05, 0.1}, 2);
   TriangleMesh soup;
   for (const auto& f : box.faces) {
     const int base = static_cast<int>(soup.vertices.size());
@@ -56,8 +56,8 @@ TEST(Regularisation, AcceptsATriangleSoup) {
 
 TEST(Regularisation, KeepsTheLargestOfSeparateParts) {
   // Debris far away and small (1 % of the area): dropped without retrying.
-  TriangleMesh parts = primitives::makeSphere(0.05);
-  TriangleMesh small = primitives::makeSphere(0.005);
+  TriangleMesh parts = geometry::shapes::makeSphere(0.05);
+  TriangleMesh small = geometry::shapes::makeSphere(0.005);
   small.transform(Eigen::Isometry3d(Eigen::Translation3d(0.3, 0, 0)));
   parts.append(small);
   auto r = regularise(parts);
@@ -76,8 +76,8 @@ TEST(Regularisation, KeepsTheLargestOfSeparateParts) {
 TEST(Regularisation, JoinsASubstantialPartAcrossASmallGapByRetrying) {
   // A knob (11 % of the area) 10 mm above a lid: separate at alpha = diag / 50 (3.5 mm), joined
   // once alpha is doubled.
-  TriangleMesh lid = primitives::makeCylinder(0.06, 0.01, 48);
-  TriangleMesh knob = primitives::makeCylinder(0.015, 0.02, 24);
+  TriangleMesh lid = geometry::shapes::makeCylinder(0.06, 0.01, 48);
+  TriangleMesh knob = geometry::shapes::makeCylinder(0.015, 0.02, 24);
   knob.transform(Eigen::Isometry3d(Eigen::Translation3d(0, 0, 0.005 + 0.010 + 0.01)));
   lid.append(knob);
   const auto r = regularise(lid);
@@ -90,14 +90,14 @@ TEST(Regularisation, JoinsASubstantialPartAcrossASmallGapByRetrying) {
 TEST(Regularisation, NoneRequiresAClosedManifoldAndOrientsIt) {
   RegularisationParams none;
   none.method = RegularisationMethod::kNone;
-  TriangleMesh inverted = primitives::makeSphere(0.05);
+  TriangleMesh inverted = geometry::shapes::makeSphere(0.05);
   inverted.flipOrientation();
   auto r = regularise(inverted, none);
   expectClosedSingleOutward(r);
   EXPECT_TRUE(r.report.orientation_flipped);
   EXPECT_EQ(r.mesh.numVertices(), inverted.numVertices());
 
-  TriangleMesh open = primitives::makeSphere(0.05);
+  TriangleMesh open = geometry::shapes::makeSphere(0.05);
   open.faces.pop_back();
   r = regularise(open, none);
   EXPECT_EQ(r.status.code, StatusCode::kInvalidInput);
@@ -107,7 +107,7 @@ TEST(Regularisation, NoneRequiresAClosedManifoldAndOrientsIt) {
 TEST(Regularisation, RemeshingProducesTheTargetEdgeLength) {
   RegularisationParams params;
   params.remesh_target_edge_m = 0.004;
-  const auto r = regularise(primitives::makeSphere(0.04), params);
+  const auto r = regularise(geometry::shapes::makeSphere(0.04), params);
   expectClosedSingleOutward(r);
   EXPECT_TRUE(r.report.remeshed);
   double sum = 0;
@@ -151,24 +151,24 @@ void expectFaithfulDecimation(const TriangleMesh& input, RegularisationMethod me
 TEST(Regularisation, DecimationKeepsTheShapeAndTheGenusWithinTheBudget) {
   {
     SCOPED_TRACE("sphere");
-    expectFaithfulDecimation(primitives::makeSphere(0.05, 128, 64), RegularisationMethod::kNone,
-                             2000);
+    expectFaithfulDecimation(geometry::shapes::makeSphere(0.05, 128, 64),
+                             RegularisationMethod::kNone, 2000);
   }
   {
     SCOPED_TRACE("torus");
-    expectFaithfulDecimation(primitives::makeTorus(0.05, 0.015, 192, 48),
+    expectFaithfulDecimation(geometry::shapes::makeTorus(0.05, 0.015, 192, 48),
                              RegularisationMethod::kNone, 2000);
   }
   {
     SCOPED_TRACE("capsule");
-    expectFaithfulDecimation(primitives::makeCapsule(0.02, 0.1, 128), RegularisationMethod::kNone,
-                             1000);
+    expectFaithfulDecimation(geometry::shapes::makeCapsule(0.02, 0.1, 128),
+                             RegularisationMethod::kNone, 1000);
   }
   // Under the budget nothing changes.
   RegularisationParams params;
   params.method = RegularisationMethod::kNone;
   params.max_vertices = 100000;
-  const TriangleMesh sphere = primitives::makeSphere(0.05);
+  const TriangleMesh sphere = geometry::shapes::makeSphere(0.05);
   const auto kept = regularise(sphere, params);
   ASSERT_TRUE(kept.status.ok());
   EXPECT_EQ(kept.mesh.numVertices(), sphere.numVertices());
@@ -191,8 +191,8 @@ TEST(Regularisation, AutoKeepsClosedManifoldsAndWrapsTheRest) {
   RegularisationParams p;
   p.method = RegularisationMethod::kAuto;
   // A closed sphere with a speck of debris: kept as is, the speck dropped, nothing wrapped.
-  TriangleMesh sphere = primitives::makeSphere(0.05, 32, 16);
-  TriangleMesh speck = primitives::makeSphere(0.002, 8, 4);
+  TriangleMesh sphere = geometry::shapes::makeSphere(0.05, 32, 16);
+  TriangleMesh speck = geometry::shapes::makeSphere(0.002, 8, 4);
   speck.transform(Eigen::Isometry3d(Eigen::Translation3d(0.2, 0, 0)));
   TriangleMesh both = sphere;
   both.append(speck);
@@ -236,8 +236,8 @@ TEST(Regularisation, AutoWrapsACleanManifoldTooCoarseForTheContraction) {
   p.method = RegularisationMethod::kAuto;
   p.auto_min_vertices = 1000;
   p.max_vertices = 1000;
-  const TriangleMesh coarse = primitives::makeSphere(0.05, 32, 16);
-  const TriangleMesh dense = primitives::makeSphere(0.05, 96, 48);
+  const TriangleMesh coarse = geometry::shapes::makeSphere(0.05, 32, 16);
+  const TriangleMesh dense = geometry::shapes::makeSphere(0.05, 96, 48);
   ASSERT_LT(coarse.numVertices(), 1000u);
   ASSERT_GT(dense.numVertices(), 1000u);
   const auto wrapped = regularise(coarse, p);
@@ -256,7 +256,7 @@ TEST(Regularisation, AutoWrapsACleanManifoldTooCoarseForTheContraction) {
 TEST(Regularisation, RejectsBadParameters) {
   RegularisationParams bad;
   bad.alpha_divisor = 0;
-  EXPECT_THROW(regularise(primitives::makeSphere(0.05), bad), InvalidArgument);
+  EXPECT_THROW(regularise(geometry::shapes::makeSphere(0.05), bad), InvalidArgument);
 }
 
 TEST(Regularisation, RemovesSpuriousHandlesOfRealScans) {

@@ -2,12 +2,12 @@
 // generated bottle with the built-in SDH hand, as `skelgrasp plan` gives them.
 #include <iostream>
 
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/ranking/plan_grasps.h"
 
 int main() {
   using namespace skelgrasp;
-  const TriangleMesh mesh = primitives::makeNamedShape("bottle");
+  const TriangleMesh mesh = geometry::shapes::makeNamedShape("bottle");
   const grasping::HandModel hand = grasping::loadBuiltinHand("sdh");
   ranking::PlanOptions options;
   options.skeleton_planner.max_grasps = 2;

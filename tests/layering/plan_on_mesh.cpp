@@ -1,22 +1,19 @@
-// The smallest program that plans grasps on a mesh: skeleton + grasping only. Its shared-library
-// dependencies are checked by the Layering test (tests/CMakeLists.txt): no PCL, no VTK.
+// The smallest program that plans and ranks grasps on a mesh: skeleton, grasping and ranking only.
+// Its shared-library dependencies are checked by the Layering test (tests/CMakeLists.txt): no
+// PCL, no VTK, no OpenCV, no libpng.
 #include <iostream>
 
-#include "skelgrasp/common/primitives.h"
-#include "skelgrasp/grasping/grasp_object.h"
-#include "skelgrasp/grasping/planners.h"
-#include "skelgrasp/skeleton/extraction.h"
+#include "skelgrasp/geometry/shapes.h"
+#include "skelgrasp/ranking/plan_grasps.h"
 
 int main() {
   using namespace skelgrasp;
-  const TriangleMesh mesh = primitives::makeNamedShape("bottle");
-  const auto skeleton = skeleton::extractSkeleton(mesh);
-  if (!skeleton.status.ok()) return 1;
+  const TriangleMesh mesh = geometry::shapes::makeNamedShape("bottle");
   const auto hand = grasping::loadBuiltinHand("armar3");
-  const grasping::GraspObject object(mesh);
-  grasping::SkeletonPlannerParams params;
-  params.max_grasps = 1;
-  const auto plan = grasping::planSkeletonGrasps(hand, object, skeleton.skeleton, params);
+  ranking::PlanOptions options;
+  options.skeleton_planner.max_grasps = 1;
+  const ranking::GraspPlan plan = ranking::planGrasps(mesh, hand, options);
+  if (plan.skeleton_failed) return 1;
   std::cout << plan.grasps.size() << " grasp(s)" << std::endl;
   return 0;
 }

@@ -6,7 +6,7 @@
 
 #include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/error.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 
 namespace skelgrasp::perception {
 namespace {
@@ -30,7 +30,7 @@ DepthCameraParams axialOnly(std::uint64_t seed) {
 }
 
 TriangleMesh wallAt(double z) {  // a 4 m x 4 m wall facing the origin at distance z along +z
-  TriangleMesh wall = primitives::makeBox({4, 4, 0.01});
+  TriangleMesh wall = geometry::shapes::makeBox({4, 4, 0.01});
   wall.transform(Pose(Eigen::Translation3d(0, 0, z + 0.005)));
   return wall;
 }
@@ -56,7 +56,7 @@ TEST(DepthCamera, NoiselessDepthIsExact) {
 
 TEST(DepthCamera, SpherePointsLieOnTheSphereAndCarryItsLabel) {
   const Eigen::Vector3d centre(0.3, 0.1, 0.2);
-  TriangleMesh sphere = primitives::makeSphere(0.05, 96, 48);
+  TriangleMesh sphere = geometry::shapes::makeSphere(0.05, 96, 48);
   sphere.transform(Pose(Eigen::Translation3d(centre)));
   const Pose camera = lookAt({0.3, 0.1, 0.9}, centre, Eigen::Vector3d::UnitY());
   const auto view = renderDepth({wallAt(-0.5), sphere}, camera, noiseless());
@@ -96,7 +96,8 @@ TEST(DepthCamera, DisparityIsQuantised) {
   DepthCameraParams p = axialOnly(1);
   p.noise.axial_sigma_base_m = p.noise.axial_sigma_quadratic = p.noise.axial_sigma_angle = 0;
   p.noise.disparity_step_px = 0.125;
-  TriangleMesh ramp = primitives::makeBox({4, 4, 0.01});  // a tilted wall: depth varies smoothly
+  TriangleMesh ramp =
+      geometry::shapes::makeBox({4, 4, 0.01});  // a tilted wall: depth varies smoothly
   ramp.transform(Pose(Eigen::Translation3d(0, 0, 1.5)) *
                  Pose(Eigen::AngleAxisd(0.6, Eigen::Vector3d::UnitY())));
   const auto view = renderDepth({ramp}, Pose::Identity(), p);
@@ -124,7 +125,7 @@ TEST(DepthCamera, DropoutsAtTheConfiguredRate) {
   grazing.noise.random_dropout_probability = 0;
   grazing.noise.projector_shadow = false;
   grazing.noise.edge_dropout_probability = 0;
-  TriangleMesh slanted = primitives::makeBox({20, 20, 0.01});
+  TriangleMesh slanted = geometry::shapes::makeBox({20, 20, 0.01});
   slanted.transform(Pose(Eigen::Translation3d(0, 0, 2.0)) *
                     Pose(Eigen::AngleAxisd(radiansFromDegrees(80.0), Eigen::Vector3d::UnitX())));
   const auto g = renderDepth({slanted}, Pose::Identity(), grazing);
@@ -148,9 +149,9 @@ TEST(DepthCamera, ProjectorShadowFallsBesideObjects) {
   p.noise.random_dropout_probability = 0;
   p.noise.edge_dropout_probability = 0;
   p.noise.axial_sigma_base_m = p.noise.axial_sigma_quadratic = p.noise.axial_sigma_angle = 0;
-  TriangleMesh table = primitives::makeBox({2, 2, 0.02});
+  TriangleMesh table = geometry::shapes::makeBox({2, 2, 0.02});
   table.transform(Pose(Eigen::Translation3d(0, 0, -0.01)));
-  TriangleMesh cube = primitives::makeBox({0.1, 0.1, 0.1});
+  TriangleMesh cube = geometry::shapes::makeBox({0.1, 0.1, 0.1});
   cube.transform(Pose(Eigen::Translation3d(0, 0, 0.05)));
   const Pose camera = lookAt({0, 0, 1}, {0, 0, 0}, Eigen::Vector3d::UnitY());
   const auto view = renderDepth({table, cube}, camera, p);

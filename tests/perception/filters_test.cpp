@@ -4,7 +4,7 @@
 
 #include <random>
 
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/perception/cloud_ops.h"
 
 namespace skelgrasp::perception {
@@ -138,7 +138,7 @@ TEST(Filters, NormalsFaceTheSensor) {
 TEST(Filters, FusedViewsHaveOutwardNormals) {
   // Two caps of a sphere, each seen from its own side: per-view orientation makes all normals
   // point out of the sphere, which no single viewpoint could do.
-  const TriangleMesh sphere = primitives::makeSphere(0.05, 64, 32);
+  const TriangleMesh sphere = geometry::shapes::makeSphere(0.05, 64, 32);
   PointCloud left, right;
   for (const auto& v : sphere.vertices) {
     if (std::abs(v.x()) > 0.015) (v.x() < 0 ? left : right).points.push_back(v);

@@ -112,7 +112,7 @@ TEST(Scene, SelectsAnObjectByIndexLargestFirst) {
 TEST(Scene, PrefersTheTableOverTheFloorBehindIt) {
   // A floor 75 cm below fills more of the image than the table; the table is nearer the camera.
   auto scene = test::renderTableScene(23, {1.1, 0.0, 0.7});
-  TriangleMesh floor = primitives::makeBox({6, 6, 0.02});
+  TriangleMesh floor = geometry::shapes::makeBox({6, 6, 0.02});
   floor.transform(Pose(Eigen::Translation3d(0, 0, -0.76)));
   scene.meshes.push_back(floor);
   const auto view = renderDepth(scene.meshes, lookAt({1.1, 0.0, 0.7}, {0, 0, 0.05}));
@@ -138,7 +138,7 @@ TEST(Scene, ReportsMissingPlaneAndMissingObjects) {
       << no_plane.status.message;
 
   // A lone ball with plane detection off is one object.
-  TriangleMesh sphere = primitives::makeSphere(0.08, 48, 24);
+  TriangleMesh sphere = geometry::shapes::makeSphere(0.08, 48, 24);
   const auto view = renderDepth({sphere}, lookAt({0.6, 0, 0.3}, {0, 0, 0}));
   const PointCloud ball = filtered(view.cloud);
   SceneParams none;
@@ -150,7 +150,7 @@ TEST(Scene, ReportsMissingPlaneAndMissingObjects) {
 
   // A lone box seen mostly face on: its front face passes for the support and the rest of the box
   // lies behind it. The message points to --plane none, and with it the box is one object.
-  const TriangleMesh box = primitives::makeBox({0.1, 0.25, 0.3});
+  const TriangleMesh box = geometry::shapes::makeBox({0.1, 0.25, 0.3});
   const auto box_view = renderDepth({box}, lookAt({0.7, 0.35, 0.3}, {0, 0, 0}));
   const PointCloud carton = filtered(box_view.cloud);
   const SceneResult face = parseScene(carton);

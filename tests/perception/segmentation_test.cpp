@@ -5,7 +5,7 @@
 #include <set>
 
 #include "perception/synthetic_scenes.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/perception/demo_scene.h"
 #include "skelgrasp/perception/depth_camera.h"
 #include "skelgrasp/perception/filters.h"
@@ -78,14 +78,14 @@ TEST(Segmentation, DemoSceneWithTwoObjectsInContactStillYieldsFiveObjects) {
 // left and right of the cylinder, touching nowhere (mOSD osd_test26 on the table).
 test::TableScene boxBehindCylinder(bool with_cylinder) {
   test::TableScene scene;
-  TriangleMesh table = primitives::makeBox({1.0, 0.8, 0.04}, 4);
+  TriangleMesh table = geometry::shapes::makeBox({1.0, 0.8, 0.04}, 4);
   table.transform(Pose(Eigen::Translation3d(0, 0, -0.02)));
   scene.meshes.push_back(table);
-  TriangleMesh box = primitives::makeBox({0.06, 0.30, 0.06}, 6);
+  TriangleMesh box = geometry::shapes::makeBox({0.06, 0.30, 0.06}, 6);
   box.transform(Pose(Eigen::Translation3d(0, 0, 0.03)));
   scene.meshes.push_back(box);
   if (with_cylinder) {
-    TriangleMesh cylinder = primitives::makeCylinder(0.04, 0.20, 48, 8);
+    TriangleMesh cylinder = geometry::shapes::makeCylinder(0.04, 0.20, 48, 8);
     cylinder.transform(Pose(Eigen::Translation3d(0.12, 0, 0.10)));
     scene.meshes.push_back(cylinder);
   }
@@ -114,10 +114,10 @@ TEST(Segmentation, AnObjectSeenInTwoPiecesAroundAnOccluderIsOneObject) {
   EXPECT_EQ(lccpObjectCount(occluded, true), 2u);
   // Nothing hides the gap between two boxes standing apart: they stay two.
   test::TableScene apart = boxBehindCylinder(false);
-  TriangleMesh second = primitives::makeBox({0.06, 0.10, 0.06}, 4);
+  TriangleMesh second = geometry::shapes::makeBox({0.06, 0.10, 0.06}, 4);
   second.transform(Pose(Eigen::Translation3d(0, 0.25, 0.03)));
   apart.meshes.push_back(second);
-  TriangleMesh third = primitives::makeBox({0.06, 0.06, 0.10}, 4);
+  TriangleMesh third = geometry::shapes::makeBox({0.06, 0.06, 0.10}, 4);
   third.transform(Pose(Eigen::Translation3d(0.05, -0.28, 0.05)));
   apart.meshes.push_back(third);
   DepthCameraParams camera;

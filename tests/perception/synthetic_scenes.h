@@ -3,7 +3,7 @@
 #include <limits>
 #include <vector>
 
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/perception/depth_camera.h"
 
 namespace skelgrasp::test {
@@ -19,14 +19,14 @@ inline TableScene renderTableScene(std::uint64_t seed,
                                    const Eigen::Vector3d& eye = Eigen::Vector3d(0.55, 0.05, 0.6),
                                    bool with_objects = true) {
   TableScene scene;
-  TriangleMesh table = primitives::makeBox({1.0, 0.8, 0.04}, 4);
+  TriangleMesh table = geometry::shapes::makeBox({1.0, 0.8, 0.04}, 4);
   table.transform(Pose(Eigen::Translation3d(0, 0, -0.02)));
   scene.meshes.push_back(table);
   if (with_objects) {
-    TriangleMesh cylinder = primitives::makeCylinder(0.03, 0.10, 48, 4);
+    TriangleMesh cylinder = geometry::shapes::makeCylinder(0.03, 0.10, 48, 4);
     cylinder.transform(Pose(Eigen::Translation3d(0.05, -0.09, 0.05)));
     scene.meshes.push_back(cylinder);
-    TriangleMesh box = primitives::makeBox({0.06, 0.06, 0.08}, 2);
+    TriangleMesh box = geometry::shapes::makeBox({0.06, 0.06, 0.08}, 2);
     box.transform(Pose(Eigen::Translation3d(-0.06, 0.10, 0.04)));
     scene.meshes.push_back(box);
   }

@@ -8,8 +8,8 @@
 #include <random>
 
 #include "skelgrasp/common/constants.h"
-#include "skelgrasp/common/primitives.h"
-#include "skelgrasp/grasping/grasp_simulator.h"
+#include "skelgrasp/geometry/shapes.h"
+#include "skelgrasp/grasping/simulation/grasp_simulator.h"
 #include "skelgrasp/physics/execution.h"
 #include "skelgrasp/physics/physical_object.h"
 
@@ -18,7 +18,7 @@ namespace {
 
 TEST(MassProperties, BoxMatchesTheClosedForm) {
   const Eigen::Vector3d size(0.04, 0.06, 0.1);
-  TriangleMesh box = primitives::makeBox(size, 3);
+  TriangleMesh box = geometry::shapes::makeBox(size, 3);
   const Eigen::Vector3d offset(0.3, -0.2, 0.5);
   for (auto& v : box.vertices) v += offset;
   const MassProperties mass = massProperties(box);
@@ -34,7 +34,7 @@ TEST(MassProperties, BoxMatchesTheClosedForm) {
 
 TEST(MassProperties, CylinderApproachesTheClosedFormAndInwardIsNegative) {
   const double r = 0.03, h = 0.12;
-  TriangleMesh cylinder = primitives::makeCylinder(r, h, 256, 4);
+  TriangleMesh cylinder = geometry::shapes::makeCylinder(r, h, 256, 4);
   const MassProperties mass = massProperties(cylinder);
   const double v = kPi * r * r * h;
   EXPECT_NEAR(mass.volume_m3, v, 2e-3 * v);
@@ -77,7 +77,7 @@ TEST(EngineHand, LinkPosesAgreeWithTheHandModel) {
 // A 5 x 5 x 8 cm box and the parallel gripper from above (70 N at the jaws, its datasheet's).
 struct GripperCase {
   grasping::HandModel hand = grasping::loadBuiltinHand("parallel_gripper");
-  TriangleMesh box = primitives::makeBox(Eigen::Vector3d(0.05, 0.05, 0.08), 2);
+  TriangleMesh box = geometry::shapes::makeBox(Eigen::Vector3d(0.05, 0.05, 0.08), 2);
   std::unique_ptr<PhysicalObject> object = std::make_unique<PhysicalObject>(box);
   grasping::GraspObject grasp_object{box};
 
@@ -131,7 +131,7 @@ TEST(PhysicsJudge, ParallelGripperTenCentimetresAwayDoesNotHold) {
 
 TEST(PhysicsJudge, AnOpenHandInsideTheObjectIsFlagged) {
   const auto hand = grasping::loadBuiltinHand("parallel_gripper");
-  const TriangleMesh block = primitives::makeBox(Eigen::Vector3d(0.4, 0.4, 0.4), 2);
+  const TriangleMesh block = geometry::shapes::makeBox(Eigen::Vector3d(0.4, 0.4, 0.4), 2);
   const PhysicalObject object(block);
   // The whole hand (about 20 x 6 x 16 cm) at the block's centre: no link crosses the surface.
   const ExecutionResult run = executeGrasp(hand, object, Pose::Identity(), hand.preshape("power"));

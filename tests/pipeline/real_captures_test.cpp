@@ -14,7 +14,7 @@
 #include "skelgrasp/datasets/input.h"
 #include "skelgrasp/geometry/mesh_query.h"
 #include "skelgrasp/geometry/mesh_topology.h"
-#include "skelgrasp/grasping/hand_model.h"
+#include "skelgrasp/grasping/hand/hand_model.h"
 #include "skelgrasp/pipeline/reconstruct_scan.h"
 #include "skelgrasp/pipeline/run_pipeline.h"
 #include "test_support.h"

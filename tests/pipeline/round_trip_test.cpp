@@ -5,8 +5,8 @@
 #include <filesystem>
 
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
 #include "skelgrasp/geometry/mesh_topology.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/geometry/surface_distance.h"
 #include "skelgrasp/perception/depth_camera.h"
 #include "skelgrasp/pipeline/reconstruct_scan.h"
@@ -51,7 +51,7 @@ RoundTrip roundTrip(const TriangleMesh& mesh, std::uint64_t seed) {
 
 TEST(RoundTrip, GeneratedShapesComeBackWithinAFewMillimetres) {
   for (const std::string name : {"bottle", "hammer"}) {
-    const TriangleMesh shape = geometry::regularise(primitives::makeNamedShape(name)).mesh;
+    const TriangleMesh shape = geometry::regularise(geometry::shapes::makeNamedShape(name)).mesh;
     const RoundTrip r = roundTrip(shape, 100);
     ASSERT_TRUE(r.result.status.ok()) << name << ": " << r.result.status.message;
     const auto& m = r.result.objects[0].meshing;

@@ -12,11 +12,11 @@
 #include <regex>
 
 #include "skelgrasp/common/constants.h"
-#include "skelgrasp/common/primitives.h"
 #include "skelgrasp/datasets/input.h"
 #include "skelgrasp/geometry/mesh_query.h"
-#include "skelgrasp/grasping/grasp_simulator.h"
-#include "skelgrasp/grasping/hand_model.h"
+#include "skelgrasp/geometry/shapes.h"
+#include "skelgrasp/grasping/hand/hand_model.h"
+#include "skelgrasp/grasping/simulation/grasp_simulator.h"
 #include "skelgrasp/perception/demo_scene.h"
 #include "skelgrasp/perception/depth_camera.h"
 #include "skelgrasp/perception/image_io.h"
@@ -216,14 +216,14 @@ TEST_F(DemoScenePipeline, WithoutRobustnessTheRankingIsEpsilonTimesTrust) {
 // by the simulated camera.
 perception::Scan walledCanScan(bool walls, std::vector<TriangleMesh>* wall_meshes) {
   std::vector<TriangleMesh> meshes;
-  TriangleMesh table = primitives::makeBox({0.8, 0.8, 0.04}, 6);
+  TriangleMesh table = geometry::shapes::makeBox({0.8, 0.8, 0.04}, 6);
   table.transform(Pose(Eigen::Translation3d(0, 0, -0.02)));
   meshes.push_back(table);
-  TriangleMesh can = primitives::makeCylinder(0.035, 0.16, 48, 10);
+  TriangleMesh can = geometry::shapes::makeCylinder(0.035, 0.16, 48, 10);
   can.transform(Pose(Eigen::Translation3d(0, 0, 0.08)));
   meshes.push_back(can);
   for (int side = 0; walls && side < 4; ++side) {
-    TriangleMesh wall = primitives::makeBox({0.01, 0.12, 0.1}, 4);  // open corners
+    TriangleMesh wall = geometry::shapes::makeBox({0.01, 0.12, 0.1}, 4);  // open corners
     wall.transform(Pose(Eigen::AngleAxisd(side * kPi / 2, Eigen::Vector3d::UnitZ()) *
                         Eigen::Translation3d(0.08, 0, 0.05)));
     meshes.push_back(wall);

@@ -7,9 +7,9 @@
 #include <algorithm>
 
 #include "skelgrasp/geometry/mesh_query.h"
-#include "skelgrasp/grasping/grasp_simulator.h"
-#include "skelgrasp/grasping/hand_model.h"
-#include "skelgrasp/grasping/scene.h"
+#include "skelgrasp/grasping/hand/hand_model.h"
+#include "skelgrasp/grasping/planning/scene.h"
+#include "skelgrasp/grasping/simulation/grasp_simulator.h"
 #include "skelgrasp/perception/demo_scene.h"
 #include "test_support.h"
 

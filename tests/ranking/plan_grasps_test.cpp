@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "planned_object.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 
 namespace skelgrasp::ranking {
 namespace {

@@ -6,8 +6,8 @@
 #include <memory>
 #include <string>
 
-#include "skelgrasp/common/primitives.h"
-#include "skelgrasp/grasping/planners.h"
+#include "skelgrasp/geometry/shapes.h"
+#include "skelgrasp/grasping/planning/planners.h"
 #include "skelgrasp/ranking/robust_ranking.h"
 #include "skelgrasp/skeleton/extraction.h"
 
@@ -35,7 +35,8 @@ inline Planned planOn(const std::string& hand, TriangleMesh mesh, std::size_t ma
 
 // A 70 mm cylinder, 200 mm long, planned once for ARMAR-III (8 grasps), shared by the tests.
 inline const Planned& cylinder() {
-  static const Planned planned = planOn("armar3", primitives::makeCylinder(0.035, 0.2, 48, 10), 8);
+  static const Planned planned =
+      planOn("armar3", geometry::shapes::makeCylinder(0.035, 0.2, 48, 10), 8);
   return planned;
 }
 

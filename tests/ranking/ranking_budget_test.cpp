@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "planned_object.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/ranking/robust_ranking.h"
 
 // The robust ranking's budget: which grasps screening takes (each preshape's best in turn, or the
@@ -27,7 +27,7 @@ using test_fixtures::planOn;
 // the grasps given.
 TEST(RobustRanking, ScreeningTakesEachPreshapesBestGraspsInTurn) {
   // A 60 mm ball: the SDH closes its power, precision and alternative preshapes on it.
-  const Planned p = planOn("sdh", primitives::makeSphere(0.03), 0);
+  const Planned p = planOn("sdh", geometry::shapes::makeSphere(0.03), 0);
   const std::size_t n = p.plan.grasps.size();
   std::map<std::string, std::vector<double>> epsilons;  // of each preshape, all its grasps
   for (const auto& g : p.plan.grasps) epsilons[g.preshape].push_back(g.epsilon);

@@ -15,8 +15,8 @@
 
 #include "planned_object.h"
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
-#include "skelgrasp/grasping/planners.h"
+#include "skelgrasp/geometry/shapes.h"
+#include "skelgrasp/grasping/planning/planners.h"
 #include "skelgrasp/skeleton/extraction.h"
 #include "test_support.h"
 
@@ -279,7 +279,7 @@ void expectPruningChoosesAsFullScreening(const Planned& p, const std::vector<dou
 
 TEST(RobustRanking, PrunedScreeningChoosesTheGraspsFullScreeningChooses) {
   std::vector<std::pair<std::string, TriangleMesh>> meshes;
-  meshes.emplace_back("cylinder", primitives::makeCylinder(0.035, 0.2, 48, 10));
+  meshes.emplace_back("cylinder", geometry::shapes::makeCylinder(0.035, 0.2, 48, 10));
   for (const char* name : {"011_banana.ply", "025_mug.ply"}) {
     const std::string path = test::sharedDataDir() + "/objects/ycb/" + name;
     if (!test::sharedDataDir().empty() && std::filesystem::exists(path))

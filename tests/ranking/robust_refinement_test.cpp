@@ -8,9 +8,9 @@
 
 #include "planned_object.h"
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
-#include "skelgrasp/grasping/plan_output.h"
-#include "skelgrasp/grasping/planners.h"
+#include "skelgrasp/geometry/shapes.h"
+#include "skelgrasp/grasping/io/plan_output.h"
+#include "skelgrasp/grasping/planning/planners.h"
 #include "skelgrasp/ranking/robust_ranking.h"
 #include "skelgrasp/skeleton/extraction.h"
 #include "test_support.h"
@@ -125,7 +125,7 @@ void expectNeverLessRobust(const Planned& p, std::size_t top_k) {
 }
 
 TEST(RobustRefinement, NeverReturnsAGraspLessRobustThanThePlannersOnACylinder) {
-  const auto p = planOn("sdh", primitives::makeCylinder(0.035, 0.2, 48, 10), 6);
+  const auto p = planOn("sdh", geometry::shapes::makeCylinder(0.035, 0.2, 48, 10), 6);
   ASSERT_GE(p.plan.grasps.size(), 3u);
   expectNeverLessRobust(p, 3);
 }
@@ -133,7 +133,7 @@ TEST(RobustRefinement, NeverReturnsAGraspLessRobustThanThePlannersOnACylinder) {
 // The ranking searches only grasps whose scored r is below search_below_r: at 0 none, at 1 every
 // grasp short of r = 1 whose search samples leave room for a gain.
 TEST(RobustRefinement, SearchesOnlyGraspsBelowTheRBar) {
-  const auto p = planOn("sdh", primitives::makeCylinder(0.035, 0.2, 48, 10), 6);
+  const auto p = planOn("sdh", geometry::shapes::makeCylinder(0.035, 0.2, 48, 10), 6);
   ASSERT_GE(p.plan.grasps.size(), 3u);
   RobustRankingParams params;
   params.top_k = 3;
@@ -182,7 +182,7 @@ TEST(RobustRefinement, NeverReturnsAGraspLessRobustThanThePlannersOnRealObjects)
 // The SDH's power grasp (strategy 2a) on a cylinder, closed again 12 mm off the axis, across the
 // approach and the cylinder's axis (z): a kept grasp with more robust poses near it.
 struct OffCentreGrasp {
-  Planned p = planOn("sdh", primitives::makeCylinder(0.035, 0.2, 48, 10), 20);
+  Planned p = planOn("sdh", geometry::shapes::makeCylinder(0.035, 0.2, 48, 10), 20);
   grasping::GraspSimulator sim{p.hand, *p.object};
   grasping::HypothesisParams hypothesis = p.params.hypothesis;
   grasping::Grasp grasp;
@@ -313,7 +313,7 @@ TEST(RobustRefinement, RecordsTheSearchInGraspsJson) {
 }
 
 TEST(RobustRefinement, RejectsBadParameters) {
-  const auto p = planOn("sdh", primitives::makeCylinder(0.035, 0.2, 48, 10), 1);
+  const auto p = planOn("sdh", geometry::shapes::makeCylinder(0.035, 0.2, 48, 10), 1);
   ASSERT_FALSE(p.plan.grasps.empty());
   grasping::GraspSimulator sim(p.hand, *p.object);
   const RobustnessParams rp = judgedAs(p, 8);

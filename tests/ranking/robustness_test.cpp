@@ -10,8 +10,8 @@
 
 #include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/pose.h"
-#include "skelgrasp/common/primitives.h"
-#include "skelgrasp/grasping/planners.h"
+#include "skelgrasp/geometry/shapes.h"
+#include "skelgrasp/grasping/planning/planners.h"
 #include "skelgrasp/skeleton/extraction.h"
 
 namespace skelgrasp::ranking {
@@ -72,7 +72,7 @@ TEST(Robustness, WilsonIntervalContainsTheRateExactly) {
 
 TEST(Robustness, UnsetSigmasAreTheVariantsDefaults) {
   const auto hand = grasping::loadBuiltinHand("parallel_gripper");
-  const grasping::GraspObject box(primitives::makeBox({0.05, 0.09, 0.16}, 2));
+  const grasping::GraspObject box(geometry::shapes::makeBox({0.05, 0.09, 0.16}, 2));
   grasping::GraspSimulator sim(hand, box);
   const Grasp g = graspAt(sim, poseFromZY({0, 0.035, 0}, {0, -1, 0}, {0, 0, 1}), "precision");
   RobustnessParams unset;
@@ -90,7 +90,7 @@ TEST(Robustness, UnsetSigmasAreTheVariantsDefaults) {
 
 TEST(Robustness, DeepPowerGraspAroundACylinderIsRobust) {
   const auto hand = grasping::loadBuiltinHand("armar3");
-  const TriangleMesh mesh = primitives::makeCylinder(0.035, 0.2, 48, 10);
+  const TriangleMesh mesh = geometry::shapes::makeCylinder(0.035, 0.2, 48, 10);
   const grasping::GraspObject object(mesh);
   const auto skel = skeleton::extractSkeleton(mesh);
   grasping::SkeletonPlannerParams params;
@@ -112,7 +112,7 @@ TEST(Robustness, DeepPowerGraspAroundACylinderIsRobust) {
 TEST(Robustness, FingertipGraspOnAThinEdgeIsFragile) {
   // Gripper jaws overlapping a 6 mm plate by only 4 mm at its edge: a 10 mm error loses it.
   const auto hand = grasping::loadBuiltinHand("parallel_gripper");
-  const grasping::GraspObject plate(primitives::makeBox({0.12, 0.12, 0.006}, 4));
+  const grasping::GraspObject plate(geometry::shapes::makeBox({0.12, 0.12, 0.006}, 4));
   grasping::GraspSimulator sim(hand, plate);
   const double tip_beyond_gcp = 0.1121 - 0.1034;  // fingertip reach past the gcp (m)
   const Grasp g = graspAt(
@@ -137,7 +137,7 @@ TEST(Robustness, FingertipGraspOnAThinEdgeIsFragile) {
 TEST(Robustness, IsZeroWhenEveryPerturbedPoseCollides) {
   // The hand sits in the middle of a large block: every perturbation still intersects it.
   const auto hand = grasping::loadBuiltinHand("sdh");
-  const grasping::GraspObject block(primitives::makeBox({1.0, 1.0, 1.0}));
+  const grasping::GraspObject block(geometry::shapes::makeBox({1.0, 1.0, 1.0}));
   grasping::GraspSimulator sim(hand, block);
   Grasp g;
   g.preshape = "power";
@@ -159,7 +159,7 @@ class CapsuleGrasp : public ::testing::Test {
  protected:
   void SetUp() override { ASSERT_FALSE(grasps_.empty()); }
   const grasping::HandModel hand_ = grasping::loadBuiltinHand("armar3");
-  const grasping::GraspObject object_{primitives::makeCapsule(0.025, 0.12)};
+  const grasping::GraspObject object_{geometry::shapes::makeCapsule(0.025, 0.12)};
   const std::vector<Grasp> grasps_ = plannedGrasps(hand_, object_, object_.mesh(), 1);
   grasping::GraspSimulator sim{hand_, object_};
   // Empty only until SetUp's assertion stops the test.
@@ -311,7 +311,7 @@ struct VariantPair {
 };
 std::vector<VariantPair> scoredTwice(const std::string& hand_name, RobustnessVariant weaker,
                                      RobustnessVariant stronger) {
-  const TriangleMesh mesh = primitives::makeCapsule(0.03, 0.14);
+  const TriangleMesh mesh = geometry::shapes::makeCapsule(0.03, 0.14);
   const grasping::GraspObject object(mesh);
   const auto hand = grasping::loadBuiltinHand(hand_name);
   const auto grasps = plannedGrasps(hand, object, mesh, 3);
@@ -372,7 +372,7 @@ TEST(Robustness, GuardedBacksAHandStartingInsideTheObjectOffAndHolds) {
   // capsule: most perturbed open hands start in collision. The paper variant counts those as
   // failures; the guarded approach stops where the hand touches, as the planner placed the grasp.
   const auto hand = grasping::loadBuiltinHand("armar3");
-  const TriangleMesh mesh = primitives::makeCapsule(0.03, 0.14);
+  const TriangleMesh mesh = geometry::shapes::makeCapsule(0.03, 0.14);
   const grasping::GraspObject object(mesh);
   const auto grasps = plannedGrasps(hand, object, mesh, 1);
   ASSERT_FALSE(grasps.empty());

@@ -1,9 +1,9 @@
 // Memory estimates of Poisson reconstruction and regularisation (docs/limits.md).
 #include <gtest/gtest.h>
 
-#include "skelgrasp/common/primitives.h"
 #include "skelgrasp/common/resources.h"
 #include "skelgrasp/geometry/regularisation.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/reconstruction/meshing.h"
 
 namespace skelgrasp::reconstruction {
@@ -35,7 +35,7 @@ TEST(PoissonEstimate, DefaultsAreFarBelowTheLimitAndDepth14IsNot) {
 }
 
 TEST(RegularisationEstimate, WrapGrowsWithAlphaDivisorAndRemeshWithShorterEdges) {
-  const TriangleMesh mug = primitives::makeNamedShape("mug");
+  const TriangleMesh mug = geometry::shapes::makeNamedShape("mug");
   geometry::RegularisationParams params;
   double previous = 0;
   for (double divisor : {10.0, 50.0, 200.0, 1000.0, 1e6}) {
@@ -58,21 +58,21 @@ TEST(RegularisationEstimate, WrapGrowsWithAlphaDivisorAndRemeshWithShorterEdges)
 TEST(RegularisationEstimate, RemeshCountsTrianglesOfTheArea) {
   // A 1 m cube (area 6 m^2) at 0.1 m edges: 6 / (sqrt(3)/4 x 0.01) = 1386 equilateral triangles,
   // 1680 with the measured 2.8 A / e^2.
-  const TriangleMesh cube = primitives::makeBox({1, 1, 1});
+  const TriangleMesh cube = geometry::shapes::makeBox({1, 1, 1});
   geometry::RegularisationParams params;
   params.remesh_target_edge_m = 0.1;
   EXPECT_NEAR(geometry::estimateRemeshTriangles(cube, params), 1680, 30);
 }
 
 TEST(RegularisationEstimate, DefaultsAreFarBelowTheLimit) {
-  const TriangleMesh mug = primitives::makeNamedShape("mug");
+  const TriangleMesh mug = geometry::shapes::makeNamedShape("mug");
   EXPECT_LT(geometry::estimateRegularisedBytes(
                 geometry::estimateAlphaWrapTriangles(mug, geometry::RegularisationParams{})),
             0.5 * kGiB);
 }
 
 TEST(RegularisationEstimate, RegulariseRefusesBeforeWrapping) {
-  const TriangleMesh mug = primitives::makeNamedShape("mug");
+  const TriangleMesh mug = geometry::shapes::makeNamedShape("mug");
   geometry::RegularisationParams fine;
   fine.alpha_divisor = 1e6;
   EXPECT_THROW(geometry::regularise(mug, fine), ResourceLimitExceeded);

@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
 #include "skelgrasp/geometry/mesh_topology.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/geometry/surface_distance.h"
 #include "test_support.h"
 
@@ -12,7 +12,7 @@ namespace skelgrasp::reconstruction {
 namespace {
 
 TEST(Meshing, ObservedFlagsRoundTripThroughThePly) {
-  const TriangleMesh sphere = primitives::makeSphere(0.05, 32, 16);
+  const TriangleMesh sphere = geometry::shapes::makeSphere(0.05, 32, 16);
   std::vector<Eigen::Vector3d> seen;
   for (const auto& v : sphere.vertices) {
     if (v.z() > 0.02) seen.push_back(v);
@@ -45,7 +45,7 @@ TEST(Meshing, RejectsCloudsWithoutNormalsAndBadParameters) {
 }
 
 TEST(SurfaceDistance, ChamferOfConcentricSpheresIsTheGap) {
-  const TriangleMesh a = primitives::makeSphere(0.05, 96, 48);
+  const TriangleMesh a = geometry::shapes::makeSphere(0.05, 96, 48);
   TriangleMesh b = a;
   b.scale(1.1);
   const geometry::ChamferDistance same = geometry::chamferDistance(a, a, 2000);

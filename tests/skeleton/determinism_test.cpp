@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/skeleton/extraction.h"
 #include "test_support.h"
 
@@ -65,7 +65,7 @@ void expectDeterministic(const TriangleMesh& mesh, const std::string& what) {
 
 TEST(SkeletonDeterminism, GeneratedShapesGiveTheSameSkeletonEveryTime) {
   for (const char* shape : {"capsule", "y_shape", "mug", "hammer"}) {
-    expectDeterministic(primitives::makeNamedShape(shape), shape);
+    expectDeterministic(geometry::shapes::makeNamedShape(shape), shape);
   }
 }
 
@@ -79,7 +79,8 @@ TEST(SkeletonDeterminism, RealMeshGivesTheSameSkeletonEveryTime) {
 TEST(SkeletonDeterminism, ZeroArenaIsACallerMistake) {
   SkeletonParams params;
   params.contraction.arena_reserve_bytes = 0;
-  EXPECT_THROW(extractSkeleton(primitives::makeNamedShape("capsule"), params), InvalidArgument);
+  EXPECT_THROW(extractSkeleton(geometry::shapes::makeNamedShape("capsule"), params),
+               InvalidArgument);
 }
 
 }  // namespace

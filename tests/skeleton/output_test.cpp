@@ -2,13 +2,13 @@
 
 #include <gtest/gtest.h>
 
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 
 namespace skelgrasp::skeleton {
 namespace {
 
 TEST(SkeletonOutput, JsonFollowsTheDocumentedSchema) {
-  const TriangleMesh input = primitives::makeNamedShape("hammer");
+  const TriangleMesh input = geometry::shapes::makeNamedShape("hammer");
   const auto r = extractSkeleton(input);
   ASSERT_TRUE(r.status.ok());
   MeshLoadInfo info;
@@ -42,7 +42,7 @@ TEST(SkeletonOutput, JsonFollowsTheDocumentedSchema) {
 }
 
 TEST(SkeletonOutput, SegmentationColoursFollowVertexTypes) {
-  const TriangleMesh input = primitives::makeNamedShape("y_shape");
+  const TriangleMesh input = geometry::shapes::makeNamedShape("y_shape");
   const auto r = extractSkeleton(input);
   ASSERT_TRUE(r.status.ok());
   const TriangleMesh coloured = colourByVertexType(input, r.skeleton);

@@ -1,14 +1,14 @@
 // The skeleton stage on shapes generated in code, whose topology is known.
 #include <gtest/gtest.h>
 
-#include "skelgrasp/common/primitives.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/skeleton/extraction.h"
 
 namespace skelgrasp::skeleton {
 namespace {
 
 SkeletonResult run(const std::string& shape) {
-  auto r = extractSkeleton(primitives::makeNamedShape(shape));
+  auto r = extractSkeleton(geometry::shapes::makeNamedShape(shape));
   EXPECT_TRUE(r.status.ok()) << shape << ": " << r.status.message;
   return r;
 }
@@ -45,7 +45,7 @@ TEST(SkeletonShapes, CapsuleIsOneSegmentBetweenTwoEndpoints) {
   EXPECT_GT(s.segments[0].length, 0.10);
   EXPECT_LT(s.segments[0].length, 0.17);
   for (const auto& v : s.vertices) EXPECT_LT(v.position.head<2>().norm(), 0.004);
-  expectPartition(r, primitives::makeNamedShape("capsule").numVertices());
+  expectPartition(r, geometry::shapes::makeNamedShape("capsule").numVertices());
 }
 
 class ThreeArmShapes : public ::testing::TestWithParam<std::string> {};
@@ -112,7 +112,7 @@ TEST(SkeletonShapes, BallCollapsesToAFewVerticesWithADefinedSegmentation) {
   EXPECT_LE(s.vertices.size(), 12u);
   EXPECT_GE(s.segments.size(), 1u);
   EXPECT_EQ(s.components(), 1);
-  expectPartition(r, primitives::makeNamedShape("ball").numVertices());
+  expectPartition(r, geometry::shapes::makeNamedShape("ball").numVertices());
 }
 
 // Simplifying the contraction's input (run does it to scans' dense Poisson meshes) keeps what the
@@ -123,7 +123,7 @@ TEST(SkeletonShapes, BallCollapsesToAFewVerticesWithADefinedSegmentation) {
 TEST(SkeletonShapes, DecimationBeforeContractionKeepsTheTopology) {
   for (const std::string shape : {"capsule", "y_shape", "t_shape", "torus", "mug", "bottle"}) {
     SCOPED_TRACE(shape);
-    const TriangleMesh input = primitives::makeNamedShape(shape);
+    const TriangleMesh input = geometry::shapes::makeNamedShape(shape);
     // The wrap at its own vertex count against a third of it.
     SkeletonParams params;
     params.regularisation.method = geometry::RegularisationMethod::kAlphaWrap;

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "skelgrasp/common/mesh_io.h"
-#include "skelgrasp/grasping/planners.h"
+#include "skelgrasp/grasping/planning/planners.h"
 #include "skelgrasp/ranking/plan_grasps.h"
 #include "skelgrasp/ranking/robust_ranking.h"
 #include "skelgrasp/ranking/robustness.h"

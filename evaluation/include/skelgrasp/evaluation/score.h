@@ -12,11 +12,11 @@
 #include <vector>
 
 #include "skelgrasp/common/error.h"
-#include "skelgrasp/grasping/grasp_object.h"
-#include "skelgrasp/grasping/grasp_simulator.h"
-#include "skelgrasp/grasping/grasps_file.h"
-#include "skelgrasp/grasping/hand_model.h"
-#include "skelgrasp/grasping/quality.h"
+#include "skelgrasp/grasping/hand/hand_model.h"
+#include "skelgrasp/grasping/io/grasps_file.h"
+#include "skelgrasp/grasping/quality/quality.h"
+#include "skelgrasp/grasping/simulation/grasp_object.h"
+#include "skelgrasp/grasping/simulation/grasp_simulator.h"
 #include "skelgrasp/ranking/robustness.h"
 
 namespace skelgrasp::evaluation {

@@ -12,9 +12,9 @@
 
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/ranking/robustness.h"
-#include "skelgrasp/grasping/grasp_object.h"
-#include "skelgrasp/grasping/grasps_file.h"
-#include "skelgrasp/grasping/hand_model.h"
+#include "skelgrasp/grasping/simulation/grasp_object.h"
+#include "skelgrasp/grasping/io/grasps_file.h"
+#include "skelgrasp/grasping/hand/hand_model.h"
 #include "skelgrasp/physics/execution.h"
 #include "skelgrasp/physics/physical_object.h"
 

@@ -15,7 +15,7 @@
 
 #include "skelgrasp/common/constants.h"
 #include "skelgrasp/common/pose.h"
-#include "skelgrasp/grasping/hand_model.h"
+#include "skelgrasp/grasping/hand/hand_model.h"
 #include "skelgrasp/physics/physical_object.h"
 
 namespace skelgrasp::physics {

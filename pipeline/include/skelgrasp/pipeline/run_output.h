@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "skelgrasp/grasping/hand_model.h"
+#include "skelgrasp/grasping/hand/hand_model.h"
 #include "skelgrasp/perception/scan.h"
 #include "skelgrasp/pipeline/run_pipeline.h"
 #include "skelgrasp/pipeline/run_scene.h"

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "skelgrasp/grasping/planners.h"
-#include "skelgrasp/grasping/scene.h"
+#include "skelgrasp/grasping/planning/planners.h"
+#include "skelgrasp/grasping/planning/scene.h"
 #include "skelgrasp/perception/scan.h"
 #include "skelgrasp/pipeline/reconstruct_scan.h"
 #include "skelgrasp/ranking/robust_ranking.h"

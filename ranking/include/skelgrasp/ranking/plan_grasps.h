@@ -13,9 +13,9 @@
 
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/grasping/grasp.h"
-#include "skelgrasp/grasping/grasp_object.h"
-#include "skelgrasp/grasping/hand_model.h"
-#include "skelgrasp/grasping/planners.h"
+#include "skelgrasp/grasping/hand/hand_model.h"
+#include "skelgrasp/grasping/planning/planners.h"
+#include "skelgrasp/grasping/simulation/grasp_object.h"
 #include "skelgrasp/ranking/robust_ranking.h"
 #include "skelgrasp/skeleton/extraction.h"
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "skelgrasp/grasping/hypothesis.h"
+#include "skelgrasp/grasping/planning/hypothesis.h"
 #include "skelgrasp/ranking/robust_refinement.h"
 #include "skelgrasp/ranking/robustness.h"
 

@@ -1,15 +1,15 @@
 #pragma once
 // Refinement for robustness: the second half of issue 16's local refinement. Where the planner's
-// refinement (grasping/refinement.h) searches a hypothesis' neighbourhood for the largest closure
-// margin, this searches a scored grasp's neighbourhood for the largest robustness r: the share of
-// perturbed executions that still close to force closure (robustness.h). It runs in the robust
-// ranking on the grasps it scores (robust_ranking.h), so it costs closings only where they pay:
-// docs/planning.md, "Refinement for robustness".
+// refinement (grasping/planning/refinement.h) searches a hypothesis' neighbourhood for the largest
+// closure margin, this searches a scored grasp's neighbourhood for the largest robustness r: the
+// share of perturbed executions that still close to force closure (robustness.h). It runs in the
+// robust ranking on the grasps it scores (robust_ranking.h), so it costs closings only where they
+// pay: docs/planning.md, "Refinement for robustness".
 #include <cstddef>
 #include <cstdint>
 #include <optional>
 
-#include "skelgrasp/grasping/hypothesis.h"
+#include "skelgrasp/grasping/planning/hypothesis.h"
 #include "skelgrasp/ranking/robustness.h"
 
 namespace skelgrasp::ranking {

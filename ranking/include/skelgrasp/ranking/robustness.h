@@ -8,11 +8,11 @@
 #include <Eigen/Geometry>
 
 #include "skelgrasp/grasping/grasp.h"
-#include "skelgrasp/grasping/grasp_simulator.h"
-#include "skelgrasp/grasping/hand_strength.h"
-#include "skelgrasp/grasping/load_capacity.h"
-#include "skelgrasp/grasping/quality.h"
-#include "skelgrasp/grasping/settling.h"
+#include "skelgrasp/grasping/hand/hand_strength.h"
+#include "skelgrasp/grasping/quality/load_capacity.h"
+#include "skelgrasp/grasping/quality/quality.h"
+#include "skelgrasp/grasping/quality/settling.h"
+#include "skelgrasp/grasping/simulation/grasp_simulator.h"
 
 namespace skelgrasp::ranking {
 
@@ -27,9 +27,10 @@ enum class RobustnessVariant {
                // ("considering the approach movement"). Every sample that holds in kPaper holds
                // here too.
   kSettled,    // the guarded variant's executions, with the object free to move: a closing that
-               // is not force closure settles (grasping/settling.h), the object pushed by the
-               // unbalanced squeeze until the contacts hold it, are balanced without closure, or it
-               // is pushed out of the hand. Every sample that holds in kGuarded holds here too.
+               // is not force closure settles (grasping/quality/settling.h), the object pushed
+               // by the unbalanced squeeze until the contacts hold it, are balanced without
+               // closure, or it is pushed out of the hand. Every sample that holds in kGuarded
+               // holds here too.
 };
 // "paper" | "reference" | "guarded" | "settled"
 RobustnessVariant parseRobustnessVariant(const std::string& text);

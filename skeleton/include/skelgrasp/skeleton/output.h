@@ -1,6 +1,6 @@
 #pragma once
 // Serialisation of the skeleton stage: skeleton.json (schema in docs/skeleton.md) and coloured
-// segmentation meshes.
+// segmentation meshes (their picture: presentation/skeleton_render.h).
 #include <nlohmann/json.hpp>
 
 #include <string>
@@ -20,11 +20,6 @@ TriangleMesh colourByVertexType(const TriangleMesh& input, const Skeleton& skele
 
 // A distinct colour per segment; branch regions grey.
 TriangleMesh colourBySegment(const TriangleMesh& input, const Skeleton& skeleton);
-
-// PNG with four panels: the input coloured by vertex type (Fig. 3 colours) from two sides, and the
-// skeleton (red endpoints, blue branches, black edges) over the grey mesh from the same sides.
-void renderSkeletonPng(const TriangleMesh& input, const Skeleton& skeleton, const std::string& path,
-                       int panel_width = 480, int panel_height = 480);
 
 // One-line human summary.
 std::string summaryLine(const SkeletonResult& result, const std::string& name);
