@@ -67,6 +67,10 @@ struct EvaluateArgs {
   std::optional<std::string> screen_by;  // unset: each hand's ranking budget
   std::optional<int> confirm_samples;    // unset: each hand's ranking budget
   RobustRefineOptions refine;
+  bool no_load_check = false;
+  std::string judge = "model";
+  std::size_t physics_grasps = evaluation::PhysicsJudging{}.grasps;
+  double mass_kg = evaluation::PhysicsJudging{}.mass_kg;
 };
 
 // Directories, mesh files, or .txt files listing one mesh path per line (relative to the list).
@@ -136,6 +140,16 @@ int runEvaluate(const EvaluateArgs& a) {
   p.ranking.screen_candidates = screenCandidates(a.screen_by);
   p.ranking.confirm_samples = a.confirm_samples;
   a.refine.applyTo(p.ranking.refinement);
+  // As plan: the paper's criterion is force closure, its variants stay as published.
+  if (a.no_load_check || p.ranking.robustness.variant == ranking::RobustnessVariant::kPaper ||
+      p.ranking.robustness.variant == ranking::RobustnessVariant::kReference) {
+    p.ranking.robustness.load.reset();
+  }
+  if (a.judge == "physics") {
+    p.physics = evaluation::PhysicsJudging{a.physics_grasps, a.mass_kg};
+  } else if (a.judge != "model") {
+    throw InvalidArgument("--judge: '" + a.judge + "' is not model or physics");
+  }
   p.load.units = parseLengthUnit(a.units);
   p.seed = a.seed;
   p.restart = a.restart;
@@ -196,6 +210,21 @@ void registerEvaluateCommands(CLI::App& app, Action& action) {
   addScreenByOption(*cmd, a->screen_by);
   addConfirmSamplesOption(*cmd, a->confirm_samples);
   a->refine.addTo(*cmd);
+  cmd->add_flag("--no-load-check", a->no_load_check,
+                "With --robust-ranking: r counts force closure alone, not whether the grip "
+                "carries the object's weight");
+  cmd->add_option("--judge", a->judge,
+                  "model: the quality model's figures; physics: also execute each run's first "
+                  "--physics-grasps grasps in the physics engine (docs/physics.md)")
+      ->check(CLI::IsMember({"model", "physics"}))
+      ->capture_default_str();
+  cmd->add_option("--physics-grasps", a->physics_grasps,
+                  "With --judge physics: grasps executed per run, in the run's order")
+      ->transform(countIn(1, kMaxCount))
+      ->capture_default_str();
+  cmd->add_option("--mass", a->mass_kg, "With --judge physics: the object's mass (kg)")
+      ->check(positiveFinite(kMaxMassKg))
+      ->capture_default_str();
   cmd->add_flag("--reference-compat", a->reference_compat,
                 "Quality as the reference code (docs/hands.md)");
   addForceClosureTestOption(*cmd, a->fc_test);

@@ -33,6 +33,7 @@ struct ScoreArgs {
   std::string variant = ranking::toString(ranking::RobustnessParams{}.variant);
   std::uint64_t seed = ranking::RobustnessParams{}.seed;
   bool no_robustness = false;
+  bool no_load_check = false;
   std::optional<std::uint64_t> object;
   std::string out = "scores.json";
   std::string closing = defaultClosingMethod();
@@ -55,6 +56,12 @@ evaluation::ScoreParams scoreParams(const ScoreArgs& a) {
   p.robustness.samples = a.samples;
   p.robustness.variant = ranking::parseRobustnessVariant(a.variant);
   p.robustness.seed = a.seed;
+  // As plan: the paper's criterion is force closure, its variants (paper, reference) stay as
+  // published.
+  if (a.no_load_check || p.robustness.variant == ranking::RobustnessVariant::kPaper ||
+      p.robustness.variant == ranking::RobustnessVariant::kReference) {
+    p.robustness.load.reset();
+  }
   return p;
 }
 
@@ -131,6 +138,9 @@ void registerScoreCommand(CLI::App& app, Action& action) {
       ->capture_default_str();
   cmd->add_flag("--no-robustness", a->no_robustness,
                 "Force closure, margin and epsilon only (no perturbed closings)");
+  cmd->add_flag("--no-load-check", a->no_load_check,
+                "r counts force closure alone, not whether the grip carries the object's weight "
+                "(as plan --no-load-check)");
   cmd->add_option("--object", a->object,
                   "Run files with several objects: score the grasps of this object id")
       ->transform(countIn(0, kMaxCount));

@@ -17,8 +17,6 @@
 namespace skelgrasp::cli {
 namespace {
 
-// Heaviest object the judge takes (kg): far beyond what a hand lifts.
-constexpr double kMaxMassKg = 1000;
 constexpr double kMaxDensityKgM3 = 1e5;
 constexpr double kMaxForceN = 1e4;
 // The judge's own bounds (physics/execution.h).

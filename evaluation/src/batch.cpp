@@ -12,6 +12,7 @@
 #include <random>
 #include <set>
 
+#include "batch_physics.h"
 #include "batch_setup.h"
 #include "batch_store.h"
 #include "directory_lock.h"
@@ -79,10 +80,12 @@ class ObjectEvaluator {
       }
     };
     std::unique_ptr<grasping::GraspObject> object;
+    std::shared_ptr<const physics::PhysicalObject> physical;
     TriangleMesh mesh;
     try {
       mesh = loadMesh(id.path, p_.load);
       object = std::make_unique<grasping::GraspObject>(mesh);
+      if (p_.physics) physical = internal::physicalObject(mesh, *p_.physics);
     } catch (...) {
       failAll(objectError(id, std::current_exception()), std::nullopt);
       return out;
@@ -116,7 +119,7 @@ class ObjectEvaluator {
         const bool skeleton_planner = planner == ranking::Planner::kSkeleton;
         if (skeleton_planner && !skel) continue;  // recorded as failed above
         try {
-          const std::size_t poses = plan(id, hand, planner, surface_budget, *object,
+          const std::size_t poses = plan(id, hand, planner, surface_budget, *object, physical.get(),
                                          skeleton_planner ? &*skel : nullptr, out);
           if (skeleton_planner && poses > 0) surface_budget = poses;
         } catch (...) {
@@ -134,8 +137,8 @@ class ObjectEvaluator {
   // planner's number of hypotheses.
   std::size_t plan(const ObjectIdentity& id, const grasping::HandModel& hand,
                    ranking::Planner planner, std::size_t surface_budget,
-                   const grasping::GraspObject& object, const skeleton::SkeletonResult* skel,
-                   ObjectOutcome& out) const {
+                   const grasping::GraspObject& object, const physics::PhysicalObject* physical,
+                   const skeleton::SkeletonResult* skel, ObjectOutcome& out) const {
     const std::uint64_t seed =
         internal::fnv1a(internal::runKey(id.id, hand.name(), planner), p_.seed);
     ranking::PlanOptions options;
@@ -179,6 +182,7 @@ class ObjectEvaluator {
         ranking.start_collisions += g.robustness->start_collisions;
         ranking.closing_failures += g.robustness->closing_failures;
         ranking.no_force_closure += g.robustness->no_force_closure;
+        ranking.too_weak += g.robustness->too_weak;
       }
       if (ranked.scored > 0) {
         ranking.r_mean = sum / ranked.scored;
@@ -189,7 +193,14 @@ class ObjectEvaluator {
         ranking.r_best = result.grasps.front().robustness->r;
       ranking.refined = ranked.refined;
     }
-    record(id, hand, planner, seed, object, result, ranking, skel, out);
+    // The physics judge on the grasps as the run returns them.
+    std::optional<internal::PhysicsMeasures> physics;
+    std::vector<std::optional<bool>> physics_holds;
+    if (physical) {
+      physics = internal::judgeGrasps(hand, object, *physical, result.grasps, p_.quality.friction,
+                                      *p_.physics, physics_holds);
+    }
+    record(id, hand, planner, seed, object, result, ranking, physics, physics_holds, skel, out);
     return result.summary.poses;
   }
 
@@ -205,13 +216,16 @@ class ObjectEvaluator {
     std::optional<double> r_mean_unrefined;
     double refinement_s = 0;
     // The scored grasps' samples, and the failed ones by cause.
-    std::size_t samples = 0, start_collisions = 0, closing_failures = 0, no_force_closure = 0;
+    std::size_t samples = 0, start_collisions = 0, closing_failures = 0, no_force_closure = 0,
+                too_weak = 0;
     double time_s = 0;
   };
 
   void record(const ObjectIdentity& id, const grasping::HandModel& hand, ranking::Planner planner,
               std::uint64_t seed, const grasping::GraspObject& object,
               const grasping::PlanResult& plan, const RankingMeasures& ranking,
+              const std::optional<internal::PhysicsMeasures>& physics,
+              const std::vector<std::optional<bool>>& physics_holds,
               const skeleton::SkeletonResult* skel, ObjectOutcome& out) const {
     // Robustness of a seeded sample of the kept grasps.
     std::vector<std::size_t> chosen(plan.grasps.size());
@@ -266,6 +280,8 @@ class ObjectEvaluator {
     m.ranked_start_collisions = ranking.start_collisions;
     m.ranked_closing_failures = ranking.closing_failures;
     m.ranked_no_force_closure = ranking.no_force_closure;
+    m.ranked_too_weak = ranking.too_weak;
+    m.physics = physics;
     out.runs.push_back(std::move(run));
     for (std::size_t i = 0; i < plan.grasps.size(); ++i) {
       const auto& g = plan.grasps[i];
@@ -283,6 +299,7 @@ class ObjectEvaluator {
         r.robustness = internal::GraspRobustness{it->second.score, it->second.wilson_low,
                                                  it->second.wilson_high, it->second.collisions};
       }
+      if (i < physics_holds.size()) r.physics_holds = physics_holds[i];
       out.results.push_back(std::move(r));
     }
   }
@@ -314,6 +331,11 @@ void checkBatchParams(const BatchParams& p) {
   if (p.quality.cone_edges < 3) throw InvalidArgument("friction cones need at least 3 edges");
   if (p.robustness.samples < 1) throw InvalidArgument("robustness needs at least one sample");
   ranking::checkRobustRankingParams(p.ranking);
+  if (p.physics) {
+    if (p.physics->grasps < 1) throw InvalidArgument("physics judge: grasps must be at least 1");
+    if (!(p.physics->mass_kg > 0) || !std::isfinite(p.physics->mass_kg))
+      throw InvalidArgument("physics judge: mass_kg must be a finite number > 0");
+  }
 }
 
 // The files a batch writes into its directory (and nothing else there).

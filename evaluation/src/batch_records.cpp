@@ -162,8 +162,19 @@ void to_json(nlohmann::json& j, const RunRecord& run) {
   j["ranked_samples"] = m.ranked_samples;
   j["ranked_failures"] = {{"start_collision", m.ranked_start_collisions},
                           {"closing", m.ranked_closing_failures},
-                          {"no_force_closure", m.ranked_no_force_closure}};
+                          {"no_force_closure", m.ranked_no_force_closure},
+                          {"too_weak", m.ranked_too_weak}};
   // A record read from a line without them (merged or rewritten) stays without them.
+  if (m.physics) {
+    const PhysicsMeasures& ph = *m.physics;
+    j["physics"] = {{"judged", ph.judged},
+                    {"holds", ph.holds},
+                    {"failed",
+                     {{"start", ph.start_failures},
+                      {"closing", ph.closing_failures},
+                      {"disturbance", ph.disturbance_failures}}},
+                    {"cpu_s", ph.cpu_s}};
+  }
   if (m.ranked_refinement_s) {
     j["ranked_r_mean_unrefined"] = orNull(m.ranked_r_mean_unrefined);
     j["ranked_refinement_s"] = *m.ranked_refinement_s;
@@ -223,10 +234,35 @@ void from_json(const nlohmann::json& j, RunRecord& run) {
     m.ranked_start_collisions = cause("start_collision");
     m.ranked_closing_failures = cause("closing");
     m.ranked_no_force_closure = cause("no_force_closure");
+    // Records written before the load check have no too_weak: none of their samples was checked.
+    const auto weak = failures.find("too_weak");
+    m.ranked_too_weak = weak == failures.end() ? 0 : weak->second;
   }
   if (f.has("ranked_refinement_s")) {
     m.ranked_r_mean_unrefined = f.realOrNull("ranked_r_mean_unrefined");
     m.ranked_refinement_s = f.real("ranked_refinement_s");
+  }
+  if (f.has("physics")) {
+    const Fields ph(f.at("physics"));
+    PhysicsMeasures& physics = m.physics.emplace();
+    physics.judged = ph.count("judged");
+    physics.holds = ph.count("holds");
+    const std::map<std::string, std::size_t> failed = ph.counts("failed");
+    const auto phase = [&](const char* name) {
+      const auto it = failed.find(name);
+      if (it == failed.end())
+        throw RecordError(std::string("key 'physics.failed.") + name + "' is missing");
+      return it->second;
+    };
+    physics.start_failures = phase("start");
+    physics.closing_failures = phase("closing");
+    physics.disturbance_failures = phase("disturbance");
+    physics.cpu_s = ph.real("cpu_s");
+    if (physics.holds + physics.start_failures + physics.closing_failures +
+            physics.disturbance_failures !=
+        physics.judged) {
+      throw RecordError("key 'physics': holds and failures do not add up to judged");
+    }
   }
   run.measures = std::move(m);
 }
@@ -246,6 +282,7 @@ void to_json(nlohmann::json& j, const GraspRecord& g) {
   j["robustness_low"] = r ? nlohmann::json(r->low) : nlohmann::json(nullptr);
   j["robustness_high"] = r ? nlohmann::json(r->high) : nlohmann::json(nullptr);
   j["robustness_collisions"] = r ? nlohmann::json(r->collisions) : nlohmann::json(nullptr);
+  if (g.physics_holds) j["physics_holds"] = *g.physics_holds;
 }
 
 void from_json(const nlohmann::json& j, GraspRecord& g) {
@@ -260,6 +297,8 @@ void from_json(const nlohmann::json& j, GraspRecord& g) {
   g.volume = f.realOrNull("volume");
   g.time_ms = f.real("time_ms");
   g.robustness.reset();
+  g.physics_holds.reset();
+  if (f.has("physics_holds")) g.physics_holds = f.flag("physics_holds");
   // The four robustness keys are null together (a grasp not scored) or numbers together.
   if (f.isNull("robustness")) {
     for (const char* key : {"robustness_low", "robustness_high", "robustness_collisions"}) {

@@ -29,6 +29,14 @@ enum class RunStatus {
 };
 const char* toString(RunStatus status);
 
+// The physics judge's nominal executions of a run's first grasps (BatchParams::physics): judged,
+// held, and the failed ones by the phase they failed in (physics::ExecutionPhase).
+struct PhysicsMeasures {
+  std::size_t judged = 0, holds = 0;
+  std::size_t start_failures = 0, closing_failures = 0, disturbance_failures = 0;
+  double cpu_s = 0;  // thread CPU time of the executions
+};
+
 // What a finished planner run measured (runs.jsonl keys of the same names).
 struct RunMeasures {
   std::uint64_t seed = 0;  // of the planner and the robustness samples
@@ -60,11 +68,15 @@ struct RunMeasures {
   // (robustness.h). Absent before the causes were recorded: read as 0 (and shown as unknown).
   std::size_t ranked_samples = 0;
   std::size_t ranked_start_collisions = 0, ranked_closing_failures = 0, ranked_no_force_closure = 0;
+  // Force closure whose contacts could not carry the weight (the ranking's load check).
+  std::size_t ranked_too_weak = 0;
   // What the refinement for robustness changed: the scored grasps' mean r before it (none when
-  // ranked_r_mean is none) and its share of ranking_s. Absent before they were recorded
-  // (2026-11-30): both read as none, and ranked_refinement_s says which records have them.
+  // ranked_r_mean is none) and its share of ranking_s. Absent in records of a skelgrasp that did
+  // not record them: both read as none, and ranked_refinement_s says which records have them.
   std::optional<double> ranked_r_mean_unrefined;
   std::optional<double> ranked_refinement_s;
+  // Only in batches run with the physics judge.
+  std::optional<PhysicsMeasures> physics;
 };
 
 // One line of runs.jsonl: one object x hand x planner.
@@ -99,6 +111,8 @@ struct GraspRecord {
   std::optional<double> volume;               // none when not computed
   double time_ms = 0;                         // the run's time per valid grasp
   std::optional<GraspRobustness> robustness;  // none when not scored
+  // Whether the physics judge's nominal execution held; none when not judged.
+  std::optional<bool> physics_holds;
 };
 
 // Key of a run: object id, hand, planner.

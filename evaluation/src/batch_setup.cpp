@@ -89,31 +89,36 @@ nlohmann::json rankingOptions(const ranking::RobustRankingParams& r,
                               const std::vector<grasping::HandModel>& hands) {
   const ranking::RankingBudgetUsed recorded =
       ranking::rankingBudgetFor(r);  // as for a hand without a budget
-  nlohmann::json options = {{"top_k", r.top_k},
-                            {"screen_k", recorded.screen_k},
-                            {"screen_samples", recorded.screen_samples},
-                            {"samples", r.robustness.samples},
-                            {"variant", toString(r.robustness.variant)},
-                            // The search moves the returned grasps, so a batch resumed with another
-                            // search would mix two kinds of grasps.
-                            {"refinement",
-                             {{"enabled", r.refinement.enabled},
-                              {"max_grasps", r.refinement.max_grasps},
-                              {"search_below_r", recorded.search_below_r},
-                              {"max_evaluations", r.refinement.max_evaluations},
-                              {"samples", r.refinement.samples},
-                              {"max_standoff_m", r.refinement.max_standoff_m},
-                              {"mean_shift_steps", r.refinement.mean_shift_steps}}}};
-  // Since 2026-11-27 a found pose is checked on samples of its own, not on r's; a batch from
-  // before reported the moved grasps' r from the samples that chose them, so it does not resume
+  nlohmann::json options = {
+      {"top_k", r.top_k},
+      {"screen_k", recorded.screen_k},
+      {"screen_samples", recorded.screen_samples},
+      {"samples", r.robustness.samples},
+      {"variant", toString(r.robustness.variant)},
+      {"load_check", r.robustness.load
+                         ? nlohmann::json{{"mass_kg", r.robustness.load->mass_kg},
+                                          {"torque_share", r.robustness.load->torque_share}}
+                         : nlohmann::json(nullptr)},
+      // The search moves the returned grasps, so a batch resumed with another
+      // search would mix two kinds of grasps.
+      {"refinement",
+       {{"enabled", r.refinement.enabled},
+        {"max_grasps", r.refinement.max_grasps},
+        {"search_below_r", recorded.search_below_r},
+        {"max_evaluations", r.refinement.max_evaluations},
+        {"samples", r.refinement.samples},
+        {"max_standoff_m", r.refinement.max_standoff_m},
+        {"mean_shift_steps", r.refinement.mean_shift_steps}}}};
+  // A found pose is checked on samples of its own, not on r's; a batch from a skelgrasp that did
+  // not reported the moved grasps' r from the samples that chose them, so it does not resume
   // into this one.
   if (r.refinement.enabled) options["refinement"]["check"] = "own_samples";
-  // Since 2026-11-29 screening takes every preshape's best grasps in turn; a batch from before
-  // screened the best by epsilon, so it resumes only into that.
+  // Screening may take every preshape's best grasps in turn; a batch from a skelgrasp that did
+  // not screened the best by epsilon, so it resumes only into that.
   if (recorded.screen_candidates != grasping::ScreenCandidates::kByPreScore)
     options["screen_by"] = toString(recorded.screen_candidates);
-  // Since 2026-11-29 (later) the screening's contenders run more samples before the choice; a
-  // batch from before ran none, so it resumes only into that.
+  // The screening's contenders may run more samples before the choice; a batch from a skelgrasp
+  // without the confirmation ran none, so it resumes only into that.
   if (recorded.confirm_samples != 0) options["confirm_samples"] = recorded.confirm_samples;
   for (const auto& hand : hands) {
     const ranking::RankingBudgetUsed own = ranking::rankingBudgetFor(r, hand.rankingBudget());
@@ -177,21 +182,23 @@ nlohmann::json resultOptions(const BatchParams& p, const std::vector<grasping::H
        {{"units", unitName(p.load.units)},
         {"auto_millimetre_diagonal", p.load.auto_millimetre_diagonal}}},
   };
-  // Since 2026-11-28 the centre candidates close the precision preshapes too (and the SDH has a
-  // fingertip tripod); a batch from before planned power ones only, so it does not resume into
+  // The centre candidates close the precision preshapes too (and the SDH has a fingertip
+  // tripod); a batch from a skelgrasp that did not planned power ones only, so it does not resume into
   // this one.
   if (p.centre_candidates) options["centre_candidate_types"] = "power_and_precision";
   if (p.ranking.enabled) options["ranking"] = rankingOptions(p.ranking, hands);
+  // Only when on, so batches without the physics judge resume as they were.
+  if (p.physics)
+    options["physics"] = {{"grasps", p.physics->grasps}, {"mass_kg", p.physics->mass_kg}};
   // Batches from before the option judged by patch centres and recorded nothing: only corners are
   // recorded, so those resume with --contact-patch centre and not with the default.
   if (c.contact_patch != grasping::ContactPatch::kCentre)
     options["contact_patch"] = grasping::toString(c.contact_patch);
   // Only when on, so batches from before the option resume.
   if (p.surface_candidates > 0) options["surface_candidates"] = p.surface_candidates;
-  // The hands whose planners close alternative preshapes, with their names (the SDH's tripod since
-  // 2026-11-27, its fingertip tripod since 2026-11-28, its claw and narrow tripod since
-  // 2026-11-29): only those, so batches of the other hands resume, and older ones with
-  // --no-alternative-preshapes.
+  // The hands whose planners close alternative preshapes, with their names (the SDH's tripods, claw
+  // and narrow tripod were added one by one): only those, so batches of the other hands resume,
+  // and older ones with --no-alternative-preshapes.
   nlohmann::json with_alternatives = nlohmann::json::object();
   const bool skeleton_planner = std::find(p.planners.begin(), p.planners.end(),
                                           ranking::Planner::kSkeleton) != p.planners.end();

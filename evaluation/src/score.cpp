@@ -166,7 +166,10 @@ nlohmann::json scoreToJson(const ScoreResult& result, const ScoreParams& params,
                   {"grasp_index", 0},
                   // The sigmas used: set ones, else the variant's defaults.
                   {"sigma_m", ranking::positionSigmaM(rp)},
-                  {"sigma_rad", ranking::orientationSigmaRad(rp)}};
+                  {"sigma_rad", ranking::orientationSigmaRad(rp)},
+                  {"load_check", rp.load ? nlohmann::json{{"mass_kg", rp.load->mass_kg},
+                                                          {"torque_share", rp.load->torque_share}}
+                                         : nlohmann::json(nullptr)}};
   }
   nlohmann::json per_mu = nlohmann::json::array();
   for (std::size_t k = 0; k < params.frictions.size(); ++k) {

@@ -72,6 +72,15 @@ BatchSummary aggregateSummary(const BatchRecords& records) {
     g.planning_s += m.planning_s;
     g.robustness_s += m.robustness_s;
     g.robustness_grasps += m.robustness_grasps;
+    if (m.physics) {
+      ++g.physics_runs;
+      g.physics_judged += m.physics->judged;
+      g.physics_holds += m.physics->holds;
+      g.physics_start_failures += m.physics->start_failures;
+      g.physics_closing_failures += m.physics->closing_failures;
+      g.physics_disturbance_failures += m.physics->disturbance_failures;
+      g.physics_cpu_s += m.physics->cpu_s;
+    }
     if (m.ranked) {
       ++g.ranked_runs;
       if (m.kept > 0) ++g.ranked_with_grasps;
@@ -83,6 +92,7 @@ BatchSummary aggregateSummary(const BatchRecords& records) {
       g.ranked_start_collisions += m.ranked_start_collisions;
       g.ranked_closing_failures += m.ranked_closing_failures;
       g.ranked_no_force_closure += m.ranked_no_force_closure;
+      g.ranked_too_weak += m.ranked_too_weak;
       if (m.ranked_refinement_s) {
         g.ranked_refined += m.ranked_refined;
         g.ranked_r_unrefined.add(m.ranked_r_mean_unrefined.value_or(0.0));

@@ -47,12 +47,21 @@ struct PlannerSummary {
   // cause.
   std::size_t ranked_samples = 0;
   std::size_t ranked_start_collisions = 0, ranked_closing_failures = 0, ranked_no_force_closure = 0;
+  // Force closure whose contacts could not carry the weight (the ranking's load check).
+  std::size_t ranked_too_weak = 0;
   // The same without the refinement for robustness, over the ranked runs that recorded its share
   // (one value each in both Stats): top r from the scored grasps' r before it, and the plan time
   // less its time; and the scored grasps it moved.
   std::size_t ranked_refined = 0;
   Stat ranked_r_unrefined;
   Stat plan_s_unrefined;
+  // The physics judge (runs made with BatchParams::physics): its nominal executions of the runs'
+  // first grasps added up, and the failed ones by phase.
+  std::size_t physics_runs = 0;
+  std::size_t physics_judged = 0, physics_holds = 0;
+  std::size_t physics_start_failures = 0, physics_closing_failures = 0,
+              physics_disturbance_failures = 0;
+  double physics_cpu_s = 0;
 };
 
 struct BatchSummary {

@@ -99,19 +99,20 @@ std::string failureTable(const BatchSummary& summary) {
   for (const auto& [key, g] : summary.groups) {
     if (g.ranked_samples == 0) continue;
     const double n = static_cast<double>(g.ranked_samples);
-    const std::size_t failed =
-        g.ranked_start_collisions + g.ranked_closing_failures + g.ranked_no_force_closure;
-    md += fmt::format("| {} | {} | {} | {:.1f}% | {:.1f}% | {:.1f}% | {:.1f}% |\n", key.first,
-                      toString(key.second), g.ranked_samples, 100 * (n - failed) / n,
+    const std::size_t failed = g.ranked_start_collisions + g.ranked_closing_failures +
+                               g.ranked_no_force_closure + g.ranked_too_weak;
+    md += fmt::format("| {} | {} | {} | {:.1f}% | {:.1f}% | {:.1f}% | {:.1f}% | {:.1f}% |\n",
+                      key.first, toString(key.second), g.ranked_samples, 100 * (n - failed) / n,
                       100 * g.ranked_start_collisions / n, 100 * g.ranked_closing_failures / n,
-                      100 * g.ranked_no_force_closure / n);
+                      100 * g.ranked_no_force_closure / n, 100 * g.ranked_too_weak / n);
   }
   if (md.empty()) return md;
   return "\nThe scored grasps' perturbed executions, added up over the objects: held, and failed "
          "because the open hand started in the object, the closing ended with too few contacts, "
-         "or it closed without force closure (contacts that slip).\n\n"
-         "| hand | planner | samples | held | start in object | too few contacts | slipped "
-         "|\n|---|---|---|---|---|---|---|\n" +
+         "it closed without force closure (contacts that slip), or in force closure with contacts "
+         "too weak to carry the object's weight (the load check).\n\n"
+         "| hand | planner | samples | held | start in object | too few contacts | slipped | too "
+         "weak |\n|---|---|---|---|---|---|---|---|\n" +
          md;
 }
 
@@ -160,6 +161,30 @@ std::string rankedTable(const BatchSummary& summary) {
          "regularisation, skeleton, planning and ranking.\n\n"
          "| hand | planner | objects | with a grasp | top r, median | top r, mean | plan s, median "
          "|\n|---|---|---|---|---|---|---|\n" +
+         md;
+}
+
+// The physics judge's nominal executions (runs with --judge physics), empty when none was judged.
+std::string physicsTable(const BatchSummary& summary) {
+  std::string md;
+  for (const auto& [key, g] : summary.groups) {
+    if (g.physics_runs == 0) continue;
+    const double n = static_cast<double>(std::max<std::size_t>(g.physics_judged, 1));
+    md += fmt::format("| {} | {} | {} | {} | {:.1f}% | {:.1f}% | {:.1f}% | {:.1f}% | {:.0f} |\n",
+                      key.first, toString(key.second), g.physics_runs, g.physics_judged,
+                      100 * g.physics_holds / n, 100 * g.physics_start_failures / n,
+                      100 * g.physics_closing_failures / n,
+                      100 * g.physics_disturbance_failures / n, 1000 * g.physics_cpu_s / n);
+  }
+  if (md.empty()) return md;
+  return "\n## Physics judge\n\n"
+         "Each run's first grasps, in the order the run returns them, executed nominally in the "
+         "rigid-body simulation (docs/physics.md): held, or failed at the start (the open hand in "
+         "the object), in the closing or under a disturbance. CPU: thread CPU time per "
+         "execution.\n\n"
+         "| hand | planner | runs | grasps executed | held | failed at start | failed closing | "
+         "failed under disturbance | ms CPU per execution "
+         "|\n|---|---|---|---|---|---|---|---|---|\n" +
          md;
 }
 
@@ -214,6 +239,7 @@ std::string summaryMarkdown(const BatchSummary& summary, const std::vector<Robus
     all_robustness_grasps += g.robustness_grasps;
   }
   md += rankedTable(summary);
+  md += physicsTable(summary);
   md += timings;
   md += fmt::format(
       "\nBatch throughput: {:.2f} grasps evaluated for robustness per second per core.\n",

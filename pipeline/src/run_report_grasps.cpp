@@ -35,17 +35,19 @@ void addGraspTable(presentation::HtmlReport& report, const std::vector<RankedGra
     // What a user changes depends on why samples failed: clearance for starts in the object,
     // another place or more friction for slipping contacts.
     const std::string failures =
-        g.robustness ? fmt::format("{} / {} / {}", g.robustness->start_collisions,
-                                   g.robustness->closing_failures, g.robustness->no_force_closure)
+        g.robustness ? fmt::format("{} / {} / {} / {}", g.robustness->start_collisions,
+                                   g.robustness->closing_failures, g.robustness->no_force_closure,
+                                   g.robustness->too_weak)
                      : "-";
     rows.push_back({std::to_string(k), toString(g.type), g.strategy,
                     fmt::format("{:.4f}", g.epsilon),
                     fmt::format("{:.0f}%", 100 * ranked[k].observed_contact_ratio), r, failures,
                     fmt::format("{:.4f}", ranked[k].score)});
   }
-  report.table({"rank", "type", "strategy", "epsilon", "observed contacts", "r [95% interval]",
-                "failed samples: start in object / too few contacts / slipped", "rank score"},
-               rows);
+  report.table(
+      {"rank", "type", "strategy", "epsilon", "observed contacts", "r [95% interval]",
+       "failed samples: start in object / too few contacts / slipped / too weak", "rank score"},
+      rows);
 }
 
 std::string robustnessHistogramSvg(const std::vector<std::size_t>& counts) {

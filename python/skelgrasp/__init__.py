@@ -37,6 +37,7 @@ from ._skelgrasp import (  # noqa: F401
     score,
     score_grasps,
     set_log_level,
+    simulate,
     skeleton,
 )
 

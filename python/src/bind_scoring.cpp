@@ -87,10 +87,17 @@ std::vector<Grasp> graspsOf(const py::object& grasps) {
   }
 }
 
+// The paper's criterion is force closure: its variants never check the load (as the CLI).
+bool publishedVariant(ranking::RobustnessVariant variant) {
+  return variant == ranking::RobustnessVariant::kPaper ||
+         variant == ranking::RobustnessVariant::kReference;
+}
+
 py::list score(const Mesh& mesh, const HandPtr& hand, const py::object& grasps, double mu,
                const std::string& fc_test, bool reference_compat, int robustness_samples,
                const std::string& robustness_variant, std::uint64_t seed,
-               std::optional<double> torsional_friction, const std::string& contact_patch) {
+               std::optional<double> torsional_friction, const std::string& contact_patch,
+               bool load_check) {
   const std::vector<Grasp> list = graspsOf(grasps);
   const auto quality = grasping::withHandContactModel(
       qualityParams(mu, fc_test, reference_compat, torsional_friction), *hand);
@@ -99,6 +106,8 @@ py::list score(const Mesh& mesh, const HandPtr& hand, const py::object& grasps, 
   robustness.samples = robustness_samples;
   robustness.variant = ranking::parseRobustnessVariant(robustness_variant);
   robustness.seed = seed;
+  if (load_check && !publishedVariant(robustness.variant))
+    robustness.load = ranking::defaultLoadCheck();
   robustness.quality = quality;
   robustness.closing.contact_patch = grasping::contactPatchFor(contact_patch, reference_compat);
   std::vector<grasping::WrenchSpaceResult> judged(list.size());
@@ -133,6 +142,7 @@ py::list score(const Mesh& mesh, const HandPtr& hand, const py::object& grasps, 
       d["robustness_guarded_holds"] = robust[i]->guarded_holds;
       d["robustness_closing_failures"] = robust[i]->closing_failures;
       d["robustness_no_force_closure"] = robust[i]->no_force_closure;
+      d["robustness_too_weak"] = robust[i]->too_weak;
       d["robustness_settled_holds"] = robust[i]->settled_holds;
     } else {
       d["robustness"] = py::none();
@@ -148,7 +158,7 @@ py::object scoreGraspsFile(const Mesh& mesh, const HandPtr& hand, const py::obje
                            const std::string& robustness_variant, std::uint64_t seed,
                            const std::string& closing, const std::optional<long long>& object,
                            std::optional<double> torsional_friction,
-                           const std::string& contact_patch) {
+                           const std::string& contact_patch, bool load_check) {
   nlohmann::json file;
   std::string source = "grasps";
   if (py::isinstance<py::str>(grasps)) {
@@ -165,6 +175,7 @@ py::object scoreGraspsFile(const Mesh& mesh, const HandPtr& hand, const py::obje
   if (params.compute_robustness) params.robustness.samples = robustness_samples;
   params.robustness.variant = ranking::parseRobustnessVariant(robustness_variant);
   params.robustness.seed = seed;
+  if (!load_check || publishedVariant(params.robustness.variant)) params.robustness.load.reset();
   params.closing.method = grasping::parseClosingMethod(closing);
   params.closing.contact_patch = grasping::parseContactPatch(contact_patch);
   checkTorsionalFriction(torsional_friction);
@@ -237,6 +248,7 @@ preshape or a pose that is not a rigid transform.)doc");
         py::arg("seed") = robustness.seed,
         py::arg("torsional_friction") = quality.torsional_friction_m,
         py::arg("contact_patch") = std::string(toString(grasping::ClosingParams{}.contact_patch)),
+        py::arg("load_check") = true,
         R"doc(
 Re-scores grasps (a Grasp, a list of them or a PlanResult) planned with ``hand`` on ``mesh``:
 force closure, epsilon, closure margin and volume of their contacts with these quality
@@ -244,7 +256,10 @@ parameters, and the robustness r (paper Sec. V-B: the share of ``robustness_samp
 hand poses that still close to force closure, with its 95 % Wilson interval; 0 samples skips
 it). Every grasp faces the same perturbations (as in :func:`plan`'s ranking), so a planned grasp's
 r is reproduced with plan's seed and sample count (and its ``torsional_friction``: soft-finger
-contacts, None for the hand's model; and its ``contact_patch``). Returns one dict per grasp.)doc");
+contacts, None for the hand's model; and its ``contact_patch``). ``load_check`` (as plan's r): a
+sample holds only when its contacts also carry the object's 0.1 kg weight in every direction
+within half the fingers' torque limits (docs/ranking.md, "Load check"; never for the 'paper' and
+'reference' variants). Returns one dict per grasp.)doc");
 
   const evaluation::ScoreParams score_params;
   m.def("score_grasps", &scoreGraspsFile, py::arg("mesh"), py::arg("hand"), py::arg("grasps"),
@@ -256,14 +271,15 @@ contacts, None for the hand's model; and its ``contact_patch``). Returns one dic
         py::arg("object") = py::none(),
         py::arg("torsional_friction") = score_params.quality.torsional_friction_m,
         py::arg("contact_patch") = std::string(toString(score_params.closing.contact_patch)),
+        py::arg("load_check") = true,
         R"doc(
 ``skelgrasp score``: re-scores the grasps of a grasps.json (a path, or the parsed dict; schema
 skelgrasp.grasps/N or skelgrasp.run/N, ``object`` selecting one object of a run file) by placing
 ``hand`` at each grasp's hand_pose, closing it on ``mesh`` and judging the contacts at every
 friction in ``mu``: force closure, LP margin, epsilon and robustness r with its 95 % Wilson
 interval (0 samples skips it); ``torsional_friction`` (metres) judges soft-finger contacts (None:
-the hand's model); ``contact_patch`` says where a link touching over an area pushes. Returns the
-skelgrasp.score/1 document (docs/evaluation.md).)doc");
+the hand's model); ``contact_patch`` says where a link touching over an area pushes;
+``load_check`` as in :func:`score`. Returns the skelgrasp.score/1 document (docs/evaluation.md).)doc");
 }
 
 }  // namespace skelgrasp::python

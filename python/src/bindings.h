@@ -7,6 +7,7 @@ namespace skelgrasp::python {
 void bindGeometry(pybind11::module_& m);  // Mesh, PointCloud, load_*, skeleton
 void bindGrasping(pybind11::module_& m);  // hands, plan, pictures
 void bindScoring(pybind11::module_& m);   // close, score, score_grasps
+void bindPhysics(pybind11::module_& m);   // simulate
 void bindPipeline(pybind11::module_& m);  // reconstruct, run
 
 }  // namespace skelgrasp::python

@@ -47,5 +47,6 @@ PYBIND11_MODULE(_skelgrasp, m) {
   skelgrasp::python::bindGeometry(m);
   skelgrasp::python::bindGrasping(m);
   skelgrasp::python::bindScoring(m);
+  skelgrasp::python::bindPhysics(m);
   skelgrasp::python::bindPipeline(m);
 }

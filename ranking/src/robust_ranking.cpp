@@ -321,6 +321,10 @@ grasping::GraspRobustness graspRobustness(const RobustnessResult& result,
   r.closing_failures = result.closing_failures;
   r.no_force_closure = result.no_force_closure;
   r.too_weak = result.too_weak;
+  if (params.load) {
+    r.load_mass_kg = params.load->mass_kg;
+    r.load_torque_share = params.load->torque_share;
+  }
   r.settled_holds = result.settled_holds;
   return r;
 }

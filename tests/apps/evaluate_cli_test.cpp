@@ -4,6 +4,7 @@
 #include <sys/file.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -110,6 +111,49 @@ TEST(EvaluateCli, RecordsTheScreeningSamplesOfTheRobustRanking) {
   const auto grasps = jsonLines(out + "/results.jsonl");
   ASSERT_FALSE(grasps.empty());
   for (const auto& g : grasps) EXPECT_GT(g["volume"].get<double>(), 0) << g.dump();
+}
+
+// --judge physics: each run's first grasps are executed by the physics judge; the run records
+// judged, held and the failed ones by phase (adding up), its grasps whether they held, the
+// summary a table of it; a resume without the judge is refused (other results).
+TEST(EvaluateCli, ThePhysicsJudgeExecutesEachRunsFirstGrasps) {
+  const std::string dir = test::tempDir("cli_eval_physics");
+  const std::string objects = objectsDir(dir, {"box"}), out = dir + "/out";
+  const std::string options = " --hands parallel_gripper --planners skeleton"
+                              " --robustness-samples 2 --robustness-grasps 1 --timeout 0"
+                              " --vertex-distance 0.01 --physics-grasps 2";
+  const CliRun run =
+      runCli("evaluate --objects " + objects + " --out " + out + options + " --judge physics", dir);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto batch = readJsonFile(out + "/batch.json");
+  EXPECT_EQ(batch["options"]["physics"]["grasps"], 2) << batch.dump();
+  const auto runs = jsonLines(out + "/runs.jsonl");
+  ASSERT_EQ(runs.size(), 1u);
+  ASSERT_TRUE(runs[0].contains("physics")) << runs[0].dump();
+  const auto& physics = runs[0]["physics"];
+  const std::size_t kept = runs[0]["kept"];
+  ASSERT_GT(kept, 0u);
+  EXPECT_EQ(physics["judged"].get<std::size_t>(), std::min<std::size_t>(kept, 2));
+  const auto& failed = physics["failed"];
+  EXPECT_EQ(physics["holds"].get<std::size_t>() + failed["start"].get<std::size_t>() +
+                failed["closing"].get<std::size_t>() + failed["disturbance"].get<std::size_t>(),
+            physics["judged"].get<std::size_t>());
+  EXPECT_GT(physics["cpu_s"].get<double>(), 0.0);
+  std::size_t judged = 0, held = 0;
+  for (const auto& g : jsonLines(out + "/results.jsonl")) {
+    if (!g.contains("physics_holds")) continue;
+    ++judged;
+    held += g["physics_holds"].get<bool>();
+    EXPECT_LT(g["grasp"].get<int>(), 2) << g.dump();  // the run's first grasps
+  }
+  EXPECT_EQ(judged, physics["judged"].get<std::size_t>());
+  EXPECT_EQ(held, physics["holds"].get<std::size_t>());
+  std::ifstream summary(out + "/summary.md");
+  const std::string md{std::istreambuf_iterator<char>(summary), {}};
+  EXPECT_NE(md.find("## Physics judge"), std::string::npos) << md;
+  const CliRun resume = runCli("evaluate --objects " + objects + " --out " + out + options, dir);
+  EXPECT_EQ(resume.exit_code, 2) << resume.err;
+  EXPECT_NE(resume.err.find("physics"), std::string::npos) << resume.err;
 }
 
 // Left unset, the screening and the search run with each hand's ranking budget; batch.json records

@@ -304,7 +304,8 @@ def test_score_recomputes_quality_and_robustness(capsule, sdh, capsule_plan):
         # Every failed sample has one cause; a start in collision that held after the guarded
         # approach (the default, settled variant) is no failure.
         failed = (s["robustness_collisions"] - s["robustness_guarded_holds"]
-                  + s["robustness_closing_failures"] + s["robustness_no_force_closure"])
+                  + s["robustness_closing_failures"] + s["robustness_no_force_closure"]
+                  + s["robustness_too_weak"])
         assert failed == 4 - round(s["robustness"] * 4)
         assert 0 <= s["robustness_settled_holds"] <= round(s["robustness"] * 4)
     single = skelgrasp.score(capsule, sdh, capsule_plan.grasps[0], robustness_samples=0)
@@ -321,14 +322,18 @@ def test_score_reproduces_the_r_plan_ranked_by(capsule, sdh):
     assert scored
     for s, g in scored:
         assert s["robustness"] == g.robustness["r"]
-    # The default (settled) runs the guarded variant's samples and only adds holds by letting the
-    # object move; the guarded one runs the paper's and only rescues starts in collision.
+    # Force closure alone: the default (settled) runs the guarded variant's samples and only adds
+    # holds by letting the object move; the guarded one runs the paper's and only rescues starts
+    # in collision. The load check only removes holds.
+    unchecked = skelgrasp.score(capsule, sdh, planned, robustness_samples=6, seed=5,
+                                load_check=False)
     guarded = skelgrasp.score(capsule, sdh, planned, robustness_samples=6, seed=5,
-                              robustness_variant="guarded")
+                              robustness_variant="guarded", load_check=False)
     paper = skelgrasp.score(capsule, sdh, planned, robustness_samples=6, seed=5,
                             robustness_variant="paper")
-    assert all(s["robustness"] >= gs["robustness"] >= ps["robustness"]
-               for s, gs, ps in zip(scores, guarded, paper))
+    assert all(u["robustness"] >= gs["robustness"] >= ps["robustness"]
+               for u, gs, ps in zip(unchecked, guarded, paper))
+    assert all(u["robustness"] >= s["robustness"] for u, s in zip(unchecked, scores))
     with pytest.raises(ValueError, match="guarded"):
         skelgrasp.score(capsule, sdh, planned, robustness_variant="guardd")
 

@@ -69,7 +69,7 @@ TEST(RobustRanking, ScoresTheTopKAndRanksThemFirstByR) {
       EXPECT_EQ(r.variant, "settled");  // the default
       EXPECT_DOUBLE_EQ(r.sigma_m, 0.010);
       // Every failed sample has one cause.
-      EXPECT_EQ(r.start_collisions + r.closing_failures + r.no_force_closure,
+      EXPECT_EQ(r.start_collisions + r.closing_failures + r.no_force_closure + r.too_weak,
                 r.samples - static_cast<int>(std::lround(r.r * r.samples)));
       EXPECT_DOUBLE_EQ(result.scores[i], r.r);  // no trust factor: the score is r
     } else {

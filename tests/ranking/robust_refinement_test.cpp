@@ -28,6 +28,7 @@ RobustnessParams judgedAs(const Planned& p, int samples) {
   rp.quality = p.params.hypothesis.quality;
   rp.quality.torsional_friction_m = p.hand.closingDefaults().torsional_friction_m;
   rp.closing = p.params.hypothesis.closing;
+  rp.load = defaultLoadCheck();  // the ranking's r counts only grips that carry the weight
   return rp;
 }
 

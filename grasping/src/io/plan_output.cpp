@@ -39,21 +39,25 @@ nlohmann::json graspToJson(const Grasp& g, const HandModel& hand) {
       {"volume", numberOrNull(g.volume)}};
   if (g.robustness) {
     const GraspRobustness& r = *g.robustness;
-    out["robustness"] = {{"r", r.r},
-                         {"ci95", {r.ci95_low, r.ci95_high}},
-                         {"samples", r.samples},
-                         {"mu", r.mu},
-                         {"torsional_friction_m", r.torsional_friction_m},
-                         {"contact_patch", r.contact_patch},
-                         {"sigma_m", r.sigma_m},
-                         {"sigma_rad", r.sigma_rad},
-                         {"variant", r.variant},
-                         {"failures",
-                          {{"start_collision", r.start_collisions},
-                           {"closing", r.closing_failures},
-                           {"no_force_closure", r.no_force_closure},
-                           {"too_weak", r.too_weak}}},
-                         {"settled_holds", r.settled_holds}};
+    out["robustness"] = {
+        {"r", r.r},
+        {"ci95", {r.ci95_low, r.ci95_high}},
+        {"samples", r.samples},
+        {"mu", r.mu},
+        {"torsional_friction_m", r.torsional_friction_m},
+        {"contact_patch", r.contact_patch},
+        {"sigma_m", r.sigma_m},
+        {"sigma_rad", r.sigma_rad},
+        {"variant", r.variant},
+        {"failures",
+         {{"start_collision", r.start_collisions},
+          {"closing", r.closing_failures},
+          {"no_force_closure", r.no_force_closure},
+          {"too_weak", r.too_weak}}},
+        {"settled_holds", r.settled_holds},
+        {"load_check", r.load_mass_kg > 0 ? nlohmann::json{{"mass_kg", r.load_mass_kg},
+                                                           {"torque_share", r.load_torque_share}}
+                                          : nlohmann::json(nullptr)}};
     if (r.refinement) {
       const GraspRobustRefinement& f = *r.refinement;
       out["robustness"]["refinement"] = {{"refined", f.refined},

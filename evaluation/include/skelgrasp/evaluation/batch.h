@@ -2,6 +2,7 @@
 // Batch evaluation: every object x hand x planner, robustness of the planned grasps, the paper's
 // table and histograms. Resumable, shardable, parallel (TBB). File formats: docs/evaluation.md.
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,14 @@
 #include "skelgrasp/skeleton/extraction.h"
 
 namespace skelgrasp::evaluation {
+
+// The physics judge in a batch (`evaluate --judge physics`, docs/physics.md): the first `grasps`
+// grasps of every run, in the order the run returns them (ranked, with BatchParams::ranking),
+// executed nominally by the rigid-body simulation at the batch's friction.
+struct PhysicsJudging {
+  std::size_t grasps = 10;  // >= 1
+  double mass_kg = 0.1;     // the object's mass (kg, > 0): physics::kDefaultObjectMassKg
+};
 
 struct BatchParams {
   std::vector<std::string> objects;  // mesh files
@@ -49,6 +58,8 @@ struct BatchParams {
     p.enabled = false;
     return p;
   }();
+  // Unset: the model's figures only.
+  std::optional<PhysicsJudging> physics;
   grasping::QualityParams quality;  // mu, reference_compat
   skeleton::SkeletonParams skeleton;
   MeshLoadOptions load;

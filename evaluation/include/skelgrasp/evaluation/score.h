@@ -36,11 +36,16 @@ struct ScoreParams {
   grasping::ClosingParams closing;
   // false: no robustness (force closure, margin and epsilon only; much faster).
   bool compute_robustness = true;
-  // Samples (100), variant (paper), pose error sigmas (the variant's) and seed (1). Its quality
-  // and closing are ignored: `quality` with each friction and `closing` are used. Every grasp is
-  // scored with grasp_index 0 (ranking::evaluateRobustness), the convention plan and run share, so
-  // a grasp's r depends on its pose and the seed only and `score` reproduces plan's r.
-  ranking::RobustnessParams robustness;
+  // Samples (100), variant (settled), pose error sigmas (the variant's), seed (1) and the load
+  // check (on, as plan's r; unset it for force closure alone). Its quality and closing are
+  // ignored: `quality` with each friction and `closing` are used. Every grasp is scored with
+  // grasp_index 0 (ranking::evaluateRobustness), the convention plan and run share, so a grasp's r
+  // depends on its pose and the seed only and `score` reproduces plan's r.
+  ranking::RobustnessParams robustness = [] {
+    ranking::RobustnessParams p;
+    p.load = ranking::defaultLoadCheck();
+    return p;
+  }();
 };
 
 // One grasp judged at one friction coefficient.

@@ -60,6 +60,10 @@ struct GraspRobustness {
   int start_collisions = 0, closing_failures = 0, no_force_closure = 0;
   // With the load check: force closure reached, but the contacts cannot carry the weight.
   int too_weak = 0;
+  // The load check r counted (0: none, force closure alone): the object's mass and the share of
+  // each joint's torque limit the contacts may draw on.
+  double load_mass_kg = 0;
+  double load_torque_share = 0;
   // Variant "settled": the holding samples that held only after the object moved in the hand.
   int settled_holds = 0;
   std::optional<GraspRobustRefinement> refinement;  // set when the search ran on this grasp

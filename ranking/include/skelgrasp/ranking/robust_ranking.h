@@ -25,14 +25,6 @@ inline constexpr int kDefaultScreenSamples = 10;
 inline constexpr int kDefaultConfirmSamples = 10;
 inline constexpr std::size_t kConfirmCandidatesPerScored = 2;
 
-// The load check of the ranking's r: the contacts must carry the object's weight (the physics
-// judge's 0.1 kg) in every direction with the fingers within their grip (kGripTorqueShare of their
-// torque limits), as the physics judge's closed hand grips it (docs/ranking.md, "Load check").
-inline grasping::LoadCapacityParams defaultLoadCheck() {
-  grasping::LoadCapacityParams load;
-  load.torque_share = grasping::kGripTorqueShare;
-  return load;
-}
 
 inline RobustnessParams defaultRankingRobustness() {
   RobustnessParams params;
@@ -46,7 +38,7 @@ enum class ScreeningPruning {
   // Candidates in pre-score order; once top_k (with a confirmation: the count it confirms, here
   // and below) are screened, a later one must hold in more samples than the lowest of the best
   // top_k so far (ties go to the earlier candidate), and its samples stop when too many have
-  // failed for that (the default until 2026-11-28).
+  // failed for that (the former default; kBestFirst chooses the same grasps for fewer samples).
   kInOrder,
   // One sample at a time, always of the candidate whose score could still be highest (holds so
   // far plus samples left; ties to the earlier candidate); a candidate whose samples are all run
@@ -69,7 +61,8 @@ using grasping::toString;
 // grasp's joints are not the hand's or its preshape is unknown.
 double leastFingerTravel(const grasping::HandModel& hand, const grasping::Grasp& grasp);
 
-// Since 2026-11-29 (the Shadow hand's description keeps the best by epsilon, docs/hands.md).
+// A hand's description may choose another (the Shadow hand's keeps the best by epsilon,
+// docs/hands.md).
 inline constexpr ScreenCandidates kDefaultScreenCandidates = ScreenCandidates::kPreshapesInTurn;
 
 struct RobustRankingParams {

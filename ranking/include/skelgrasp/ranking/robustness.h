@@ -55,6 +55,15 @@ struct RobustnessParams {
   std::optional<grasping::LoadCapacityParams> load;
 };
 
+// The load check of the ranking's r: the contacts must carry the object's weight (the physics
+// judge's 0.1 kg) in every direction with the fingers within their grip (kGripTorqueShare of their
+// torque limits), as the physics judge's closed hand grips it (docs/ranking.md, "Load check").
+inline grasping::LoadCapacityParams defaultLoadCheck() {
+  grasping::LoadCapacityParams load;
+  load.torque_share = grasping::kGripTorqueShare;
+  return load;
+}
+
 // The pose error standard deviations `params` stands for: its own, or its variant's defaults.
 double positionSigmaM(const RobustnessParams& params);
 double orientationSigmaRad(const RobustnessParams& params);
