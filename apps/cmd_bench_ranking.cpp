@@ -16,11 +16,10 @@
 // shortcut but of a choice: `screen-by`, screening the best by epsilon (old) or each preshape's
 // best in turn (new, RobustRankingParams::screen_candidates); its paths return different grasps,
 // and the mean r of each path's scored grasps says which is worth more. Both paths run each hand's
-// own ranking budget (since 2026-11-29 the Shadow hand's is smaller: its figures from before are
-// not comparable with later ones), except that screen-by sets each path's screening choice whatever
-// the hand's description says. `confirm` is a choice too: the screening's contenders without (old)
-// or with (new) the default confirmation samples (RobustRankingParams::confirm_samples), whatever
-// the hand's budget says.
+// own ranking budget (the Shadow hand's is smaller), except that screen-by sets each path's
+// screening choice whatever the hand's description says. `confirm` is a choice too: the screening's
+// contenders without (old) or with (new) the default confirmation samples
+// (RobustRankingParams::confirm_samples), whatever the hand's budget says.
 #include <fmt/format.h>
 #include <tbb/global_control.h>
 

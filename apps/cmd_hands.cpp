@@ -42,7 +42,7 @@ std::string contactModel(const grasping::HandModel& hand) {
 }
 
 // How a hand's screening takes its candidates, said only where it is not each preshape's best by
-// epsilon in turn (the default since 2026-11-29).
+// epsilon in turn (the default).
 const char* screenOrderSuffix(ranking::ScreenCandidates candidates) {
   switch (candidates) {
     case ranking::ScreenCandidates::kPreshapesInTurn:

@@ -158,7 +158,7 @@ SKELGRASP_FC_BENCH(shadow);
 SKELGRASP_FC_BENCH(parallel_gripper);
 
 // Epsilon of one closed grasp three ways in one loop (thread CPU time per call): the whole hull
-// (kHull), the whole hull with its volume (kLp + compute_volume, the default before 2026-11-26)
+// (kHull), the whole hull with its volume (kLp + compute_volume)
 // and by expansion (kLp, the default). Counters *_ms, whole_over_expansion,
 // volume_over_expansion, and the largest epsilon difference seen (epsilon_gap). Only a closure
 // grasp (counter closure = 1) builds hulls on the kLp paths; on the bench object that is

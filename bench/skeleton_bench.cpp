@@ -1,6 +1,6 @@
 // Skeleton stage timings: regularisation and contraction on generated shapes and on a YCB mesh;
 // the skeleton of a dense Poisson mesh with and without simplification first (run's setting); the
-// stage's default before and since 2026-11-27 on YCB scans.
+// stage's former and current defaults on YCB scans.
 // Run: build/bench/skeleton_bench [--benchmark_filter=...]
 #include <benchmark/benchmark.h>
 
@@ -88,7 +88,7 @@ void BM_DenseMeshSkeleton(benchmark::State& state) {
   state.counters["mesh_vertices"] = static_cast<double>(mesh.numVertices());
 }
 
-// The skeleton stage's default before 2026-11-27 (every mesh alpha-wrapped, no budget) and since
+// The skeleton stage's former default (every mesh alpha-wrapped, no budget) and the current one
 // (a clean dense mesh as it is, the others wrapped, either simplified to 2000 vertices), in one
 // process, on YCB scans of both kinds: the lemon, banana and spatula are used as they are, the mug,
 // drill and master chef can wrapped.

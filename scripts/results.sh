@@ -10,6 +10,7 @@
 #   slow:  ranking (58 YCB meshes, 3 hands, mu 0.35 and 0.5; about an hour on one core)
 #          ranking97 (the 97 objects of scripts/reproduce-paper.sh; about 1.5 hours)
 #          paper (scripts/reproduce-paper.sh; about 1.5 hours with JOBS=2 in the environment)
+#          physics (bench physics: 58 YCB meshes, 3 hands, nominal; sim_r on 12; about 1.5 hours)
 #   all:   every section
 #
 # Environment: SKELGRASP (default build/apps/skelgrasp), DATA (../shared/data),
@@ -210,7 +211,8 @@ ranking_header() {
 # ranking_batch OUT_DIR OBJECTS MU: the goal's command.
 ranking_batch() {
   sg evaluate --objects "$2" --hands armar3,sdh,shadow --planners skeleton --robust-ranking \
-    --robustness-grasps 10 --robustness-samples 50 --mu "$3" --timeout 20 --jobs 1 --out "$1" > /dev/null
+    --no-load-check --robustness-grasps 10 --robustness-samples 50 --mu "$3" --timeout 20 --jobs 1 \
+    --out "$1" > /dev/null
 }
 
 section_ranking() {
@@ -220,6 +222,44 @@ section_ranking() {
     ranking_rows "$out/ranking_mu035" 0.35 YCB
     ranking_rows "$out/ranking_mu05" 0.5 YCB; } > "$out/ranking.md"
   splice ranking "$out/ranking.md"
+}
+
+# The physics judge on what plan returns: bench physics over the 58 YCB meshes (nominal), and with
+# sim_r (10 perturbed executions per grasp) over the first 12 of them for ARMAR-III and the SDH.
+physics_table() {
+  python3 - "$@" <<'PY'
+import json, statistics, sys
+names = {"armar3": "ARMAR-III", "sdh": "Schunk SDH", "shadow": "Shadow", "parallel_gripper": "parallel gripper"}
+print("| hand | objects with a grasp | plan's top-10 r, median (mean) | nominal holds (physics) "
+      "| mean sim_r | mean r − sim_r | Spearman r ~ holds | Spearman r ~ sim_r | plan s, median | ms CPU per execution |")
+print("|---|---|---|---|---|---|---|---|---|---|")
+for path in sys.argv[1:]:
+    doc = json.load(open(path))
+    for s in doc["summary"]:
+        rows = [g for g in doc["grasps"] if g["hand"] == s["hand"]]
+        per_object, plan_s = {}, {}
+        for g in rows:
+            per_object.setdefault(g["object"], []).append(g["r"] or 0.0)
+            plan_s[g["object"]] = g["plan_s"]
+        tops = [statistics.mean(v) for v in per_object.values()]
+        tops += [0.0] * (s["objects"] - len(tops))
+        fmt = lambda v, f="{:.2f}": "–" if v is None else f.format(v)
+        print(f"| {names.get(s['hand'], s['hand'])} | {s['objects_with_grasps']} of {s['objects']} "
+              f"| {statistics.median(tops):.2f} ({statistics.mean(tops):.2f}) "
+              f"| **{100 * s['nominal_hold_rate']:.0f} %** of {s['grasps']} | {fmt(s['mean_sim_r'])} "
+              f"| {fmt(s['mean_r_minus_sim_r'], '{:+.2f}')} | {fmt(s['spearman_r_nominal'])} "
+              f"| {fmt(s['spearman_r_sim_r'])} | {statistics.median(plan_s.values()) if plan_s else 0:.1f} "
+              f"| {s['ms_cpu_per_execution']:.0f} |")
+PY
+}
+
+section_physics() {
+  sg bench physics "$data/objects/ycb" --hands armar3,sdh,shadow --json "$out/physics.json" \
+    > "$out/physics.txt"
+  sg bench physics "$data/objects/ycb" --hands armar3,sdh --limit 12 --grasps 5 --samples 10 \
+    --json "$out/physics_sim_r.json" > "$out/physics_sim_r.txt"
+  physics_table "$out/physics.json" "$out/physics_sim_r.json" > "$out/physics.md"
+  splice physics "$out/physics.md"
 }
 
 # The 97 objects of scripts/reproduce-paper.sh (58 YCB google_16k, 17 Poisson, every 6th KIT model).
@@ -253,7 +293,7 @@ section_paper() {
 }
 
 fast=(judge segment reconstruct skeleton demo run)
-slow=(ranking ranking97 paper)
+slow=(ranking ranking97 paper physics)
 sections=("$@")
 [[ ${#sections[@]} -eq 0 ]] && sections=("${fast[@]}")
 [[ "${sections[*]}" == "all" ]] && sections=("${fast[@]}" "${slow[@]}")

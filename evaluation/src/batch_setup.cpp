@@ -183,8 +183,8 @@ nlohmann::json resultOptions(const BatchParams& p, const std::vector<grasping::H
         {"auto_millimetre_diagonal", p.load.auto_millimetre_diagonal}}},
   };
   // The centre candidates close the precision preshapes too (and the SDH has a fingertip
-  // tripod); a batch from a skelgrasp that did not planned power ones only, so it does not resume into
-  // this one.
+  // tripod); a batch from a skelgrasp that did not planned power ones only, so it does not resume
+  // into this one.
   if (p.centre_candidates) options["centre_candidate_types"] = "power_and_precision";
   if (p.ranking.enabled) options["ranking"] = rankingOptions(p.ranking, hands);
   // Only when on, so batches without the physics judge resume as they were.

@@ -32,12 +32,10 @@ nlohmann::json graspsDocument(const py::object& grasps, std::string& source) {
 }
 
 py::object simulate(const Mesh& mesh, const HandPtr& hand, const py::object& grasps,
-                    const std::vector<double>& mu, int samples, std::uint64_t seed,
-                    double mass, std::optional<double> fingertip_force,
-                    std::optional<double> force, const std::optional<long long>& object,
-                    std::optional<std::size_t> max_grasps) {
-  if (!(mass > 0) || !(mass <= kMaxMassKg))
-    throw InvalidArgument("mass: must be in (0, 1000] kg");
+                    const std::vector<double>& mu, int samples, std::uint64_t seed, double mass,
+                    std::optional<double> fingertip_force, std::optional<double> force,
+                    const std::optional<long long>& object, std::optional<std::size_t> max_grasps) {
+  if (!(mass > 0) || !(mass <= kMaxMassKg)) throw InvalidArgument("mass: must be in (0, 1000] kg");
   if (fingertip_force && !(*fingertip_force > 0 && std::isfinite(*fingertip_force)))
     throw InvalidArgument("fingertip_force: must be a finite number > 0 (N)");
   if (force && !(*force > 0 && std::isfinite(*force)))

@@ -119,9 +119,10 @@ TEST(EvaluateCli, RecordsTheScreeningSamplesOfTheRobustRanking) {
 TEST(EvaluateCli, ThePhysicsJudgeExecutesEachRunsFirstGrasps) {
   const std::string dir = test::tempDir("cli_eval_physics");
   const std::string objects = objectsDir(dir, {"box"}), out = dir + "/out";
-  const std::string options = " --hands parallel_gripper --planners skeleton"
-                              " --robustness-samples 2 --robustness-grasps 1 --timeout 0"
-                              " --vertex-distance 0.01 --physics-grasps 2";
+  const std::string options =
+      " --hands parallel_gripper --planners skeleton"
+      " --robustness-samples 2 --robustness-grasps 1 --timeout 0"
+      " --vertex-distance 0.01 --physics-grasps 2";
   const CliRun run =
       runCli("evaluate --objects " + objects + " --out " + out + options + " --judge physics", dir);
   ASSERT_EQ(run.exit_code, 0) << run.err;

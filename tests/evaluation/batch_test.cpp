@@ -173,10 +173,9 @@ TEST_F(BatchTest, RobustRankingRecordsTheReturnedGraspsRAndIsPartOfTheOptions) {
     const std::size_t samples = run["ranked_samples"];
     EXPECT_EQ(samples, run["ranked_grasps"].get<std::size_t>() * 6);
     const auto& failures = run["ranked_failures"];
-    const std::size_t failed = failures["start_collision"].get<std::size_t>() +
-                               failures["closing"].get<std::size_t>() +
-                               failures["no_force_closure"].get<std::size_t>() +
-                               failures["too_weak"].get<std::size_t>();
+    const std::size_t failed =
+        failures["start_collision"].get<std::size_t>() + failures["closing"].get<std::size_t>() +
+        failures["no_force_closure"].get<std::size_t>() + failures["too_weak"].get<std::size_t>();
     EXPECT_EQ(samples - failed, static_cast<std::size_t>(std::lround(r * samples)));
   }
   EXPECT_GT(ranked_with_grasps, 0u);

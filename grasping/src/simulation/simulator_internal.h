@@ -14,8 +14,8 @@ namespace skelgrasp::grasping::internal {
 
 // A link the object blocked stops within a closing step of it (under 3 mm in an SDH plan of the
 // power drill). One farther away has since been carried off by its finger's other joints and
-// touches nothing: before 2026-11-29 such links kept contacts, 7 % of the touched links there,
-// 3-134 mm from the object. The simulator's contact reach for touched links.
+// touches nothing: without this reach such links kept contacts (7 % of the touched links there,
+// 3-134 mm from the object). The simulator's contact reach for touched links.
 constexpr double kTouchedGapReachM = 0.01;
 
 struct ShapeInstance {

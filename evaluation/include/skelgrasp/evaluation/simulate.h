@@ -11,12 +11,12 @@
 #include <vector>
 
 #include "skelgrasp/common/error.h"
-#include "skelgrasp/ranking/robustness.h"
-#include "skelgrasp/grasping/simulation/grasp_object.h"
-#include "skelgrasp/grasping/io/grasps_file.h"
 #include "skelgrasp/grasping/hand/hand_model.h"
+#include "skelgrasp/grasping/io/grasps_file.h"
+#include "skelgrasp/grasping/simulation/grasp_object.h"
 #include "skelgrasp/physics/execution.h"
 #include "skelgrasp/physics/physical_object.h"
+#include "skelgrasp/ranking/robustness.h"
 
 namespace skelgrasp::evaluation {
 

@@ -25,7 +25,6 @@ inline constexpr int kDefaultScreenSamples = 10;
 inline constexpr int kDefaultConfirmSamples = 10;
 inline constexpr std::size_t kConfirmCandidatesPerScored = 2;
 
-
 inline RobustnessParams defaultRankingRobustness() {
   RobustnessParams params;
   params.samples = kDefaultRankingSamples;

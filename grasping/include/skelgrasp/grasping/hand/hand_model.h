@@ -114,22 +114,20 @@ struct ClosingDefaults {
 // Which grasps the robust ranking screens (ranking/robust_ranking.h, RobustRankingParams::
 // screen_candidates).
 enum class ScreenCandidates {
-  // The best by pre-score (epsilon x trust) over all grasps (the default until 2026-11-29).
+  // The best by pre-score (epsilon x trust) over all grasps.
   kByPreScore,
   // The best by pre-score of each preshape in turn (the preshape with the best grasp first, then
   // the next best, ...), so that every preshape the planner closed is screened. Epsilon is
   // comparable within a preshape, not across them: a power tripod's three fingertips reach a
   // larger epsilon on a ball than a narrow tripod's, yet slip more under pose error (on the SDH's
   // tennis ball the 60 best epsilons were all power tripods, r 0.73 at best, while 167 narrow
-  // tripods reached up to 0.92; docs/results.md, "Screening every preshape").
+  // tripods reached up to 0.92). The default.
   kPreshapesInTurn,
   // Each preshape in turn as above, but each preshape's grasps taken by their least finger travel
   // (ranking::leastFingerTravel, the largest first; ties by pre-score) instead of by epsilon: a
   // clearance, whose rank correlation with r on the SDH's kept grasps is 0.43 at the median YCB
   // object against epsilon's 0.09. Over three seeds it lifted the SDH's top-10 r by about half a
-  // point at the same time and lowered ARMAR-III's a little (docs/results.md, "Four more ways to
-  // choose the SDH's grasps"); the SDH's since 2026-11-30, with its lateral grips and
-  // confirmation (docs/results.md, "The SDH's lateral grips").
+  // point at the same time and lowered ARMAR-III's a little; the SDH's description chooses it.
   kPreshapesInTurnByTravel,
 };
 

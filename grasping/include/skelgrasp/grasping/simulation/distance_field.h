@@ -24,8 +24,8 @@ struct DistanceFieldParams {
   std::size_t max_nodes = 16'000'000;
   // The exact box gap walks the cells of the triangle grid around the box. True: a row's empty
   // cells are skipped 64 at a time (a bit scan), and rows with none occupied are not entered.
-  // False: every cell is stepped through and its bit tested, the walk before 2026-11-28, kept so
-  // that `skelgrasp bench ranking --compare cell-skipping` times both in one process. The gaps
+  // False: every cell is stepped through and its bit tested, the plain walk, kept so that
+  // `skelgrasp bench ranking --compare cell-skipping` times both in one process. The gaps
   // and closest faces are the same either way (the cells are visited in the same order).
   bool skip_empty_cells = true;
   // The simulator tests a hand's box shapes for intersection with the object on this field's
@@ -34,8 +34,7 @@ struct DistanceFieldParams {
   // FCL's test of its cylinders, spheres and meshes. The fast closing tests a link near the object
   // at every step it crawls towards it, and there FCL walked deep into its tree: a fifth of an SDH
   // plan's time. The same verdicts up to rounding at touching (tested against FCL). False: FCL
-  // alone, the test before 2026-11-30, kept so that `skelgrasp bench ranking --compare box-tests`
-  // times both in one process.
+  // alone, kept so that `skelgrasp bench ranking --compare box-tests` times both in one process.
   bool box_intersection_tests = true;
 };
 
