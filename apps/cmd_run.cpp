@@ -37,8 +37,8 @@ pipeline::RunParams RunOptions::params() const {
   return p;
 }
 
-void RunOptions::addTo(CLI::App& cmd) {
-  hand.addTo(cmd);
+void RunOptions::addTo(CLI::App& cmd, bool single_hand) {
+  if (single_hand) hand.addTo(cmd);
   // run's own planning limits (RunParams), not plan's.
   planner.timeout_s = pipeline::RunParams{}.planner.timeout_s;
   planner.max_grasps = pipeline::RunParams{}.planner.max_grasps;
@@ -81,7 +81,7 @@ void RunOptions::addTo(CLI::App& cmd) {
       ->transform(vertexCountOrZero())
       ->capture_default_str();
   cmd.add_flag("--no-scene-check", no_scene_check, "Do not check grasps against the scene");
-  exports.addTo(cmd);
+  if (single_hand) exports.addTo(cmd);
 }
 
 std::string nearestObjectOption(const Eigen::Vector3d& point) {

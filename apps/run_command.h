@@ -29,7 +29,9 @@ struct RunOptions {
       pipeline::RunParams{}.skeleton.regularisation.max_vertices.value_or(0);
   ExportOptions exports;
 
-  void addTo(CLI::App& cmd);
+  // `single_hand`: the --hand and --export options too (run, demo, bench run); benchmarks over
+  // several hands take their own list.
+  void addTo(CLI::App& cmd, bool single_hand = true);
   pipeline::RunParams params() const;
 };
 
