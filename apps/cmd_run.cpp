@@ -33,6 +33,7 @@ pipeline::RunParams RunOptions::params() const {
   p.planner.hypothesis.scene_lift_max_m = scene_lift_m;
   p.planner.fallback_strategies.top_centring_band_m = top_centring_m;
   p.observed_weight = observed_weight;
+  if (surface_clearance == "off") p.surface_clearance.reset();
   p.robust_ranking = robustness.params(planner.seed);
   return p;
 }
@@ -81,6 +82,11 @@ void RunOptions::addTo(CLI::App& cmd, bool single_hand) {
       ->transform(vertexCountOrZero())
       ->capture_default_str();
   cmd.add_flag("--no-scene-check", no_scene_check, "Do not check grasps against the scene");
+  cmd.add_option("--surface-clearance", surface_clearance,
+                 "on: open hands are backed off by the reconstruction's error bound around them "
+                 "(docs/pipeline.md); off: the mesh is taken as exact")
+      ->check(CLI::IsMember({"on", "off"}))
+      ->capture_default_str();
   if (single_hand) exports.addTo(cmd);
 }
 
