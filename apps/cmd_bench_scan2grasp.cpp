@@ -26,6 +26,7 @@
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/evaluation/true_object.h"
 #include "skelgrasp/geometry/mesh_query.h"
+#include "skelgrasp/grasping/io/plan_output.h"
 #include "skelgrasp/perception/table_view.h"
 
 namespace skelgrasp::cli {
@@ -56,19 +57,36 @@ std::string shown(const std::optional<double>& value, const char* format) {
   return value ? fmt::format(fmt::runtime(format), *value) : std::string("-");
 }
 
-// How far the reconstruction lies from the true surface (mesh frame), median over its observed
-// and over its filled-in vertices, in metres; NaN for an empty group.
-std::pair<double, double> reconstructionError(const pipeline::RunResult& run,
-                                              const Pose& object_from_scan,
-                                              const geometry::MeshQuery& truth) {
+// How far the reconstruction lies from the true surface (mesh frame): the median over its observed
+// and over its filled-in vertices, in metres (NaN for an empty group), and the share of the
+// vertices whose distance is within the run's error bound (NaN without bounds).
+struct ReconstructionError {
+  double observed = 0, filled = 0, within_bound = 0;
+};
+
+ReconstructionError reconstructionError(const pipeline::RunResult& run,
+                                        const Pose& object_from_scan,
+                                        const geometry::MeshQuery& truth) {
   std::vector<double> observed, filled;
+  const bool bounds = run.surface_error_m.size() == run.mesh.vertices.size();
+  std::size_t within = 0;
   for (std::size_t i = 0; i < run.mesh.vertices.size(); ++i) {
     const double d = truth.distance(object_from_scan * run.mesh.vertices[i]);
     (i < run.observed.size() && run.observed[i] ? observed : filled).push_back(d);
+    if (bounds) within += d <= run.surface_error_m[i];
   }
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  return {observed.empty() ? nan : evaluation::median(observed),
-          filled.empty() ? nan : evaluation::median(filled)};
+  ReconstructionError e;
+  e.observed = observed.empty() ? nan : evaluation::median(observed);
+  e.filled = filled.empty() ? nan : evaluation::median(filled);
+  e.within_bound = bounds && !run.mesh.vertices.empty()
+                       ? static_cast<double>(within) / static_cast<double>(run.mesh.vertices.size())
+                       : nan;
+  return e;
+}
+
+nlohmann::json finiteOrNull(double value) {
+  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
 }
 
 nlohmann::json millimetres(double metres) {
@@ -91,6 +109,9 @@ int runBench(const Args& args) {
   evaluation::TrueObjectParams judge;
   judge.score.frictions = {args.run.planner.mu};
   judge.score.robustness.samples = args.true_samples;
+  // The run's criterion on the true object too: its variant and load check (--no-load-check).
+  judge.score.robustness.variant = run_params.robust_ranking.robustness.variant;
+  judge.score.robustness.load = run_params.robust_ranking.robustness.load;
   judge.simulate.samples = args.physics_samples;
   const int judge_threads = args.threads > 0 ? args.threads : hardwareThreads();
 
@@ -153,8 +174,8 @@ int runBench(const Args& args) {
                    name, v, hand.name(), c.returned, figures.median_claimed_r,
                    figures.median_true_r, figures.starts_inside,
                    physical ? std::to_string(holds) : std::string("-"),
-                   std::isfinite(error.first) ? fmt::format("{:.1f}", 1000 * error.first)
-                                              : std::string("-"),
+                   std::isfinite(error.observed) ? fmt::format("{:.1f}", 1000 * error.observed)
+                                                 : std::string("-"),
                    c.run_s, c.reason.empty() ? "" : "  (" + c.reason + ")")
             << std::flush;
         const auto& clusters = run.reconstruction.ingest.scene.clusters;
@@ -166,6 +187,7 @@ int runBench(const Args& args) {
                              {"returned", c.returned},
                              {"run_s", c.run_s},
                              {"clusters", clusters.size()},
+                             {"plan", grasping::planSummaryJson(run.plan.summary)},
                              {"object_pixels", view.object_pixels},
                              {"camera",
                               {{"distance_m", view.distance_m},
@@ -173,8 +195,9 @@ int runBench(const Args& args) {
                                {"azimuth_rad", view.azimuth_rad},
                                {"noise_seed", view.noise_seed}}},
                              {"reconstruction_error_mm",
-                              {{"observed_median", millimetres(error.first)},
-                               {"filled_median", millimetres(error.second)}}}});
+                              {{"observed_median", millimetres(error.observed)},
+                               {"filled_median", millimetres(error.filled)},
+                               {"within_bound", finiteOrNull(error.within_bound)}}}});
         for (std::size_t g = 0; g < c.top.size(); ++g) {
           const auto& j = c.top[g];
           grasp_rows.push_back({{"object", name},
@@ -200,11 +223,15 @@ int runBench(const Args& args) {
   }
   progress.finish();
 
+  const std::string variant = ranking::toString(judge.score.robustness.variant);
+  const bool load_check = judge.score.robustness.load.has_value();
+  const bool clearance = run_params.surface_clearance.has_value();
   std::cout << fmt::format(
-      "\n{} object(s) x {} view(s), seed {}, noise x{}; the best {} grasps of each run judged on "
-      "the true mesh (settled r, mu {}, {} samples; physics judge {})\n",
-      files.size(), args.views, args.scene_seed, args.noise_scale, args.grasps, args.run.planner.mu,
-      args.true_samples,
+      "\n{} object(s) x {} view(s), seed {}, noise x{}, surface clearance {}; the best {} grasps "
+      "of each run judged on the true mesh ({} r, mu {}, load check {}, {} samples; physics "
+      "judge {})\n",
+      files.size(), args.views, args.scene_seed, args.noise_scale, clearance ? "on" : "off",
+      args.grasps, variant, args.run.planner.mu, load_check ? "on" : "off", args.true_samples,
       args.no_physics ? "off" : fmt::format("nominal, {} sample(s)", args.physics_samples));
   std::cout << fmt::format("{:<16} {:>12} {:>10} {:>9} {:>7} {:>6} {:>12} {:>13} {:>6}\n", "hand",
                            "objects w/ g", "views w/ g", "claimed r", "true r", "holds",
@@ -241,7 +268,10 @@ int runBench(const Args& args) {
                                                  {"scene_seed", args.scene_seed},
                                                  {"noise_scale", args.noise_scale},
                                                  {"grasps_per_run", args.grasps},
+                                                 {"surface_clearance", clearance},
                                                  {"mu", args.run.planner.mu},
+                                                 {"variant", variant},
+                                                 {"load_check", load_check},
                                                  {"true_samples", args.true_samples},
                                                  {"physics", !args.no_physics},
                                                  {"physics_samples", args.physics_samples},

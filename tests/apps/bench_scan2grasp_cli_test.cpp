@@ -28,11 +28,17 @@ TEST(BenchScanToGraspCli, RowsAndSummaryAgree) {
   EXPECT_NE(run.out.find("parallel_gripper"), std::string::npos) << run.out;
   const nlohmann::json b = readJsonFile(dir + "/b.json");
   EXPECT_EQ(b["schema"], "skelgrasp.bench_scan2grasp/1");
+  EXPECT_EQ(b["surface_clearance"], true);  // run's default
+  EXPECT_EQ(b["load_check"], true);
   ASSERT_EQ(b["cases"].size(), 1u);
   const auto& view = b["cases"][0];
   EXPECT_EQ(view["object"], "bottle");
   EXPECT_EQ(view["hand"], "parallel_gripper");
   EXPECT_GT(view["object_pixels"].get<int>(), 500);
+  // The run's error bounds against the true surface: most vertices lie within theirs.
+  const auto& error = view["reconstruction_error_mm"];
+  ASSERT_FALSE(error["within_bound"].is_null());
+  EXPECT_GT(error["within_bound"].get<double>(), 0.5);
   const double distance = view["camera"]["distance_m"].get<double>();
   EXPECT_GE(distance, 0.7);
   EXPECT_LE(distance, 0.9);
