@@ -54,6 +54,8 @@ void registerBenchSegmentCommand(CLI::App& app, Action& action);
 void registerBenchRankingCommand(CLI::App& app, Action& action);
 // Adds `bench physics`; call after registerBenchCommand.
 void registerBenchPhysicsCommand(CLI::App& app, Action& action);
+// Adds `bench scan2grasp`; call after registerBenchCommand.
+void registerBenchScanToGraspCommand(CLI::App& app, Action& action);
 
 // Prints "skelgrasp: error: <message>" to stderr and returns kExitBadInput.
 int fail(const std::string& message);

@@ -33,12 +33,13 @@ pipeline::RunParams RunOptions::params() const {
   p.planner.hypothesis.scene_lift_max_m = scene_lift_m;
   p.planner.fallback_strategies.top_centring_band_m = top_centring_m;
   p.observed_weight = observed_weight;
+  if (surface_clearance == "off") p.surface_clearance.reset();
   p.robust_ranking = robustness.params(planner.seed);
   return p;
 }
 
-void RunOptions::addTo(CLI::App& cmd) {
-  hand.addTo(cmd);
+void RunOptions::addTo(CLI::App& cmd, bool single_hand) {
+  if (single_hand) hand.addTo(cmd);
   // run's own planning limits (RunParams), not plan's.
   planner.timeout_s = pipeline::RunParams{}.planner.timeout_s;
   planner.max_grasps = pipeline::RunParams{}.planner.max_grasps;
@@ -81,7 +82,12 @@ void RunOptions::addTo(CLI::App& cmd) {
       ->transform(vertexCountOrZero())
       ->capture_default_str();
   cmd.add_flag("--no-scene-check", no_scene_check, "Do not check grasps against the scene");
-  exports.addTo(cmd);
+  cmd.add_option("--surface-clearance", surface_clearance,
+                 "on: open hands are backed off by the reconstruction's error bound around them "
+                 "(docs/pipeline.md); off: the mesh is taken as exact")
+      ->check(CLI::IsMember({"on", "off"}))
+      ->capture_default_str();
+  if (single_hand) exports.addTo(cmd);
 }
 
 std::string nearestObjectOption(const Eigen::Vector3d& point) {

@@ -89,6 +89,7 @@ int main(int argc, char** argv) {
   cli::registerBenchSegmentCommand(app, action);
   cli::registerBenchRankingCommand(app, action);
   cli::registerBenchPhysicsCommand(app, action);
+  cli::registerBenchScanToGraspCommand(app, action);
 #endif
 
   try {

@@ -21,6 +21,9 @@ struct RunOptions {
   double pregrasp_m = grasping::SceneCheckParams{}.pregrasp_distance_m;
   double observed_weight = pipeline::RunParams{}.observed_weight;
   bool no_scene_check = false;
+  // "on": open hands keep clear of the reconstruction's error bounds
+  // (RunParams::surface_clearance).
+  std::string surface_clearance = pipeline::RunParams{}.surface_clearance ? "on" : "off";
   // Flat objects on a table (docs/planning.md, "Flat objects on a table").
   double foot_distance_m = pipeline::RunParams{}.table_obstacles.target_foot_distance_m;
   double scene_lift_m = grasping::HypothesisParams{}.scene_lift_max_m;
@@ -29,7 +32,9 @@ struct RunOptions {
       pipeline::RunParams{}.skeleton.regularisation.max_vertices.value_or(0);
   ExportOptions exports;
 
-  void addTo(CLI::App& cmd);
+  // `single_hand`: the --hand and --export options too (run, demo, bench run); benchmarks over
+  // several hands take their own list.
+  void addTo(CLI::App& cmd, bool single_hand = true);
   pipeline::RunParams params() const;
 };
 

@@ -9,6 +9,7 @@
 #   fast:  judge segment reconstruct skeleton demo run           (the default)
 #   slow:  ranking (58 YCB meshes, 3 hands, mu 0.35 and 0.5; about an hour on one core)
 #          ranking97 (the 97 objects of scripts/reproduce-paper.sh; about 1.5 hours)
+#          scan2grasp (ten YCB meshes seen in two single views, 4 hands, two judges; about an hour)
 #          paper (scripts/reproduce-paper.sh; about 1.5 hours with JOBS=2 in the environment)
 #          physics (bench physics: 58 YCB meshes, 3 hands, nominal; sim_r on 12; about 1.5 hours)
 #   all:   every section
@@ -280,6 +281,34 @@ section_ranking97() {
   splice ranking97 "$out/ranking97.md"
 }
 
+# From one view to the real object: ten YCB meshes, two single views each, run per view and hand,
+# the top 10 judged on the true mesh; with the load check (run's default) and without it.
+scan2grasp_meshes=(003_cracker_box 005_tomato_soup_can 006_mustard_bottle 011_banana 021_bleach_cleanser
+  024_bowl 025_mug 035_power_drill 043_phillips_screwdriver 048_hammer)
+section_scan2grasp() {
+  local meshes=()
+  for m in "${scan2grasp_meshes[@]}"; do meshes+=("$data/objects/ycb/$m.ply"); done
+  sg bench scan2grasp "${meshes[@]}" --views 2 --no-physics --timeout 0 \
+    --json "$out/scan2grasp.json" > "$out/scan2grasp.txt"
+  sg bench scan2grasp "${meshes[@]}" --views 2 --no-physics --timeout 0 --no-load-check \
+    --json "$out/scan2grasp_no_load_check.json" > "$out/scan2grasp_no_load_check.txt"
+  python3 - "$out/scan2grasp.json" "$out/scan2grasp_no_load_check.json" > "$out/scan2grasp.md" <<'PY'
+import json, sys
+print("| hand | judge | objects with grasps | views with grasps | claimed r | **r on the true object** | top-10 starting inside | claimed − true | run s |")
+print("|---|---|---|---|---|---|---|---|---|")
+for path in sys.argv[1:3]:
+    d = json.load(open(path))
+    judge = "settled, load check" if d["load_check"] else "settled, no load check"
+    for h in d["summary"]:
+        diff = h["claimed_minus_true_r"]
+        print(f"| {h['hand']} | {judge} | {h['objects_with_grasps']} / {h['objects']} | "
+              f"{h['views_with_grasps']} / {h['views']} | {h['median_claimed_r']:.2f} | "
+              f"**{h['median_true_r']:.2f}** | {h['starts_inside']} / {h['top_grasps']} | "
+              f"{'-' if diff is None else f'{diff:+.2f}'} | {h['median_run_s']:.1f} |")
+PY
+  splice scan2grasp "$out/scan2grasp.md"
+}
+
 # The paper's Table I: scripts/reproduce-paper.sh, then its two summaries' tables.
 section_paper() {
   SKELGRASP="$skelgrasp" "${nice_cmd[@]}" scripts/reproduce-paper.sh "$data/objects" "$out/paper" \
@@ -293,7 +322,7 @@ section_paper() {
 }
 
 fast=(judge segment reconstruct skeleton demo run)
-slow=(ranking ranking97 paper physics)
+slow=(ranking ranking97 scan2grasp paper physics)
 sections=("$@")
 [[ ${#sections[@]} -eq 0 ]] && sections=("${fast[@]}")
 [[ "${sections[*]}" == "all" ]] && sections=("${fast[@]}" "${slow[@]}")

@@ -3,6 +3,7 @@
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/geometry/mesh_query.h"
 #include "skelgrasp/ranking/plan_grasps.h"
+#include "skelgrasp/reconstruction/surface_error.h"
 
 namespace skelgrasp::pipeline::internal {
 // The pipeline composes the grasping stage's types throughout.
@@ -61,6 +62,7 @@ AxisAlignedBox workspaceAround(const AxisAlignedBox& mesh_box, const RunParams& 
 
 RankedPlan planAndRank(const HandModel& hand, const TriangleMesh& mesh,
                        const std::vector<std::uint8_t>& observed,
+                       const Eigen::Vector3d& sensor_origin,
                        const skeleton::SkeletonResult& skeleton, const SceneChecker* checker,
                        const RunParams& params) {
   const Stopwatch watch;
@@ -72,6 +74,22 @@ RankedPlan planAndRank(const HandModel& hand, const TriangleMesh& mesh,
   // planner did.
   options.skeleton_planner = params.planner;
   options.skeleton_planner.hypothesis.scene = checker;
+  // The clearance likewise: refinement for robustness backs its hands off as the planner did.
+  std::vector<double> surface_error;
+  if (params.surface_clearance) {
+    auto bounds = reconstruction::surfaceErrorBounds(mesh, observed, sensor_origin,
+                                                     *params.surface_clearance);
+    if (bounds.status.code != StatusCode::kInvalidInput) {
+      surface_error = std::move(bounds.bound_m);
+      const auto clearance = std::make_shared<const reconstruction::SurfaceClearance>(
+          mesh, surface_error, *params.surface_clearance);
+      options.skeleton_planner.hypothesis.clearance = [clearance](const Eigen::Vector3d& gcp) {
+        return clearance->at(gcp);
+      };
+    } else {
+      log().warn("run: no clearance from the surface's error bounds: {}", bounds.status.message);
+    }
+  }
   options.ranking = params.robust_ranking;
   // How far a grasp's r is trusted: the share of its contacts on observed surface, weighted. The
   // planner's object already holds a query tree over this mesh (same faces).
@@ -88,6 +106,7 @@ RankedPlan planAndRank(const HandModel& hand, const TriangleMesh& mesh,
 
   RankedPlan out;
   out.robustness_scored = plan.ranking.scored;
+  out.surface_error_m = std::move(surface_error);
   for (std::size_t i = 0; i < plan.grasps.size(); ++i) {
     RankedGrasp r;
     r.observed_contact_ratio = ratioOf(plan.grasps[i]);

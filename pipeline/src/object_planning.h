@@ -23,18 +23,21 @@ skeleton::SkeletonResult runSkeleton(const TriangleMesh& mesh, const RunParams& 
 AxisAlignedBox workspaceAround(const AxisAlignedBox& mesh_box, const RunParams& params);
 
 struct RankedPlan {
-  grasping::PlanResult plan;          // summary; grasps moved into `ranked`
-  std::vector<RankedGrasp> ranked;    // best first, ids 0..n-1
-  double plan_s = 0;                  // the object's geometry and the planner
-  double rank_s = 0;                  // observed contacts and robust ranking
-  std::size_t robustness_scored = 0;  // grasps scored for robustness
+  grasping::PlanResult plan;            // summary; grasps moved into `ranked`
+  std::vector<RankedGrasp> ranked;      // best first, ids 0..n-1
+  double plan_s = 0;                    // the object's geometry and the planner
+  double rank_s = 0;                    // observed contacts and robust ranking
+  std::size_t robustness_scored = 0;    // grasps scored for robustness
+  std::vector<double> surface_error_m;  // per vertex (params.surface_clearance; empty without)
 };
 
 // Plans on `mesh` with its `skeleton` (scene check by `checker` when not null) and ranks the
 // grasps by robustness (params.robust_ranking) with the trust 1 - w + w x observed contact ratio
-// (RunParams): ranking::planGrasps.
+// (RunParams): ranking::planGrasps. With params.surface_clearance, open hands keep clear of the
+// mesh's error bounds (the sensor at `sensor_origin`, the mesh's frame).
 RankedPlan planAndRank(const grasping::HandModel& hand, const TriangleMesh& mesh,
                        const std::vector<std::uint8_t>& observed,
+                       const Eigen::Vector3d& sensor_origin,
                        const skeleton::SkeletonResult& skeleton,
                        const grasping::SceneChecker* checker, const RunParams& params);
 

@@ -70,9 +70,10 @@ RunResult runPipeline(const perception::Scan& scan, const HandModel& hand,
   }
   stage("occupancy", watch.seconds());
 
-  auto ranked =
-      internal::planAndRank(hand, out.mesh, out.observed, *out.skeleton, checker.get(), params);
+  auto ranked = internal::planAndRank(hand, out.mesh, out.observed, scan.cloud.sensor_origin,
+                                      *out.skeleton, checker.get(), params);
   out.plan = std::move(ranked.plan);
+  out.surface_error_m = std::move(ranked.surface_error_m);
   out.ranked = std::move(ranked.ranked);
   stage("plan", ranked.plan_s);
   stage("rank", ranked.rank_s);

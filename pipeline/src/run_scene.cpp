@@ -28,10 +28,12 @@ PointCloud sceneObstacles(const perception::SceneResult& scene,
 
 // Plans one meshed object; the failure of any step is the object's status and reason.
 // `loose`: the obstacle points in no cluster (internal::ObstacleParts); those at the object's
-// foot are cleared from its map with its own points.
+// foot are cleared from its map with its own points. `sensor_origin`: the scan's (the objects'
+// error bounds).
 void planSceneObject(SceneObjectRun& object, const HandModel& hand, const SceneOccupancy* scene_map,
                      const PointCloud& own_points, const PointCloud& loose,
-                     const std::optional<SupportPlane>& plane, const RunParams& params) {
+                     const std::optional<SupportPlane>& plane, const Eigen::Vector3d& sensor_origin,
+                     const RunParams& params) {
   Stopwatch total;
   Stopwatch watch;
   object.skeleton = internal::runSkeleton(object.mesh, params);
@@ -57,8 +59,8 @@ void planSceneObject(SceneObjectRun& object, const HandModel& hand, const SceneO
     checker = std::make_unique<SceneChecker>(hand, own_map.get(), plane, params.approach);
   }
   object.stages.push_back({"occupancy", watch.seconds()});
-  auto ranked = internal::planAndRank(hand, object.mesh, object.observed, *object.skeleton,
-                                      checker.get(), params);
+  auto ranked = internal::planAndRank(hand, object.mesh, object.observed, sensor_origin,
+                                      *object.skeleton, checker.get(), params);
   object.plan = std::move(ranked.plan);
   object.ranked = std::move(ranked.ranked);
   object.stages.push_back({"plan", ranked.plan_s});
@@ -138,7 +140,7 @@ SceneRunResult runScene(const perception::Scan& scan, const HandModel& hand,
     log().info("run: object {} of {} ({} points)", object.id + 1, out.objects.size(),
                object.info.points);
     planSceneObject(object, hand, out.occupancy.get(), scene.clusters[object.cluster], parts.loose,
-                    support, params);
+                    support, scan.cloud.sensor_origin, params);
   }
   const std::size_t with_grasps = out.objectsWithGrasps();
   out.status =

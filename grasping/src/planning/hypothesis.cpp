@@ -83,11 +83,18 @@ HypothesisOutcome closeHypothesis(GraspSimulator& simulator, const Pose& gcp,
     }
   }
   double retreat = first_free * params.retreat_step_m;
-  if (params.extra_retreat_m > 0 &&
-      !simulator.inCollision(
-          simulator.handPoseForGcp(poseAt(retreat + params.extra_retreat_m), preshape),
-          preshape.joints)) {
-    retreat += params.extra_retreat_m;
+  double extra = params.extra_retreat_m;
+  if (params.clearance) {
+    const double clearance = params.clearance(gcp.translation());
+    if (!(clearance >= 0) || !std::isfinite(clearance)) {
+      throw InvalidArgument("hypothesis: the clearance must be finite and >= 0");
+    }
+    extra = std::max(extra, clearance);
+  }
+  if (extra > 0 &&
+      !simulator.inCollision(simulator.handPoseForGcp(poseAt(retreat + extra), preshape),
+                             preshape.joints)) {
+    retreat += extra;
   }
   Grasp grasp;
   grasp.preshape = preshape.name;

@@ -110,6 +110,40 @@ TEST(SkeletonPlanner, PrecisionRetreatBacksPrecisionGraspsOffFurther) {
   EXPECT_THROW(planSkeletonGrasps(hand, *p.object, p.skeleton.skeleton, params), InvalidArgument);
 }
 
+TEST(SkeletonPlanner, ClearanceBacksOpenHandsOffByTheSurfaceErrorAroundThem) {
+  // A rod along z whose upper half is uncertain by 6 mm: hands aimed there back off at least that
+  // far beyond their first free pose; hands on the exact half stay as close as before.
+  const HandModel hand = loadBuiltinHand("armar3");
+  const TriangleMesh rod = geometry::shapes::makeCylinder(0.005, 0.16, 16, 20);
+  SkeletonPlannerParams params;
+  params.fallback = false;
+  const auto exact = planOn(rod, hand, params);
+  ASSERT_FALSE(exact.result.grasps.empty());
+  constexpr double kUncertain = 0.006;
+  params.hypothesis.clearance = [](const Eigen::Vector3d& gcp) {
+    return gcp.z() > 0.01 ? kUncertain : 0.0;
+  };
+  const auto p = planOn(rod, hand, params);
+  ASSERT_FALSE(p.result.grasps.empty());
+  expectConsistent(p.result, hand, *p.object);
+  std::size_t upper = 0, lower_close = 0;
+  for (const auto& g : p.result.grasps) {
+    // The hypothesis' centre: the grasp's, before the back-off along its approach (z).
+    const Eigen::Vector3d aimed =
+        g.gcp_pose.translation() + g.retreat_m * g.gcp_pose.rotation().col(2);
+    if (aimed.z() > 0.01) {
+      EXPECT_GE(g.retreat_m, kUncertain - 1e-12) << g.id;
+      ++upper;
+    } else if (aimed.z() < 0) {
+      lower_close += g.retreat_m < kUncertain;
+    }
+  }
+  EXPECT_GT(upper, 0u);
+  EXPECT_GT(lower_close, 0u);
+  params.hypothesis.clearance = [](const Eigen::Vector3d&) { return -0.001; };
+  EXPECT_THROW(planSkeletonGrasps(hand, *p.object, p.skeleton.skeleton, params), InvalidArgument);
+}
+
 TEST(SkeletonPlanner, BoxGetsRectangularGraspsAlongItsPrincipalAxes) {
   const HandModel hand = loadBuiltinHand("armar3");
   const auto p = planOn(geometry::shapes::makeBox({0.05, 0.09, 0.26}, 6), hand);

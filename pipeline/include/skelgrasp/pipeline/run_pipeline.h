@@ -13,6 +13,7 @@
 #include "skelgrasp/perception/scan.h"
 #include "skelgrasp/pipeline/reconstruct_scan.h"
 #include "skelgrasp/ranking/robust_ranking.h"
+#include "skelgrasp/reconstruction/surface_error.h"
 #include "skelgrasp/skeleton/extraction.h"
 
 namespace skelgrasp::pipeline {
@@ -73,6 +74,14 @@ struct RunParams {
   // first; epsilon * trust for the others (all of
   // them with robust_ranking.enabled = false, the ranking before robustness).
   double observed_weight = 0.5;
+  // Error bounds of the reconstruction (reconstruction/surface_error.h: 2 sigma of the sensor's
+  // noise where observed, growing with the distance to the data where filled in) and the clearance
+  // open hands keep from them: each hypothesis' hand is backed off along its approach by the
+  // largest bound of the surface around its grasp centre (HypothesisParams::clearance), so that
+  // a hand placed against a surface that is not quite there does not start inside the real object
+  // (docs/pipeline.md, "Clearance from uncertain surface"). Unset: the mesh is taken as exact.
+  std::optional<reconstruction::SurfaceErrorParams> surface_clearance =
+      reconstruction::SurfaceErrorParams{};
   // The seed of r is robust_ranking.robustness.seed; the robustness is judged on the object alone
   // (the perturbed hand is not checked against the rest of the scene).
   ranking::RobustRankingParams robust_ranking;
@@ -95,6 +104,7 @@ struct RunResult {
   std::size_t cluster = 0;             // the target's index in reconstruction.ingest.scene.clusters
   TriangleMesh mesh;                   // the target's closed mesh
   std::vector<std::uint8_t> observed;  // per mesh vertex
+  std::vector<double> surface_error_m;   // per mesh vertex: its error bound (empty: no clearance)
   std::optional<Eigen::Vector4d> plane;  // a x + b y + c z + d = 0, the object on the positive side
   PointCloud obstacles;                  // scene points that are not the target (octree input)
   std::shared_ptr<grasping::SceneOccupancy> occupancy;

@@ -1,6 +1,7 @@
 #pragma once
 // Turning one hand pose hypothesis into a grasp: back off until collision-free, optionally retreat
 // further, close the fingers, judge the contacts. Shared by the planners.
+#include <functional>
 #include <optional>
 
 #include "skelgrasp/grasping/grasp.h"
@@ -14,6 +15,13 @@ struct HypothesisParams {
   double retreat_step_m = 0.001;  // back-off step along the approach direction
   double max_retreat_m = 0.150;   // give up beyond this
   double extra_retreat_m = 0;     // then this much further when still collision-free (power)
+  // Clearance from surface whose true position is uncertain (a reconstruction's noisy or
+  // filled-in surface): when set, it gives for a hypothesis' grasp centre point (object frame) how
+  // far the true surface may lie outside the mesh around it (metres, >= 0), and the open hand is
+  // backed off beyond its first collision-free pose by at least that much (the larger of it and
+  // extra_retreat_m, taken where the pose there is free too), so that it does not start inside the
+  // real object (docs/pipeline.md, "Clearance from uncertain surface"). Unset: the mesh is exact.
+  std::function<double(const Eigen::Vector3d& gcp)> clearance;
   // Force-closure grasps with a lower epsilon are rejected (low_epsilon); 0 keeps all of them.
   double min_epsilon = 0;
   QualityParams quality;
