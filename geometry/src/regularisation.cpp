@@ -17,10 +17,9 @@
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 #include <CGAL/alpha_wrap_3.h>
 
-#include <cmath>
-
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/common/resources.h"
+#include "skelgrasp/geometry/mesh_validity.h"
 #include "skelgrasp/internal/cgal_conversions.h"
 
 namespace skelgrasp::geometry {
@@ -139,26 +138,6 @@ double surfaceArea(const TriangleMesh& mesh) {
   return area;
 }
 
-// A face counts as having area when it exceeds this fraction of the squared bounding-box
-// diagonal: collinear corners give a cross product of rounding size (about 1e-16 of it), which
-// must not count, while any real sliver of a scan is far above it.
-constexpr double kMinFaceAreaOfDiagonalSquared = 1e-12;
-
-// Why `input` has no surface to wrap, or "" when it has one. The alpha wrap skips faces without
-// area and dies on an input with none left (SIGSEGV inside CGAL), and the memory estimates divide
-// by its extent, so a mesh whose faces all have zero area (collinear or coincident corners, a
-// single point) is refused before any of them. A flat mesh with area is fine: its wrap is a thin
-// closed shell.
-std::string degenerateProblem(const TriangleMesh& input) {
-  const double diagonal = input.bounds().diagonal();
-  if (!std::isfinite(diagonal)) return "vertex coordinates are not finite";
-  if (!(diagonal > 0)) return "all vertices coincide";
-  const double min_area = kMinFaceAreaOfDiagonalSquared * diagonal * diagonal;
-  for (std::size_t f = 0; f < input.faces.size(); ++f)
-    if (input.faceArea(f) > min_area) return "";
-  return "no face has a positive area (all faces are collinear or degenerate)";
-}
-
 std::string describeSize(const TriangleMesh& input) {
   return fmt::format("{:.3g} m^2 surface, {:.3g} m bounding-box diagonal", surfaceArea(input),
                      input.bounds().diagonal());
@@ -197,14 +176,12 @@ RegularisationResult regularise(const TriangleMesh& input, const RegularisationP
   }
   // Degenerate input is the caller's data, not a failure: refused in the status, before the
   // memory estimates (which divide by its extent) and before CGAL.
-  if (!input.empty()) {
-    if (const std::string problem = degenerateProblem(input); !problem.empty()) {
-      RegularisationResult refused;
-      refused.report.method = toString(params.method);
-      refused.report.input = analyzeTopology(input);
-      refused.status = Status::Make(StatusCode::kInvalidInput, "degenerate mesh: " + problem);
-      return refused;
-    }
+  if (const std::string problem = degenerateMeshProblem(input); !problem.empty()) {
+    RegularisationResult refused;
+    refused.report.method = toString(params.method);
+    refused.report.input = analyzeTopology(input);
+    refused.status = Status::Make(StatusCode::kInvalidInput, problem);
+    return refused;
   }
   if (!input.empty() && params.remesh_target_edge_m > 0) {
     checkMemoryEstimate(fmt::format("remeshing to {:g} m edges ({})", params.remesh_target_edge_m,

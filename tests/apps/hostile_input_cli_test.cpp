@@ -36,6 +36,7 @@ void writeText(const std::string& path, const std::string& text) {
 // Every file the cases below name, in the test's folder.
 void writeHostileFiles(const std::string& dir) {
   writeText(dir + "/collinear.ply", kCollinearPly);
+  saveMesh(dir + "/capsule.ply", geometry::shapes::makeNamedShape("capsule"));
 }
 
 class HostileInputCli : public ::testing::TestWithParam<BadCliInput> {};
@@ -55,7 +56,12 @@ TEST_P(HostileInputCli, ExitsTwoWithOneLineAndWritesNothing) {
       EXPECT_EQ(countLines(r.err), 1) << r.err;
     }
     EXPECT_TRUE(r.out.empty()) << r.out;
-    EXPECT_FALSE(fs::exists(dir + "/out")) << "half-written output";
+    // Nothing named out* (the outputs and their hidden temporaries) is left behind.
+    for (const auto& entry : fs::directory_iterator(dir)) {
+      const std::string name = entry.path().filename().string();
+      EXPECT_NE(name.rfind("out", 0), 0u) << "half-written output " << name;
+      EXPECT_EQ(name.find(".tmp."), std::string::npos) << "temporary left " << name;
+    }
   }
 }
 
@@ -66,6 +72,10 @@ INSTANTIATE_TEST_SUITE_P(
                     "collinear.ply: degenerate mesh: no face has a positive area"},
         BadCliInput{"plan_collinear_mesh",
                     "plan {dir}/collinear.ply --hand sdh --out {dir}/out --render {dir}/out.png",
+                    "collinear.ply: degenerate mesh: no face has a positive area"},
+        // The surface planner sampled such a mesh until its time limit, logging every sample.
+        BadCliInput{"plan_surface_collinear_mesh",
+                    "plan {dir}/collinear.ply --hand sdh --planner surface --out {dir}/out",
                     "collinear.ply: degenerate mesh: no face has a positive area"}),
     [](const auto& info) { return info.param.name; });
 

@@ -104,3 +104,22 @@ def test_bad_log_level():
     with pytest.raises(ValueError):
         skelgrasp.set_log_level("loud")
     skelgrasp.set_log_level("warn")
+
+
+def test_mesh_without_area_is_value_error_not_a_crash(sdh):
+    # Ten faces that repeat one vertex, and one face on a line: the alpha wrap used to kill the
+    # interpreter (SIGSEGV); the skeleton stage refuses them first.
+    rng = np.random.default_rng(7)
+    vertices = rng.uniform(-0.05, 0.05, size=(10, 3))
+    for faces in (np.zeros((10, 3), dtype=np.int64), [[0, 1, 2]]):
+        mesh = skelgrasp.Mesh(vertices if len(faces) == 10 else
+                              np.array([[0, 0, 0], [0.05, 0, 0], [0.1, 0, 0]], dtype=float), faces)
+        with pytest.raises(ValueError, match="degenerate mesh: no face has a positive area"):
+            skelgrasp.plan(mesh, sdh, max_grasps=1, timeout_s=5)
+
+
+def test_surface_planner_refuses_a_mesh_without_area(sdh):
+    mesh = skelgrasp.Mesh(np.array([[0, 0, 0], [0.05, 0, 0], [0.1, 0, 0]], dtype=float),
+                          [[0, 1, 2]])
+    with pytest.raises(ValueError, match="degenerate mesh"):
+        skelgrasp.plan(mesh, sdh, planner="surface", max_grasps=1, timeout_s=5)
