@@ -118,7 +118,74 @@ NpyHeader readNpyHeader(const std::string& path, std::ifstream& in) {
   return header;
 }
 
+// Rows and columns of a depth array: (H, W) or (H, W, 1), each side at most kMaxImageSidePx, so
+// that a small (or sparse) file declaring a huge array is refused before anything is allocated.
+ImageSize npyDepthSize(const std::string& path, const NpyHeader& header) {
+  if (header.fortran_order) throw IoError(path, "Fortran-ordered .npy arrays are not supported");
+  const bool shape_ok =
+      (header.shape.size() == 2 || (header.shape.size() == 3 && header.shape[2] == 1)) &&
+      header.shape[0] > 0 && header.shape[1] > 0;
+  if (!shape_ok) throw IoError(path, "expected a depth array of shape (H, W) or (H, W, 1)");
+  const std::uint64_t max_side = kMaxImageSidePx;
+  if (header.shape[0] > max_side || header.shape[1] > max_side) {
+    throw IoError(path, "depth array shape (" + std::to_string(header.shape[0]) + ", " +
+                            std::to_string(header.shape[1]) +
+                            ") exceeds the largest image side of " +
+                            std::to_string(kMaxImageSidePx) + " pixels");
+  }
+  return {static_cast<int>(header.shape[1]), static_cast<int>(header.shape[0])};
+}
+
+// PNG signature and the start of its first chunk, which must be IHDR (PNG spec, 5.2 and 11.2.2):
+// length (4), "IHDR", width (4, big-endian), height (4), bit depth (1), colour type (1).
+constexpr std::size_t kPngHeaderBytes = 26;
+constexpr unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+constexpr int kPngGreyColourType = 0;
+constexpr int kPngDepthBits = 16;
+
+// The size a depth PNG declares, read from its IHDR without decoding: it must be 16-bit grey
+// (an RGB16 PNG decoded as depth would be a grey mix of its channels) and no side may exceed
+// kMaxImageSidePx (a 1.7 MB PNG declaring 30000x30000 decoded into gigabytes).
+ImageSize pngDepthSize(const std::string& path) {
+  checkReadable(path);
+  std::ifstream in(path, std::ios::binary);
+  unsigned char b[kPngHeaderBytes];
+  if (!in.read(reinterpret_cast<char*>(b), kPngHeaderBytes) ||
+      std::memcmp(b, kPngSignature, sizeof kPngSignature) != 0 ||
+      std::memcmp(b + 12, "IHDR", 4) != 0) {
+    throw IoError(path, "not a PNG file (no PNG signature and IHDR header)");
+  }
+  auto big_endian = [&](int at) {
+    return (std::uint32_t{b[at]} << 24) | (std::uint32_t{b[at + 1]} << 16) |
+           (std::uint32_t{b[at + 2]} << 8) | std::uint32_t{b[at + 3]};
+  };
+  const std::uint32_t width = big_endian(16), height = big_endian(20);
+  const int bits = b[24], colour_type = b[25];
+  if (bits != kPngDepthBits || colour_type != kPngGreyColourType) {
+    throw IoError(path, "expected a 16-bit single-channel depth PNG, the header says " +
+                            std::to_string(bits) + "-bit colour type " +
+                            std::to_string(colour_type));
+  }
+  const std::uint32_t max_side = kMaxImageSidePx;
+  if (width == 0 || height == 0 || width > max_side || height > max_side) {
+    throw IoError(path, "depth PNG declares " + std::to_string(width) + "x" +
+                            std::to_string(height) + " pixels; each side must be in [1, " +
+                            std::to_string(kMaxImageSidePx) + "]");
+  }
+  return {static_cast<int>(width), static_cast<int>(height)};
+}
+
 }  // namespace
+
+ImageSize readDepthImageSize(const std::string& path) {
+  const std::string ext = fileExtension(path);
+  if (ext == "png") return pngDepthSize(path);
+  if (ext != "npy") throw IoError(path, "a depth image must be a .npy or 16-bit .png file");
+  checkReadable(path);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(path, "cannot open for reading");
+  return npyDepthSize(path, readNpyHeader(path, in));
+}
 
 MaskImage readMaskImage(const std::string& path) {
   const cv::Mat image = readWithOpenCv(path, cv::IMREAD_GRAYSCALE);
@@ -169,15 +236,7 @@ DepthImage readDepthNpy(const std::string& path, double scale) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(path, "cannot open for reading");
   const NpyHeader header = readNpyHeader(path, in);
-  if (header.fortran_order) throw IoError(path, "Fortran-ordered .npy arrays are not supported");
-  const bool shape_ok =
-      (header.shape.size() == 2 || (header.shape.size() == 3 && header.shape[2] == 1)) &&
-      header.shape[0] > 0 && header.shape[1] > 0;
-  if (!shape_ok) throw IoError(path, "expected a depth array of shape (H, W) or (H, W, 1)");
-  if (header.shape[0] > INT_MAX || header.shape[1] > INT_MAX) {
-    throw IoError(path, "depth array shape (" + std::to_string(header.shape[0]) + ", " +
-                            std::to_string(header.shape[1]) + ") is too large for an image");
-  }
+  const ImageSize size = npyDepthSize(path, header);
   std::size_t item = 0;
   if (header.descr == "<f4") {
     item = 4;
@@ -189,7 +248,7 @@ DepthImage readDepthNpy(const std::string& path, double scale) {
     throw IoError(path, "unsupported .npy dtype '" + header.descr + "' (use <f4, <f8 or <u2)");
   }
   // Before allocating: the shape must fit in the bytes the file holds (rows and columns are each
-  // below 2^31, so the product of the two and the item size cannot overflow 64 bits).
+  // at most kMaxImageSidePx, so the product of the two and the item size cannot overflow).
   const std::uint64_t needed = header.shape[0] * header.shape[1] * item;
   std::error_code ec;
   const std::uint64_t file_size = std::filesystem::file_size(path, ec);
@@ -201,7 +260,7 @@ DepthImage readDepthNpy(const std::string& path, double scale) {
                             std::to_string(needed) + " bytes, the file holds " +
                             std::to_string(available) + " after its header");
   }
-  DepthImage depth(static_cast<int>(header.shape[1]), static_cast<int>(header.shape[0]));
+  DepthImage depth(size.width, size.height);
   std::vector<char> raw(depth.data.size() * item);
   if (!in.read(raw.data(), static_cast<std::streamsize>(raw.size()))) {
     throw IoError(path, "truncated .npy data: expected " + std::to_string(raw.size()) + " bytes");
@@ -245,6 +304,7 @@ void writeDepthNpy(const std::string& path, const DepthImage& depth) {
 }
 
 DepthImage readDepthPng(const std::string& path, double scale) {
+  pngDepthSize(path);  // type and size from the header, before the decoder allocates
   const cv::Mat image = readWithOpenCv(path, cv::IMREAD_ANYDEPTH);
   if (image.type() != CV_16UC1) throw IoError(path, "expected a 16-bit single-channel depth PNG");
   DepthImage depth(image.cols, image.rows);

@@ -33,10 +33,69 @@ void writeText(const std::string& path, const std::string& text) {
   std::ofstream(path, std::ios::binary) << text;
 }
 
+// NumPy .npy v1.0 of little-endian float32 with the given shape text and `values` floats of data.
+std::string npyBytes(const std::string& shape, std::size_t values) {
+  std::string header = "{'descr': '<f4', 'fortran_order': False, 'shape': " + shape + ", }";
+  while ((10 + header.size() + 1) % 64 != 0) header += ' ';
+  header += '\n';
+  std::string bytes = std::string("\x93NUMPY\x01\x00", 8);
+  bytes += static_cast<char>(header.size() & 0xff);
+  bytes += static_cast<char>(header.size() >> 8);
+  bytes += header;
+  const float depth = 0.5f;
+  for (std::size_t i = 0; i < values; ++i)
+    bytes.append(reinterpret_cast<const char*>(&depth), sizeof depth);
+  return bytes;
+}
+
+// The signature and IHDR of a PNG declaring `width` x `height` pixels of `bits`-bit colour type
+// `colour_type`, and nothing after: the readers must refuse it from the header alone.
+std::string pngHeader(std::uint32_t width, std::uint32_t height, int bits, int colour_type) {
+  std::string bytes("\x89PNG\r\n\x1a\n\0\0\0\x0dIHDR", 16);
+  for (std::uint32_t v : {width, height})
+    for (int shift = 24; shift >= 0; shift -= 8) bytes += static_cast<char>((v >> shift) & 0xff);
+  bytes += static_cast<char>(bits);
+  bytes += static_cast<char>(colour_type);
+  bytes += std::string("\0\0\0\0\0\0\0", 7);  // compression, filter, interlace, CRC
+  return bytes;
+}
+
+std::string captureJson(const std::string& depth, const std::string& intrinsics) {
+  return R"({"depth": ")" + depth + R"(", "intrinsics": )" + intrinsics + "}";
+}
+
+// Capture descriptions with hostile intrinsics or images.
+void writeCaptures(const std::string& dir) {
+  writeText(dir + "/depth.npy", npyBytes("(2, 2)", 4));
+  const std::string vga = R"({"fx": 525, "fy": 525, "cx": 319.5, "cy": 239.5, "width": 640,
+                              "height": 480})";
+  const std::string two = R"({"fx": 500, "fy": 500, "cx": 1, "cy": 1, "width": 2, "height": 2})";
+  writeText(dir + "/cx_inline.json",
+            captureJson("depth.npy", R"({"fx": 500, "fy": 500, "cx": 1e308, "cy": 1,
+                                         "width": 2, "height": 2})"));
+  writeText(dir + "/cam.intr", R"({"_fx": 500, "_fy": 500, "_cx": 1e308, "_cy": 1, "_width": 2,
+                                   "_height": 2})");
+  writeText(dir + "/cx_file.json", captureJson("depth.npy", R"("cam.intr")"));
+  writeText(dir + "/fx_huge.json",
+            captureJson("depth.npy", R"({"fx": 1e308, "fy": 500, "cx": 1, "cy": 1, "width": 2,
+                                         "height": 2})"));
+  writeText(dir + "/width_fraction.json",
+            captureJson("depth.npy", R"({"fx": 500, "fy": 500, "cx": 1, "cy": 1, "width": 640.5,
+                                         "height": 2})"));
+  writeText(dir + "/mismatch.json", captureJson("depth.npy", vga));
+  writeText(dir + "/huge.png", pngHeader(30000, 30000, 16, 0));
+  writeText(dir + "/huge_png.json", captureJson("huge.png", vga));
+  writeText(dir + "/rgb16.png", pngHeader(2, 2, 16, 2));
+  writeText(dir + "/rgb16.json", captureJson("rgb16.png", two));
+  writeText(dir + "/huge.npy", npyBytes("(30000, 30000)", 4));
+  writeText(dir + "/huge_npy.json", captureJson("huge.npy", vga));
+}
+
 // Every file the cases below name, in the test's folder.
 void writeHostileFiles(const std::string& dir) {
   writeText(dir + "/collinear.ply", kCollinearPly);
   saveMesh(dir + "/capsule.ply", geometry::shapes::makeNamedShape("capsule"));
+  writeCaptures(dir);
 }
 
 class HostileInputCli : public ::testing::TestWithParam<BadCliInput> {};
@@ -76,7 +135,28 @@ INSTANTIATE_TEST_SUITE_P(
         // The surface planner sampled such a mesh until its time limit, logging every sample.
         BadCliInput{"plan_surface_collinear_mesh",
                     "plan {dir}/collinear.ply --hand sdh --planner surface --out {dir}/out",
-                    "collinear.ply: degenerate mesh: no face has a positive area"}),
+                    "collinear.ply: degenerate mesh: no face has a positive area"},
+        // Capture intrinsics, checked when the description is read.
+        BadCliInput{"capture_cx_1e308_inline", "ingest {dir}/cx_inline.json --out {dir}/out.pcd",
+                    "cx_inline.json: intrinsics cx = 1e+308 puts the principal point"},
+        BadCliInput{"capture_cx_1e308_intr_file", "ingest {dir}/cx_file.json --out {dir}/out.pcd",
+                    "cam.intr: intrinsics cx = 1e+308 puts the principal point"},
+        BadCliInput{"capture_fx_1e308", "ingest {dir}/fx_huge.json --out {dir}/out.pcd",
+                    "fx_huge.json: intrinsics fx = 1e+308 is not a focal length in [1, 1e+06]"},
+        BadCliInput{"capture_width_fraction",
+                    "ingest {dir}/width_fraction.json --out {dir}/out.pcd",
+                    "width_fraction.json: intrinsics width = 640.5 is not a whole number"},
+        // Depth images: the header's size against the cap and the intrinsics, before decoding.
+        BadCliInput{"depth_size_disagrees", "ingest {dir}/mismatch.json --out {dir}/out.pcd",
+                    "depth.npy: depth image is 2x2 but the intrinsics say 640x480"},
+        BadCliInput{"depth_png_30000_square", "ingest {dir}/huge_png.json --out {dir}/out.pcd",
+                    "huge.png: depth PNG declares 30000x30000 pixels; each side must be in [1, "
+                    "20000]"},
+        BadCliInput{"depth_png_rgb16", "ingest {dir}/rgb16.json --out {dir}/out.pcd",
+                    "rgb16.png: expected a 16-bit single-channel depth PNG, the header says "
+                    "16-bit colour type 2"},
+        BadCliInput{"depth_npy_30000_square", "ingest {dir}/huge_npy.json --out {dir}/out.pcd",
+                    "huge.npy: depth array shape (30000, 30000) exceeds the largest image side"}),
     [](const auto& info) { return info.param.name; });
 
 TEST(HostileInputCli, EvaluateRecordsADegenerateMeshAsAFailedRunAndFinishes) {
