@@ -10,6 +10,7 @@
 #include "cli_support.h"
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/geometry/shapes.h"
+#include "skelgrasp/grasping/hand/hand_model.h"
 #include "test_support.h"
 
 namespace skelgrasp {
@@ -31,6 +32,12 @@ const char* const kCollinearPly =
 
 void writeText(const std::string& path, const std::string& text) {
   std::ofstream(path, std::ios::binary) << text;
+}
+
+// A file of `bytes` bytes that takes no disk space (a hole): the readers must refuse it by size.
+void writeSparse(const std::string& path, std::uintmax_t bytes) {
+  std::ofstream(path, std::ios::binary).close();
+  fs::resize_file(path, bytes);
 }
 
 // NumPy .npy v1.0 of little-endian float32 with the given shape text and `values` floats of data.
@@ -91,11 +98,29 @@ void writeCaptures(const std::string& dir) {
   writeText(dir + "/huge_npy.json", captureJson("huge.npy", vga));
 }
 
+// Hand files: devices, oversized files, too many links, an oversized link mesh.
+void writeHands(const std::string& dir) {
+  const auto gripper = grasping::builtinHandFiles("parallel_gripper");
+  writeText(dir + "/gripper.urdf", gripper.urdf);
+  writeText(dir + "/gripper.json", gripper.description);
+  fs::create_symlink("/dev/zero", dir + "/zero.urdf");
+  fs::create_symlink("/dev/zero", dir + "/zero.json");
+  writeSparse(dir + "/big.urdf", (8u << 20) + 1);
+  std::string links = "<robot name=\"many\">\n";
+  for (int i = 0; i <= 1000; ++i) links += "<link name=\"l" + std::to_string(i) + "\"/>\n";
+  writeText(dir + "/links.urdf", links + "</robot>\n");
+  writeText(dir + "/mesh.urdf",
+            "<robot name=\"m\"><link name=\"base\"><collision><geometry><mesh "
+            "filename=\"big.stl\"/></geometry></collision></link></robot>\n");
+  writeSparse(dir + "/big.stl", (16u << 20) + 1);
+}
+
 // Every file the cases below name, in the test's folder.
 void writeHostileFiles(const std::string& dir) {
   writeText(dir + "/collinear.ply", kCollinearPly);
   saveMesh(dir + "/capsule.ply", geometry::shapes::makeNamedShape("capsule"));
   writeCaptures(dir);
+  writeHands(dir);
 }
 
 class HostileInputCli : public ::testing::TestWithParam<BadCliInput> {};
@@ -156,7 +181,28 @@ INSTANTIATE_TEST_SUITE_P(
                     "rgb16.png: expected a 16-bit single-channel depth PNG, the header says "
                     "16-bit colour type 2"},
         BadCliInput{"depth_npy_30000_square", "ingest {dir}/huge_npy.json --out {dir}/out.pcd",
-                    "huge.npy: depth array shape (30000, 30000) exceeds the largest image side"}),
+                    "huge.npy: depth array shape (30000, 30000) exceeds the largest image side"},
+        // Hand files: bounded before they are read.
+        BadCliInput{"hand_urdf_dev_zero",
+                    "plan {dir}/capsule.ply --hand {dir}/zero.urdf --grasp-description "
+                    "{dir}/gripper.json --out {dir}/out",
+                    "zero.urdf: is not a regular file"},
+        BadCliInput{"grasp_description_dev_zero",
+                    "plan {dir}/capsule.ply --hand {dir}/gripper.urdf --grasp-description "
+                    "{dir}/zero.json --out {dir}/out",
+                    "zero.json: is not a regular file"},
+        BadCliInput{"hand_urdf_too_large",
+                    "plan {dir}/capsule.ply --hand {dir}/big.urdf --grasp-description "
+                    "{dir}/gripper.json --out {dir}/out",
+                    "big.urdf: URDF of 8388609 bytes exceeds the limit of 8388608 bytes"},
+        BadCliInput{"hand_urdf_too_many_links",
+                    "plan {dir}/capsule.ply --hand {dir}/links.urdf --grasp-description "
+                    "{dir}/gripper.json --out {dir}/out",
+                    "links.urdf: URDF has more than 1000 link elements"},
+        BadCliInput{"hand_link_mesh_too_large",
+                    "plan {dir}/capsule.ply --hand {dir}/mesh.urdf --grasp-description "
+                    "{dir}/gripper.json --out {dir}/out",
+                    "big.stl: link mesh of 16777217 bytes exceeds the limit of 16777216 bytes"}),
     [](const auto& info) { return info.param.name; });
 
 TEST(HostileInputCli, EvaluateRecordsADegenerateMeshAsAFailedRunAndFinishes) {

@@ -1,12 +1,28 @@
 #pragma once
 // Internal: the pieces of hand loading (URDF through urdfdom, meshes through assimp, the grasp
 // description through nlohmann::json).
+#include <cstdint>
 #include <string>
 #include <vector>
 
 #include "skelgrasp/grasping/hand/hand_model.h"
 
 namespace skelgrasp::grasping::internal {
+
+// Bounds of the files a hand is made of, checked before a byte is parsed: a real hand's URDF is
+// tens of kilobytes with a few dozen links, its description a few kilobytes, its link meshes at
+// most a few megabytes. Beyond these a file is a mistake or hostile (`/dev/zero` grew past 4 GB;
+// 10 000 links took 3.4 GB; a 130 MB STL finger 5.1 GB and 98 s).
+inline constexpr std::uintmax_t kMaxUrdfBytes = 8u << 20;
+inline constexpr std::uintmax_t kMaxGraspDescriptionBytes = 4u << 20;
+inline constexpr std::uintmax_t kMaxLinkMeshBytes = 16u << 20;
+// Most links (and joints) of one hand.
+inline constexpr std::size_t kMaxHandLinks = 1000;
+
+// The text of a regular file of at most `max_bytes`; `what` names it in errors ("URDF").
+// Throws IoError(path, problem).
+std::string readBoundedText(const std::string& path, std::uintmax_t max_bytes,
+                            const std::string& what);
 
 struct ParsedUrdf {
   std::string name;

@@ -49,6 +49,17 @@ ParsedUrdf parseUrdf(const std::string& urdf_xml, const std::string& base_dir,
                      const std::string& origin) {
   // urdfdom reports through console_bridge on stderr; we report one error line ourselves.
   console_bridge::setLogLevel(console_bridge::CONSOLE_BRIDGE_LOG_NONE);
+  // Before urdfdom builds its tree (and we our per-link tables): count the elements in the text.
+  for (const char* element : {"<link", "<joint"}) {
+    std::size_t count = 0;
+    for (auto at = urdf_xml.find(element); at != std::string::npos;
+         at = urdf_xml.find(element, at + 1)) {
+      if (++count > kMaxHandLinks) {
+        throw IoError(origin, std::string("URDF has more than ") + std::to_string(kMaxHandLinks) +
+                                  " " + (element + 1) + " elements");
+      }
+    }
+  }
   urdf::ModelInterfaceSharedPtr model;
   try {
     model = urdf::parseURDF(urdf_xml);
