@@ -8,6 +8,7 @@
 #include <string>
 
 #include "cli_support.h"
+#include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/grasping/hand/hand_model.h"
@@ -115,12 +116,66 @@ void writeHands(const std::string& dir) {
   writeSparse(dir + "/big.stl", (16u << 20) + 1);
 }
 
+// A grasps file of the SDH hand that export and score accept: every movable joint at the middle
+// of its limits.
+nlohmann::json validGrasps() {
+  const auto hand = grasping::loadBuiltinHand("sdh");
+  nlohmann::json joints = nlohmann::json::object();
+  for (const auto& joint : hand.joints())
+    if (joint.movable()) joints[joint.name] = 0.5 * (joint.lower + joint.upper);
+  nlohmann::json grasp = {
+      {"id", 0},
+      {"hand_pose", {{"position", {0, 0, 0.2}}, {"quaternion_wxyz", {1, 0, 0, 0}}}},
+      {"preshape", hand.preshapes().begin()->first},
+      {"retreat_m", 0.01},
+      {"epsilon", 0.1},
+      {"joints", joints}};
+  return {{"schema", "skelgrasp.grasps/3"},
+          {"hand", "sdh"},
+          {"object", "capsule.ply"},
+          {"grasps", {grasp}}};
+}
+
+// Grasps files with one hostile value each, named after it.
+void writeGraspsFiles(const std::string& dir) {
+  const nlohmann::json valid = validGrasps();
+  writeJsonFile(dir + "/valid.json", valid);
+  const auto variant = [&](const std::string& name, const auto& change) {
+    nlohmann::json file = valid;
+    change(file, file["grasps"][0]);
+    writeJsonFile(dir + "/" + name + ".json", file);
+  };
+  using J = nlohmann::json;
+  variant("no_schema", [](J& f, J&) { f.erase("schema"); });
+  variant("banana_schema", [](J& f, J&) { f["schema"] = "skelgrasp.banana/1"; });
+  variant("position_1e308", [](J&, J& g) { g["hand_pose"]["position"] = {1e308, 0, 0}; });
+  variant("position_1001", [](J&, J& g) { g["hand_pose"]["position"] = {1001, 0, 0}; });
+  variant("quaternion_2", [](J&, J& g) { g["hand_pose"]["quaternion_wxyz"] = {2, 0, 0, 0}; });
+  variant("quaternion_1_01", [](J&, J& g) { g["hand_pose"]["quaternion_wxyz"] = {1.01, 0, 0, 0}; });
+  variant("quaternion_1e308", [](J&, J& g) {
+    g["hand_pose"]["quaternion_wxyz"] = {1e308, 1e308, 0, 0};
+  });
+  variant("joint_1e308", [](J&, J& g) { g["joints"].begin().value() = 1e308; });
+  variant("joint_50", [](J&, J& g) { g["joints"].begin().value() = 50; });
+  variant("joint_missing", [](J&, J& g) { g["joints"].erase(g["joints"].begin()); });
+  variant("object_12", [](J& f, J&) { f["object"] = 12; });
+  variant("retreat_negative", [](J&, J& g) { g["retreat_m"] = -5; });
+  variant("retreat_1e308", [](J&, J& g) { g["retreat_m"] = 1e308; });
+  // An id nested 100 000 arrays deep: written as text, nlohmann would recurse to dump it.
+  std::string deep = valid.dump();
+  const std::string id = "\"id\":0";
+  deep.replace(deep.find(id), id.size(),
+               "\"id\":" + std::string(100000, '[') + std::string(100000, ']'));
+  writeText(dir + "/deep_id.json", deep);
+}
+
 // Every file the cases below name, in the test's folder.
 void writeHostileFiles(const std::string& dir) {
   writeText(dir + "/collinear.ply", kCollinearPly);
   saveMesh(dir + "/capsule.ply", geometry::shapes::makeNamedShape("capsule"));
   writeCaptures(dir);
   writeHands(dir);
+  writeGraspsFiles(dir);
 }
 
 class HostileInputCli : public ::testing::TestWithParam<BadCliInput> {};
@@ -147,6 +202,21 @@ TEST_P(HostileInputCli, ExitsTwoWithOneLineAndWritesNothing) {
       EXPECT_EQ(name.find(".tmp."), std::string::npos) << "temporary left " << name;
     }
   }
+}
+
+// The valid grasps file the hostile ones are made from is exported and scored: the checks refuse
+// values, not files.
+TEST(HostileInputCli, TheValidGraspsFileIsExportedAndScored) {
+  const std::string dir = test::tempDir("cli_hostile_valid_grasps");
+  saveMesh(dir + "/capsule.ply", geometry::shapes::makeNamedShape("capsule"));
+  writeGraspsFiles(dir);
+  const CliRun exported =
+      runCli("export " + dir + "/valid.json --format moveit --out " + dir + "/g.yaml", dir);
+  EXPECT_EQ(exported.exit_code, 0) << exported.err;
+  const CliRun scored = runCli("score " + dir + "/valid.json " + dir +
+                                   "/capsule.ply --robustness-samples 2 --out " + dir + "/s.json",
+                               dir);
+  EXPECT_EQ(scored.exit_code, 0) << scored.err;
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -202,7 +272,60 @@ INSTANTIATE_TEST_SUITE_P(
         BadCliInput{"hand_link_mesh_too_large",
                     "plan {dir}/capsule.ply --hand {dir}/mesh.urdf --grasp-description "
                     "{dir}/gripper.json --out {dir}/out",
-                    "big.stl: link mesh of 16777217 bytes exceeds the limit of 16777216 bytes"}),
+                    "big.stl: link mesh of 16777217 bytes exceeds the limit of 16777216 bytes"},
+        // Grasps files: export and score refuse what they would pass on.
+        BadCliInput{"export_no_schema",
+                    "export {dir}/no_schema.json --format moveit --out {dir}/out",
+                    "no_schema.json: grasps file has no \"schema\""},
+        BadCliInput{"export_unknown_schema",
+                    "export {dir}/banana_schema.json --format moveit --out {dir}/out",
+                    "banana_schema.json: grasps file has schema \"skelgrasp.banana/1\""},
+        BadCliInput{"export_position_1e308",
+                    "export {dir}/position_1e308.json --format moveit --out {dir}/out",
+                    "position_1e308.json: grasp 0: \"hand_pose\" position is 1e+308 m from the "
+                    "origin, more than the limit of 100 m"},
+        BadCliInput{"export_position_1001",
+                    "export {dir}/position_1001.json --format moveit --out {dir}/out",
+                    "position is 1e+03 m from the origin"},
+        BadCliInput{"export_quaternion_2",
+                    "export {dir}/quaternion_2.json --format moveit --out {dir}/out",
+                    "quaternion_2.json: grasp 0: \"hand_pose\" quaternion has length 2, not 1"},
+        BadCliInput{"export_quaternion_1_01",
+                    "export {dir}/quaternion_1_01.json --format moveit --out {dir}/out",
+                    "quaternion has length 1.01, not 1"},
+        BadCliInput{"export_quaternion_1e308",
+                    "export {dir}/quaternion_1e308.json --format moveit --out {dir}/out",
+                    "quaternion has length 1.41421e+308, not 1"},
+        BadCliInput{"export_joint_1e308",
+                    "export {dir}/joint_1e308.json --format moveit --out {dir}/out",
+                    "is 1e+308, outside its limits"},
+        BadCliInput{"export_joint_50", "export {dir}/joint_50.json --format moveit --out {dir}/out",
+                    "is 50, outside its limits"},
+        BadCliInput{"export_joint_missing",
+                    "export {dir}/joint_missing.json --format moveit --out {dir}/out",
+                    "joint_missing.json: grasp 0: \"joints\" lacks joint"},
+        BadCliInput{"export_retreat_negative",
+                    "export {dir}/retreat_negative.json --format moveit --out {dir}/out",
+                    "grasp 0: \"retreat_m\" is -5, outside [0, 1] m"},
+        BadCliInput{"export_retreat_1e308",
+                    "export {dir}/retreat_1e308.json --format moveit --out {dir}/out",
+                    "grasp 0: \"retreat_m\" is 1e+308, outside [0, 1] m"},
+        BadCliInput{"export_object_is_a_number",
+                    "export {dir}/object_12.json --format moveit --out {dir}/out",
+                    "object_12.json: grasps file: \"object\" is not a string"},
+        BadCliInput{"export_deep_id", "export {dir}/deep_id.json --format moveit --out {dir}/out",
+                    "deep_id.json: JSON nesting deeper than 64 levels"},
+        BadCliInput{"score_position_1001",
+                    "score {dir}/position_1001.json {dir}/capsule.ply --out {dir}/out",
+                    "position_1001.json: grasp 0: \"hand_pose\" position is 1e+03 m"},
+        BadCliInput{"score_quaternion_2",
+                    "score {dir}/quaternion_2.json {dir}/capsule.ply --out {dir}/out",
+                    "quaternion_2.json: grasp 0: \"hand_pose\" quaternion has length 2"},
+        BadCliInput{"score_no_schema",
+                    "score {dir}/no_schema.json {dir}/capsule.ply --out {dir}/out",
+                    "no_schema.json: grasps file has no \"schema\""},
+        BadCliInput{"score_deep_id", "score {dir}/deep_id.json {dir}/capsule.ply --out {dir}/out",
+                    "deep_id.json: JSON nesting deeper than 64 levels"}),
     [](const auto& info) { return info.param.name; });
 
 TEST(HostileInputCli, EvaluateRecordsADegenerateMeshAsAFailedRunAndFinishes) {
