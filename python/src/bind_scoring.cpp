@@ -94,7 +94,7 @@ py::list score(const Mesh& mesh, const HandPtr& hand, const py::object& grasps, 
   const std::vector<Grasp> list = graspsOf(grasps);
   const auto quality = grasping::withHandContactModel(
       qualityParams(mu, fc_test, reference_compat, torsional_friction), *hand);
-  if (robustness_samples < 0) throw InvalidArgument("robustness_samples: must be >= 0");
+  checkSamples("robustness_samples", robustness_samples, 0);
   ranking::RobustnessParams robustness;
   robustness.samples = robustness_samples;
   robustness.variant = ranking::parseRobustnessVariant(robustness_variant);
@@ -161,7 +161,7 @@ py::object scoreGraspsFile(const Mesh& mesh, const HandPtr& hand, const py::obje
   evaluation::ScoreParams params;
   params.frictions = mu;
   params.compute_robustness = robustness_samples > 0;
-  if (robustness_samples < 0) throw InvalidArgument("robustness_samples: must be >= 0");
+  checkSamples("robustness_samples", robustness_samples, 0);
   if (params.compute_robustness) params.robustness.samples = robustness_samples;
   params.robustness.variant = ranking::parseRobustnessVariant(robustness_variant);
   params.robustness.seed = seed;

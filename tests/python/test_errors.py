@@ -118,6 +118,18 @@ def test_mesh_without_area_is_value_error_not_a_crash(sdh):
             skelgrasp.plan(mesh, sdh, max_grasps=1, timeout_s=5)
 
 
+def test_plan_timeout_and_samples_take_the_cli_ranges(capsule, sdh):
+    for timeout in (float("nan"), -5.0, float("inf"), 1e7):
+        with pytest.raises(ValueError, match="timeout_s: "):
+            skelgrasp.plan(capsule, sdh, timeout_s=timeout)
+    with pytest.raises(ValueError, match="robustness_samples: 1000000000 is outside"):
+        skelgrasp.plan(capsule, sdh, robustness_samples=10**9, timeout_s=20)
+    with pytest.raises(ValueError, match="robustness_screen_samples: "):
+        skelgrasp.plan(capsule, sdh, robustness_screen_samples=10**9)
+    with pytest.raises(ValueError, match="robustness_samples: "):
+        skelgrasp.score(capsule, sdh, [], robustness_samples=10**9)
+
+
 def test_surface_planner_refuses_a_mesh_without_area(sdh):
     mesh = skelgrasp.Mesh(np.array([[0, 0, 0], [0.05, 0, 0], [0.1, 0, 0]], dtype=float),
                           [[0, 1, 2]])
