@@ -176,6 +176,7 @@ void writeHostileFiles(const std::string& dir) {
   writeCaptures(dir);
   writeHands(dir);
   writeGraspsFiles(dir);
+  writeText(dir + "/devices.txt", "/dev/zero\n");
 }
 
 class HostileInputCli : public ::testing::TestWithParam<BadCliInput> {};
@@ -325,7 +326,13 @@ INSTANTIATE_TEST_SUITE_P(
                     "score {dir}/no_schema.json {dir}/capsule.ply --out {dir}/out",
                     "no_schema.json: grasps file has no \"schema\""},
         BadCliInput{"score_deep_id", "score {dir}/deep_id.json {dir}/capsule.ply --out {dir}/out",
-                    "deep_id.json: JSON nesting deeper than 64 levels"}),
+                    "deep_id.json: JSON nesting deeper than 64 levels"},
+        // evaluate: a device as objects is refused before .lock and batch.json are made.
+        BadCliInput{"evaluate_objects_dev_zero", "evaluate --objects /dev/zero --out {dir}/out",
+                    "/dev/zero: is neither a directory nor a file"},
+        BadCliInput{"evaluate_list_names_a_device",
+                    "evaluate --objects {dir}/devices.txt --out {dir}/out",
+                    "/dev/zero: is not a regular file (listed in"}),
     [](const auto& info) { return info.param.name; });
 
 TEST(HostileInputCli, EvaluateRecordsADegenerateMeshAsAFailedRunAndFinishes) {
