@@ -3,6 +3,7 @@
 // problem, and nothing written.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -114,6 +115,18 @@ void writeHands(const std::string& dir) {
             "<robot name=\"m\"><link name=\"base\"><collision><geometry><mesh "
             "filename=\"big.stl\"/></geometry></collision></link></robot>\n");
   writeSparse(dir + "/big.stl", (16u << 20) + 1);
+  // Joint j3 gives link b a second parent: a loop urdfdom lets through.
+  const std::string limit = R"(<limit lower="0" upper="1" effort="1" velocity="1"/>)";
+  std::string loop = "<robot name=\"loop\"><link name=\"a\"/><link name=\"b\"/><link name=\"c\"/>";
+  for (const auto& [joint, parent, child] :
+       {std::array<const char*, 3>{"j1", "a", "b"}, {"j2", "b", "c"}, {"j3", "c", "b"}}) {
+    loop += std::string("<joint name=\"") + joint + "\" type=\"revolute\"><parent link=\"" +
+            parent + "\"/><child link=\"" + child + "\"/>" + limit + "</joint>";
+  }
+  writeText(dir + "/loop.urdf", loop + "</robot>\n");
+  nlohmann::json any_base = nlohmann::json::parse(gripper.description);
+  any_base.erase("base_link");
+  writeText(dir + "/any_base.json", any_base.dump());
 }
 
 // A grasps file of the SDH hand that export and score accept: every movable joint at the middle
@@ -274,6 +287,10 @@ INSTANTIATE_TEST_SUITE_P(
                     "plan {dir}/capsule.ply --hand {dir}/mesh.urdf --grasp-description "
                     "{dir}/gripper.json --out {dir}/out",
                     "big.stl: link mesh of 16777217 bytes exceeds the limit of 16777216 bytes"},
+        BadCliInput{"hand_urdf_kinematic_loop",
+                    "plan {dir}/capsule.ply --hand {dir}/loop.urdf --grasp-description "
+                    "{dir}/any_base.json --out {dir}/out",
+                    "loop.urdf: hand 'parallel_gripper': kinematic loop at 'b'"},
         // Grasps files: export and score refuse what they would pass on.
         BadCliInput{"export_no_schema",
                     "export {dir}/no_schema.json --format moveit --out {dir}/out",

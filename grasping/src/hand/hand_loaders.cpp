@@ -59,8 +59,16 @@ HandModel buildHand(const std::string& urdf_xml, const std::string& description_
   } catch (const nlohmann::json::exception&) {
     // Reported with its position by applyGraspDescription below.
   }
-  HandModel hand(parsed.name, title, std::move(parsed.links), std::move(parsed.joints),
-                 parsed.root_link);
+  // The tree's own checks (a kinematic loop, a link not connected to the root) are about the
+  // URDF: they name its file.
+  HandModel hand = [&] {
+    try {
+      return HandModel(parsed.name, title, std::move(parsed.links), std::move(parsed.joints),
+                       parsed.root_link);
+    } catch (const InvalidArgument& e) {
+      throw IoError(urdf_origin, e.what());
+    }
+  }();
   internal::applyGraspDescription(hand, description_json, origin);
   log().debug("hand '{}': {} links, {} joints, {} fingers, {} drives", hand.name(),
               hand.links().size(), hand.joints().size(), hand.fingers().size(), hand.numDrives());
