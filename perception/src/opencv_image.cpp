@@ -13,6 +13,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <regex>
 #include <sstream>
 
@@ -142,37 +143,56 @@ constexpr std::size_t kPngHeaderBytes = 26;
 constexpr unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
 constexpr int kPngGreyColourType = 0;
 constexpr int kPngDepthBits = 16;
+// Deepest channel of a mask PNG (1, 2, 4 and 8-bit masks are read as they are).
+constexpr int kPngMaskBits = 8;
 
-// The size a depth PNG declares, read from its IHDR without decoding: it must be 16-bit grey
-// (an RGB16 PNG decoded as depth would be a grey mix of its channels) and no side may exceed
-// kMaxImageSidePx (a 1.7 MB PNG declaring 30000x30000 decoded into gigabytes).
-ImageSize pngDepthSize(const std::string& path) {
+struct PngHeader {
+  std::uint32_t width = 0, height = 0;
+  int bits = 0, colour_type = 0;
+};
+
+// The IHDR of a PNG file, or nothing when the file does not start with the PNG signature (another
+// format: OpenCV's decoder checks it).
+std::optional<PngHeader> readPngHeader(const std::string& path) {
   checkReadable(path);
   std::ifstream in(path, std::ios::binary);
   unsigned char b[kPngHeaderBytes];
   if (!in.read(reinterpret_cast<char*>(b), kPngHeaderBytes) ||
-      std::memcmp(b, kPngSignature, sizeof kPngSignature) != 0 ||
-      std::memcmp(b + 12, "IHDR", 4) != 0) {
-    throw IoError(path, "not a PNG file (no PNG signature and IHDR header)");
+      std::memcmp(b, kPngSignature, sizeof kPngSignature) != 0) {
+    return std::nullopt;
   }
+  if (std::memcmp(b + 12, "IHDR", 4) != 0) throw IoError(path, "PNG file without an IHDR header");
   auto big_endian = [&](int at) {
     return (std::uint32_t{b[at]} << 24) | (std::uint32_t{b[at + 1]} << 16) |
            (std::uint32_t{b[at + 2]} << 8) | std::uint32_t{b[at + 3]};
   };
-  const std::uint32_t width = big_endian(16), height = big_endian(20);
-  const int bits = b[24], colour_type = b[25];
-  if (bits != kPngDepthBits || colour_type != kPngGreyColourType) {
-    throw IoError(path, "expected a 16-bit single-channel depth PNG, the header says " +
-                            std::to_string(bits) + "-bit colour type " +
-                            std::to_string(colour_type));
-  }
+  return PngHeader{big_endian(16), big_endian(20), b[24], b[25]};
+}
+
+// Each side of a PNG at most kMaxImageSidePx, checked before the decoder allocates (a 1.7 MB PNG
+// declaring 30000x30000 decoded into gigabytes).
+void checkPngSize(const std::string& path, const PngHeader& header, const char* what) {
   const std::uint32_t max_side = kMaxImageSidePx;
-  if (width == 0 || height == 0 || width > max_side || height > max_side) {
-    throw IoError(path, "depth PNG declares " + std::to_string(width) + "x" +
-                            std::to_string(height) + " pixels; each side must be in [1, " +
+  if (header.width == 0 || header.height == 0 || header.width > max_side ||
+      header.height > max_side) {
+    throw IoError(path, std::string(what) + " PNG declares " + std::to_string(header.width) + "x" +
+                            std::to_string(header.height) + " pixels; each side must be in [1, " +
                             std::to_string(kMaxImageSidePx) + "]");
   }
-  return {static_cast<int>(width), static_cast<int>(height)};
+}
+
+// The size a depth PNG declares, read from its IHDR without decoding: it must be 16-bit grey (an
+// RGB16 PNG decoded as depth would be a grey mix of its channels) of a size within the cap.
+ImageSize pngDepthSize(const std::string& path) {
+  const auto header = readPngHeader(path);
+  if (!header) throw IoError(path, "not a PNG file (no PNG signature)");
+  if (header->bits != kPngDepthBits || header->colour_type != kPngGreyColourType) {
+    throw IoError(path, "expected a 16-bit single-channel depth PNG, the header says " +
+                            std::to_string(header->bits) + "-bit colour type " +
+                            std::to_string(header->colour_type));
+  }
+  checkPngSize(path, *header, "depth");
+  return {static_cast<int>(header->width), static_cast<int>(header->height)};
 }
 
 }  // namespace
@@ -188,6 +208,15 @@ ImageSize readDepthImageSize(const std::string& path) {
 }
 
 MaskImage readMaskImage(const std::string& path) {
+  if (const auto header = readPngHeader(path)) {
+    // A 16-bit PNG reduced to 8 bits made every nonzero pixel of a depth image a mask pixel: the
+    // whole scene became the object.
+    if (header->bits > kPngMaskBits) {
+      throw IoError(path, "expected an 8-bit mask PNG, the header says " +
+                              std::to_string(header->bits) + "-bit");
+    }
+    checkPngSize(path, *header, "mask");
+  }
   const cv::Mat image = readWithOpenCv(path, cv::IMREAD_GRAYSCALE);
   MaskImage mask(image.cols, image.rows);
   for (int v = 0; v < image.rows; ++v) {
@@ -208,6 +237,7 @@ void writeMaskImage(const std::string& path, const MaskImage& mask) {
 }
 
 Image<Rgb> readColorImage(const std::string& path) {
+  if (const auto header = readPngHeader(path)) checkPngSize(path, *header, "colour");
   const cv::Mat bgr = readWithOpenCv(path, cv::IMREAD_COLOR);
   Image<Rgb> image(bgr.cols, bgr.rows);
   for (int v = 0; v < bgr.rows; ++v) {

@@ -96,6 +96,9 @@ void writeCaptures(const std::string& dir) {
   writeText(dir + "/huge_png.json", captureJson("huge.png", vga));
   writeText(dir + "/rgb16.png", pngHeader(2, 2, 16, 2));
   writeText(dir + "/rgb16.json", captureJson("rgb16.png", two));
+  writeText(dir + "/mask16.png", pngHeader(2, 2, 16, 0));
+  writeText(dir + "/mask16.json",
+            R"({"depth": "depth.npy", "mask": "mask16.png", "intrinsics": )" + two + "}");
   writeText(dir + "/huge.npy", npyBytes("(30000, 30000)", 4));
   writeText(dir + "/huge_npy.json", captureJson("huge.npy", vga));
 }
@@ -264,6 +267,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadCliInput{"depth_png_rgb16", "ingest {dir}/rgb16.json --out {dir}/out.pcd",
                     "rgb16.png: expected a 16-bit single-channel depth PNG, the header says "
                     "16-bit colour type 2"},
+        BadCliInput{"mask_png_16_bit", "ingest {dir}/mask16.json --out {dir}/out.pcd",
+                    "mask16.png: expected an 8-bit mask PNG, the header says 16-bit"},
         BadCliInput{"depth_npy_30000_square", "ingest {dir}/huge_npy.json --out {dir}/out.pcd",
                     "huge.npy: depth array shape (30000, 30000) exceeds the largest image side"},
         // Hand files: bounded before they are read.
