@@ -155,7 +155,17 @@ py::object scoreGraspsFile(const Mesh& mesh, const HandPtr& hand, const py::obje
     source = grasps.cast<std::string>();
     file = readJsonFile(source);
   } else {
-    const std::string text = py::module_::import("json").attr("dumps")(grasps).cast<std::string>();
+    // allow_nan=False: NaN or infinity would be written as a bare NaN that no JSON parser reads
+    // (nlohmann's raw parse error reached the caller as RuntimeError).
+    std::string text;
+    try {
+      text = py::module_::import("json")
+                 .attr("dumps")(grasps, py::arg("allow_nan") = false)
+                 .cast<std::string>();
+    } catch (py::error_already_set& e) {
+      if (!e.matches(PyExc_ValueError)) throw;
+      throw InvalidArgument("grasps: a number is not finite (NaN or infinity)");
+    }
     file = nlohmann::json::parse(text);
   }
   evaluation::ScoreParams params;
@@ -169,7 +179,14 @@ py::object scoreGraspsFile(const Mesh& mesh, const HandPtr& hand, const py::obje
   params.closing.contact_patch = grasping::parseContactPatch(contact_patch);
   checkTorsionalFriction(torsional_friction);
   params.quality.torsional_friction_m = torsional_friction;
-  const auto placements = grasping::readGraspPlacements(file, *hand, object);
+  std::vector<grasping::GraspPlacement> placements;
+  try {
+    placements = grasping::readGraspPlacements(file, *hand, object);
+  } catch (const InvalidArgument& e) {
+    // As `skelgrasp score`: a file's problems name the file.
+    if (py::isinstance<py::str>(grasps)) throw IoError(source, e.what());
+    throw;
+  }
   nlohmann::json out;
   {
     py::gil_scoped_release release;

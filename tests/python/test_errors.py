@@ -1,5 +1,7 @@
 """Every error path raises the right exception with the message the CLI prints, and nothing
 crashes the interpreter."""
+import json
+
 import numpy as np
 import pytest
 
@@ -135,3 +137,19 @@ def test_surface_planner_refuses_a_mesh_without_area(sdh):
                           [[0, 1, 2]])
     with pytest.raises(ValueError, match="degenerate mesh"):
         skelgrasp.plan(mesh, sdh, planner="surface", max_grasps=1, timeout_s=5)
+
+
+def test_score_grasps_names_what_is_wrong_in_a_dict_or_a_file(tmp_path, capsule, sdh):
+    grasp = {"id": 0, "hand_pose": {"position": [float("nan"), 0, 0],
+                                    "quaternion_wxyz": [1, 0, 0, 0]}}
+    document = {"schema": "skelgrasp.grasps/3", "hand": "sdh", "grasps": [grasp]}
+    # NaN in a dict was nlohmann's raw parse error as RuntimeError.
+    with pytest.raises(ValueError, match="grasps: a number is not finite"):
+        skelgrasp.score_grasps(capsule, sdh, document)
+    grasp["hand_pose"]["position"] = [0, 0, 1001]
+    with pytest.raises(ValueError, match="limit of 100 m"):
+        skelgrasp.score_grasps(capsule, sdh, document)
+    path = tmp_path / "far.json"
+    path.write_text(json.dumps(document))
+    with pytest.raises(OSError, match=f"^{path}: grasp 0: "):
+        skelgrasp.score_grasps(capsule, sdh, str(path))
