@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 
 #include "cli_support.h"
 #include "skelgrasp/common/json.h"
@@ -127,6 +128,39 @@ void writeHands(const std::string& dir) {
             parent + "\"/><child link=\"" + child + "\"/>" + limit + "</joint>";
   }
   writeText(dir + "/loop.urdf", loop + "</robot>\n");
+  // A two-finger hand whose values the cases below make meaningless one at a time.
+  const std::string hand =
+      R"(<robot name="h"><link name="base"><collision><geometry><box size="0.1 0.1 0.1"/>)"
+      R"(</geometry></collision></link>)"
+      R"(<link name="f"><collision><geometry><box size="0.02 0.02 0.05"/></geometry></collision>)"
+      R"(</link><link name="g"><collision><geometry><box size="0.02 0.02 0.05"/></geometry>)"
+      R"(</collision></link>)"
+      R"(<joint name="j" type="revolute"><parent link="base"/><child link="f"/>)"
+      R"(<origin xyz="0 0 0.1"/><axis xyz="1 0 0"/><limit lower="0" upper="1" effort="1" )"
+      R"(velocity="1"/></joint>)"
+      R"(<joint name="k" type="revolute"><parent link="base"/><child link="g"/>)"
+      R"(<origin xyz="0 0.05 0.1"/><axis xyz="1 0 0"/><limit lower="0" upper="1" effort="1" )"
+      R"(velocity="1"/></joint></robot>)";
+  const auto variant = [&](const std::string& name, const std::string& from,
+                           const std::string& to) {
+    std::string text = hand;
+    text.replace(text.find(from), from.size(), to);
+    writeText(dir + "/" + name + ".urdf", text);
+  };
+  variant("box_size_zero", R"(<box size="0.02 0.02 0.05"/>)", R"(<box size="0 0.02 0.05"/>)");
+  variant("mesh_scale_1e30", R"(<box size="0.02 0.02 0.05"/>)",
+          R"(<mesh filename="finger.stl" scale="1e30 1e30 1e30"/>)");
+  variant("joint_origin_1e308", R"(<origin xyz="0 0 0.1"/>)", R"(<origin xyz="0 0 1e308"/>)");
+  variant("self_mimic", R"(<axis xyz="1 0 0"/>)", R"(<axis xyz="1 0 0"/><mimic joint="j"/>)");
+  {
+    std::string cycle = hand;
+    for (const auto& [axis_at, leader] : {std::pair{0, "k"}, std::pair{1, "j"}}) {
+      std::size_t at = cycle.find(R"(<axis xyz="1 0 0"/>)");
+      if (axis_at == 1) at = cycle.find(R"(<axis xyz="1 0 0"/>)", at + 1);
+      cycle.insert(at, std::string(R"(<mimic joint=")") + leader + R"("/>)");
+    }
+    writeText(dir + "/mimic_cycle.urdf", cycle);
+  }
   nlohmann::json any_base = nlohmann::json::parse(gripper.description);
   any_base.erase("base_link");
   writeText(dir + "/any_base.json", any_base.dump());
@@ -292,6 +326,28 @@ INSTANTIATE_TEST_SUITE_P(
                     "plan {dir}/capsule.ply --hand {dir}/mesh.urdf --grasp-description "
                     "{dir}/gripper.json --out {dir}/out",
                     "big.stl: link mesh of 16777217 bytes exceeds the limit of 16777216 bytes"},
+        // Hand values: sizes, scales, offsets and mimics a hand cannot have.
+        BadCliInput{"hand_box_size_zero",
+                    "plan {dir}/capsule.ply --hand {dir}/box_size_zero.urdf --grasp-description "
+                    "{dir}/gripper.json --out {dir}/out",
+                    "box_size_zero.urdf: link 'f' collision box has no volume"},
+        BadCliInput{"hand_mesh_scale_1e30",
+                    "plan {dir}/capsule.ply --hand {dir}/mesh_scale_1e30.urdf --grasp-description "
+                    "{dir}/gripper.json --out {dir}/out",
+                    "mesh_scale_1e30.urdf: link 'f' collision mesh scale is 1e+30, outside"},
+        BadCliInput{"hand_joint_origin_1e308",
+                    "plan {dir}/capsule.ply --hand {dir}/joint_origin_1e308.urdf "
+                    "--grasp-description {dir}/gripper.json --out {dir}/out",
+                    "joint_origin_1e308.urdf: joint 'j' origin offset (m) is 1e+308, outside [0, "
+                    "10]"},
+        BadCliInput{"hand_self_mimic",
+                    "plan {dir}/capsule.ply --hand {dir}/self_mimic.urdf --grasp-description "
+                    "{dir}/gripper.json --out {dir}/out",
+                    "self_mimic.urdf: joint 'j' mimics itself"},
+        BadCliInput{"hand_mimic_cycle",
+                    "plan {dir}/capsule.ply --hand {dir}/mimic_cycle.urdf --grasp-description "
+                    "{dir}/gripper.json --out {dir}/out",
+                    "mimic_cycle.urdf: joint 'j' is in a cycle of mimic joints"},
         BadCliInput{"hand_urdf_kinematic_loop",
                     "plan {dir}/capsule.ply --hand {dir}/loop.urdf --grasp-description "
                     "{dir}/any_base.json --out {dir}/out",
