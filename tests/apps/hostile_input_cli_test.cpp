@@ -161,6 +161,20 @@ void writeHands(const std::string& dir) {
     }
     writeText(dir + "/mimic_cycle.urdf", cycle);
   }
+  // Grasp descriptions of the gripper with one meaningless value each.
+  const auto description = [&](const std::string& name, const auto& change) {
+    nlohmann::json d = nlohmann::json::parse(gripper.description);
+    change(d);
+    writeText(dir + "/" + name + ".json", d.dump());
+  };
+  using J = nlohmann::json;
+  description("step_1e-300", [](J& d) { d["closing"]["step_m"] = 1e-300; });
+  description("torsional_1e308", [](J& d) { d["closing"]["torsional_friction_m"] = 1e308; });
+  description("gcp_zero_quaternion", [](J& d) {
+    d["preshapes"]["power"]["gcp"]["quaternion_wxyz"] = {0, 0, 0, 0};
+  });
+  description("one_joint_two_fingers",
+              [](J& d) { d["fingers"][1]["joints"] = d["fingers"][0]["joints"]; });
   nlohmann::json any_base = nlohmann::json::parse(gripper.description);
   any_base.erase("base_link");
   writeText(dir + "/any_base.json", any_base.dump());
@@ -348,6 +362,23 @@ INSTANTIATE_TEST_SUITE_P(
                     "plan {dir}/capsule.ply --hand {dir}/mimic_cycle.urdf --grasp-description "
                     "{dir}/gripper.json --out {dir}/out",
                     "mimic_cycle.urdf: joint 'j' is in a cycle of mimic joints"},
+        BadCliInput{"description_closing_step_tiny",
+                    "plan {dir}/capsule.ply --hand {dir}/gripper.urdf --grasp-description "
+                    "{dir}/step_1e-300.json --out {dir}/out",
+                    "step_1e-300.json: 'step_m' is 1e-300, outside [1e-05, 0.05]"},
+        BadCliInput{"description_torsional_friction_1e308",
+                    "plan {dir}/capsule.ply --hand {dir}/gripper.urdf --grasp-description "
+                    "{dir}/torsional_1e308.json --out {dir}/out",
+                    "torsional_1e308.json: 'torsional_friction_m' is 1e+308, outside [0, 1000]"},
+        BadCliInput{"description_gcp_zero_quaternion",
+                    "plan {dir}/capsule.ply --hand {dir}/gripper.urdf --grasp-description "
+                    "{dir}/gcp_zero_quaternion.json --out {dir}/out",
+                    "gcp_zero_quaternion.json: preshape 'power' gcp: quaternion has length 0"},
+        BadCliInput{"description_one_joint_two_fingers",
+                    "plan {dir}/capsule.ply --hand {dir}/gripper.urdf --grasp-description "
+                    "{dir}/one_joint_two_fingers.json --out {dir}/out",
+                    "one_joint_two_fingers.json: finger 'right_jaw': joint 'finger_left' is "
+                    "already driven by finger 'left_jaw'"},
         BadCliInput{"hand_urdf_kinematic_loop",
                     "plan {dir}/capsule.ply --hand {dir}/loop.urdf --grasp-description "
                     "{dir}/any_base.json --out {dir}/out",

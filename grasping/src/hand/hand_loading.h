@@ -18,6 +18,13 @@ inline constexpr std::uintmax_t kMaxGraspDescriptionBytes = 4u << 20;
 inline constexpr std::uintmax_t kMaxLinkMeshBytes = 16u << 20;
 // Most links (and joints) of one hand.
 inline constexpr std::size_t kMaxHandLinks = 1000;
+// Any length in a hand's files (a shape's size, an origin's or a grasp centre's offset), in
+// metres: a hand is well under a metre across, so beyond this a value is a unit or typing mistake
+// that would only put fingers through the object.
+inline constexpr double kMaxHandLengthM = 10;
+// Joint limits, mimic factors and coupling ratios beyond this (rad, m or a ratio) belong to no
+// hand.
+inline constexpr double kMaxJointLimit = 1e3;
 
 // The text of a regular file of at most `max_bytes`; `what` names it in errors ("URDF").
 // Throws IoError(path, problem).

@@ -45,15 +45,11 @@ std::string resolveMeshPath(const std::string& filename, const std::string& base
   return (fs::path(base_dir) / path).string();
 }
 
-// Ranges of the numbers a hand's URDF may hold. A hand is well under a metre across, so a
-// length beyond kMaxHandLengthM (a shape's size, an origin's offset) is a unit or typing mistake
-// that would only put fingers through the object; shapes must have a size.
-constexpr double kMaxHandLengthM = 10;
+// Ranges of the numbers a hand's URDF may hold besides kMaxHandLengthM and kMaxJointLimit
+// (hand_loading.h); shapes must have a size.
 // Mesh scales: 0.001 turns millimetre meshes into metres; beyond these no mesh is a hand part.
 constexpr double kMinMeshScale = 1e-6;
 constexpr double kMaxMeshScale = 1e3;
-// Joint limits beyond this (rad or m) are no joint of a hand; continuous joints have none.
-constexpr double kMaxJointLimit = 1e3;
 // A joint axis shorter than this has no direction.
 constexpr double kMinAxisNorm = 1e-9;
 
