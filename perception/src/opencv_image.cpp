@@ -20,6 +20,7 @@
 #include "skelgrasp/common/atomic_file.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/file_header.h"
+#include "skelgrasp/common/logging.h"
 #include "skelgrasp/common/mesh_io.h"
 
 namespace skelgrasp::perception {
@@ -36,6 +37,9 @@ cv::Mat readWithOpenCv(const std::string& path, int flags) {
   checkReadable(path);
   cv::Mat image;
   try {
+    // libpng prints "libpng error: Read Error" on stderr for a truncated file before OpenCV
+    // returns an empty image: our one error line below says it for the file.
+    const SilencedStream quiet(SilencedStream::Stream::kStderr);
     image = cv::imread(path, flags);
   } catch (const cv::Exception& e) {
     throw IoError(path, std::string("cannot decode image: ") + e.what());

@@ -97,6 +97,10 @@ void writeCaptures(const std::string& dir) {
   writeText(dir + "/huge_png.json", captureJson("huge.png", vga));
   writeText(dir + "/rgb16.png", pngHeader(2, 2, 16, 2));
   writeText(dir + "/rgb16.json", captureJson("rgb16.png", two));
+  // An 8-bit mask PNG cut after its header: libpng's own complaint must not add a line.
+  writeText(dir + "/mask_truncated.png", pngHeader(2, 2, 8, 0) + std::string(8, '\x78'));
+  writeText(dir + "/mask_truncated.json",
+            R"({"depth": "depth.npy", "mask": "mask_truncated.png", "intrinsics": )" + two + "}");
   writeText(dir + "/mask16.png", pngHeader(2, 2, 16, 0));
   writeText(dir + "/mask16.json",
             R"({"depth": "depth.npy", "mask": "mask16.png", "intrinsics": )" + two + "}");
@@ -315,6 +319,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadCliInput{"depth_png_rgb16", "ingest {dir}/rgb16.json --out {dir}/out.pcd",
                     "rgb16.png: expected a 16-bit single-channel depth PNG, the header says "
                     "16-bit colour type 2"},
+        BadCliInput{"mask_png_truncated", "ingest {dir}/mask_truncated.json --out {dir}/out.pcd",
+                    "mask_truncated.png: cannot decode image"},
         BadCliInput{"mask_png_16_bit", "ingest {dir}/mask16.json --out {dir}/out.pcd",
                     "mask16.png: expected an 8-bit mask PNG, the header says 16-bit"},
         BadCliInput{"depth_npy_30000_square", "ingest {dir}/huge_npy.json --out {dir}/out.pcd",
