@@ -442,6 +442,16 @@ INSTANTIATE_TEST_SUITE_P(
                     "no_schema.json: grasps file has no \"schema\""},
         BadCliInput{"score_deep_id", "score {dir}/deep_id.json {dir}/capsule.ply --out {dir}/out",
                     "deep_id.json: JSON nesting deeper than 64 levels"},
+        // An output that is an input would be overwritten by the command's own result.
+        BadCliInput{"plan_out_is_the_mesh",
+                    "plan {dir}/capsule.ply --hand sdh --out {dir}/capsule.ply",
+                    "capsule.ply: is also an input of this command"},
+        BadCliInput{"export_out_is_the_grasps_file",
+                    "export {dir}/valid.json --format moveit --out {dir}/valid.json",
+                    "valid.json: is also an input of this command"},
+        BadCliInput{"score_out_is_the_grasps_file",
+                    "score {dir}/valid.json {dir}/capsule.ply --out {dir}/./valid.json",
+                    "valid.json: is also an input of this command"},
         // evaluate: a device as objects is refused before .lock and batch.json are made.
         BadCliInput{"evaluate_objects_dev_zero", "evaluate --objects /dev/zero --out {dir}/out",
                     "/dev/zero: is neither a directory nor a file"},
