@@ -78,6 +78,8 @@ std::vector<std::string> expandObjects(const std::vector<std::string>& inputs) {
   std::vector<std::string> meshes;
   for (const auto& input : inputs) {
     if (fileExtension(input) == "txt") {
+      if (std::filesystem::exists(input) && !std::filesystem::is_regular_file(input))
+        throw IoError(input, "is not a regular file");
       std::ifstream in(input);
       if (!in)
         throw IoError(input,
@@ -86,7 +88,11 @@ std::vector<std::string> expandObjects(const std::vector<std::string>& inputs) {
       for (std::string line; std::getline(in, line);) {
         if (line.empty() || line[0] == '#') continue;
         const std::filesystem::path p(line);
-        meshes.push_back(p.is_absolute() ? line : (base / p).string());
+        const std::string mesh = p.is_absolute() ? line : (base / p).string();
+        // Checked before the output directory is locked: a listed device would hang the hashing.
+        if (std::filesystem::exists(mesh) && !std::filesystem::is_regular_file(mesh))
+          throw IoError(mesh, "is not a regular file (listed in " + input + ")");
+        meshes.push_back(mesh);
       }
     } else {
       for (auto& m : collectMeshFiles({input})) meshes.push_back(m);

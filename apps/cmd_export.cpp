@@ -36,6 +36,7 @@ int runExport(const ExportArgs& args) {
                                                  .string()
                                            : args.out;
   checkOutputFileOption(out);
+  checkOutputIsNotInput(out, {args.grasps, args.description});
   const nlohmann::json grasps = readJsonFile(args.grasps);
   std::string hand_name = args.hand;
   if (hand_name.empty()) {

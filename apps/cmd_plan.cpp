@@ -34,6 +34,8 @@ struct PlanArgs {
 int runPlan(const PlanArgs& args) {
   checkOutputFileOption(args.out);
   checkOutputFileOption(args.render);
+  checkOutputIsNotInput(args.out, {args.mesh});
+  checkOutputIsNotInput(args.render, {args.mesh, args.out});
   const auto hand = args.hand.load();
   MeshLoadInfo info;
   TriangleMesh mesh = loadMesh(args.mesh, args.skeleton.loadOptions(), &info);

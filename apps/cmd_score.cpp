@@ -67,6 +67,7 @@ evaluation::ScoreParams scoreParams(const ScoreArgs& a) {
 
 int runScore(const ScoreArgs& a) {
   checkOutputFileOption(a.out);
+  checkOutputIsNotInput(a.out, {a.grasps, a.mesh, a.description});
   if (a.mu.size() > evaluation::kMaxScoreFrictions) {
     throw InvalidArgument(
         fmt::format("--mu: {} values, at most {}", a.mu.size(), evaluation::kMaxScoreFrictions));

@@ -24,6 +24,8 @@ std::vector<std::string> collectMeshFiles(const std::vector<std::string>& inputs
       std::sort(found.begin(), found.end());
       files.insert(files.end(), found.begin(), found.end());
     } else if (fs::exists(input)) {
+      // A device or a pipe (/dev/zero) has no end: hashing or reading it would never finish.
+      if (!fs::is_regular_file(input)) throw IoError(input, "is neither a directory nor a file");
       files.push_back(input);
     } else {
       throw IoError(input, "no such file or directory");

@@ -11,8 +11,12 @@
 
 #include "quality_options.h"
 #include "skelgrasp/grasping/planning/planners.h"
+#include "skelgrasp/ranking/limits.h"
 
 namespace skelgrasp::cli {
+
+// --timeout takes the range the Python module takes.
+static_assert(kMaxTimeoutS == ranking::kMaxPlanTimeoutS);
 
 // Planning time limit of the commands (the library's default is none: on the command line a
 // forgotten limit would let a planner run for minutes on a large mesh).

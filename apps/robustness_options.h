@@ -9,12 +9,13 @@
 #include <string>
 
 #include "option_checks.h"
+#include "skelgrasp/ranking/limits.h"
 #include "skelgrasp/ranking/robust_ranking.h"
 
 namespace skelgrasp::cli {
 
-// Most perturbed poses per grasp a command accepts (a million closings is hours).
-constexpr std::uint64_t kMaxRankingSamples = 1'000'000;
+// Most perturbed poses per grasp a command accepts, as the Python module (ranking/limits.h).
+constexpr std::uint64_t kMaxRankingSamples = ranking::kMaxRobustnessSamples;
 // Farthest standoff the search for a more robust pose may try (m): beyond a hand's length the
 // fingers no longer reach the object.
 constexpr double kMaxRefineStandoffM = 0.2;

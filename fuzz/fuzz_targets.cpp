@@ -10,6 +10,8 @@
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/grasping/hand/hand_model.h"
 #include "skelgrasp/grasping/io/contacts_io.h"
+#include "skelgrasp/grasping/io/grasp_export.h"
+#include "skelgrasp/grasping/io/grasps_file.h"
 #include "skelgrasp/perception/cloud_io.h"
 #include "skelgrasp/perception/image_io.h"
 #include "skelgrasp/perception/scan.h"
@@ -124,6 +126,16 @@ int fuzzContactsJson(const std::uint8_t* data, std::size_t size) {
   return expectOnlySkelgraspErrors([&] { grasping::readContactsFile(path); });
 }
 
+int fuzzGraspsFile(const std::uint8_t* data, std::size_t size) {
+  static const grasping::HandModel hand = grasping::loadBuiltinHand("sdh");
+  const std::string path = writeInput("grasps.json", data, size);
+  return expectOnlySkelgraspErrors([&] {
+    const nlohmann::json file = readJsonFile(path);
+    grasping::readGraspPlacements(file, hand);
+    grasping::exportGrasps(file, hand, grasping::ExportFormat::kMoveIt);
+  });
+}
+
 const std::vector<NamedTarget>& allTargets() {
   static const std::vector<NamedTarget> targets = {
       {"mesh_reader", fuzzMeshReader},
@@ -132,6 +144,7 @@ const std::vector<NamedTarget>& allTargets() {
       {"capture_description", fuzzCaptureDescription},
       {"grasp_description", fuzzGraspDescription},
       {"contacts_json", fuzzContactsJson},
+      {"grasps_file", fuzzGraspsFile},
   };
   return targets;
 }

@@ -33,6 +33,9 @@ int fuzzGraspDescription(const std::uint8_t* data, std::size_t size);
 // JSON documents read by the CLI (contacts of `quality`, grasps.json): the generic JSON reader
 // and the contact list reader.
 int fuzzContactsJson(const std::uint8_t* data, std::size_t size);
+// Grasps files of `score` and `export` (grasps.json of plan or run), read with the built-in SDH
+// hand: the placements `score` reads and the MoveIt export.
+int fuzzGraspsFile(const std::uint8_t* data, std::size_t size);
 
 // Every target, by the name used for its binary (fuzz_<name>) and its regression folder.
 const std::vector<NamedTarget>& allTargets();

@@ -10,7 +10,8 @@ seconds=${2:?usage: fuzz.sh FUZZ_DIR SECONDS [JOBS]}
 jobs=${3:-1}
 root=$(cd "$(dirname "$0")/.." && pwd)
 shared="$root/../shared/data"
-targets=(mesh_reader cloud_reader npy_reader capture_description grasp_description contacts_json)
+targets=(mesh_reader cloud_reader npy_reader capture_description grasp_description contacts_json
+  grasps_file)
 # Seeds larger than this slow every mutation down; small real files carry the same structure.
 max_seed_bytes=262144
 

@@ -9,6 +9,13 @@
 #include "skelgrasp/common/error.h"
 
 namespace skelgrasp {
+namespace {
+
+// Deepest nesting of arrays and objects readJsonFile accepts. skelgrasp's own files nest fewer
+// than ten levels (a run file: document, objects, grasps, a grasp, its pose, a list).
+constexpr int kMaxJsonNestingDepth = 64;
+
+}  // namespace
 
 nlohmann::json toJson(const Eigen::Vector3d& v) {
   return {v.x(), v.y(), v.z()};
@@ -93,8 +100,18 @@ nlohmann::json readJsonFile(const std::string& path, std::uintmax_t max_bytes) {
   if (in.bad()) throw IoError(path, "read failed");
   const std::string text = buffer.str();
   if (text.find_first_not_of(" \t\r\n") == std::string::npos) throw IoError(path, "file is empty");
+  // Nesting deeper than any file skelgrasp writes is refused while parsing: a grasp "id" nested
+  // 100 000 arrays deep (a 212 KB file) was copied into scores.json, and dumping it with an
+  // indent asked for about 20 GB; recursion over such a value can also exhaust the stack.
+  const auto limit_depth = [&](int depth, nlohmann::json::parse_event_t, nlohmann::json&) {
+    if (depth > kMaxJsonNestingDepth) {
+      throw IoError(path,
+                    "JSON nesting deeper than " + std::to_string(kMaxJsonNestingDepth) + " levels");
+    }
+    return true;
+  };
   try {
-    return nlohmann::json::parse(text);
+    return nlohmann::json::parse(text, limit_depth);
   } catch (const nlohmann::json::exception& e) {
     // parse errors, and out_of_range for numbers beyond double ("1e999")
     throw IoError(path, describeJsonError(e, text));

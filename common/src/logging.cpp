@@ -31,10 +31,19 @@ ProgressReporter::ProgressReporter(std::string what, std::size_t total, double m
 void ProgressReporter::step(std::size_t done) {
   std::lock_guard<std::mutex> lock(mutex_);
   const double now = watch_.seconds();
-  if (now - last_report_s_ < min_interval_s_ && done < total_) return;
+  // A total of 0 is work of unknown length (a planner running until its time limit): reported at
+  // the same interval, without a share or an ETA. Counting it as finished reported every step
+  // (the surface planner logged each of ten million hypotheses).
+  const bool known_total = total_ > 0;
+  const bool last_step = known_total && done >= total_;
+  if (now - last_report_s_ < min_interval_s_ && !last_step) return;
   last_report_s_ = now;
-  const double fraction = total_ > 0 ? static_cast<double>(done) / total_ : 1.0;
-  const double eta = done > 0 ? now / done * (total_ - done) : 0.0;
+  if (!known_total) {
+    log().info("{}: {} done, elapsed {:.1f} s", what_, done, now);
+    return;
+  }
+  const double fraction = static_cast<double>(done) / total_;
+  const double eta = done > 0 && done < total_ ? now / done * (total_ - done) : 0.0;
   log().info("{}: {}/{} ({:.0f}%), elapsed {:.1f} s, ETA {:.0f} s", what_, done, total_,
              100.0 * fraction, now, eta);
 }

@@ -19,6 +19,7 @@
 
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/common/resources.h"
+#include "skelgrasp/geometry/mesh_validity.h"
 #include "skelgrasp/internal/cgal_conversions.h"
 
 namespace skelgrasp::geometry {
@@ -172,6 +173,15 @@ RegularisationResult regularise(const TriangleMesh& input, const RegularisationP
   constexpr std::size_t kMinClosedVertices = 4;
   if (params.max_vertices && *params.max_vertices < kMinClosedVertices) {
     throw InvalidArgument("regularise: max_vertices must be at least 4");
+  }
+  // Degenerate input is the caller's data, not a failure: refused in the status, before the
+  // memory estimates (which divide by its extent) and before CGAL.
+  if (const std::string problem = degenerateMeshProblem(input); !problem.empty()) {
+    RegularisationResult refused;
+    refused.report.method = toString(params.method);
+    refused.report.input = analyzeTopology(input);
+    refused.status = Status::Make(StatusCode::kInvalidInput, problem);
+    return refused;
   }
   if (!input.empty() && params.remesh_target_edge_m > 0) {
     checkMemoryEstimate(fmt::format("remeshing to {:g} m edges ({})", params.remesh_target_edge_m,

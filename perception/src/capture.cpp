@@ -59,18 +59,7 @@ CaptureDescription readCaptureDescription(const std::string& path) {
   if (j["intrinsics"].is_string()) {
     d.intrinsics = readIntrinsicsJson(requireFile(path, j, "intrinsics", true));
   } else if (j["intrinsics"].is_object()) {
-    const auto& k = j["intrinsics"];
-    try {
-      d.intrinsics.fx = k.at("fx").get<double>();
-      d.intrinsics.fy = k.at("fy").get<double>();
-      d.intrinsics.cx = k.at("cx").get<double>();
-      d.intrinsics.cy = k.at("cy").get<double>();
-      d.intrinsics.width = k.at("width").get<int>();
-      d.intrinsics.height = k.at("height").get<int>();
-      d.intrinsics.validate();
-    } catch (const std::exception& e) {
-      throw IoError(path, std::string("bad \"intrinsics\": ") + e.what());
-    }
+    d.intrinsics = intrinsicsFromJson(j["intrinsics"], path);
   } else {
     throw IoError(path, "\"intrinsics\" must be a file path or an object");
   }
@@ -101,6 +90,14 @@ CaptureDescription readCaptureDescription(const std::string& path) {
 
 Scan loadCapture(const std::string& path, const CloudLoadOptions& options) {
   const CaptureDescription d = readCaptureDescription(path);
+  // The declared size is checked against the intrinsics before the image is decoded.
+  const ImageSize declared = readDepthImageSize(d.depth);
+  if (declared.width != d.intrinsics.width || declared.height != d.intrinsics.height) {
+    throw IoError(d.depth, "depth image is " + std::to_string(declared.width) + "x" +
+                               std::to_string(declared.height) + " but the intrinsics say " +
+                               std::to_string(d.intrinsics.width) + "x" +
+                               std::to_string(d.intrinsics.height));
+  }
   const DepthImage depth = fileExtension(d.depth) == "npy" ? readDepthNpy(d.depth, d.depth_scale)
                                                            : readDepthPng(d.depth, d.depth_scale);
   if (depth.width != d.intrinsics.width || depth.height != d.intrinsics.height) {

@@ -13,12 +13,14 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <regex>
 #include <sstream>
 
 #include "skelgrasp/common/atomic_file.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/file_header.h"
+#include "skelgrasp/common/logging.h"
 #include "skelgrasp/common/mesh_io.h"
 
 namespace skelgrasp::perception {
@@ -35,6 +37,9 @@ cv::Mat readWithOpenCv(const std::string& path, int flags) {
   checkReadable(path);
   cv::Mat image;
   try {
+    // libpng prints "libpng error: Read Error" on stderr for a truncated file before OpenCV
+    // returns an empty image: our one error line below says it for the file.
+    const SilencedStream quiet(SilencedStream::Stream::kStderr);
     image = cv::imread(path, flags);
   } catch (const cv::Exception& e) {
     throw IoError(path, std::string("cannot decode image: ") + e.what());
@@ -118,9 +123,104 @@ NpyHeader readNpyHeader(const std::string& path, std::ifstream& in) {
   return header;
 }
 
+// Rows and columns of a depth array: (H, W) or (H, W, 1), each side at most kMaxImageSidePx, so
+// that a small (or sparse) file declaring a huge array is refused before anything is allocated.
+ImageSize npyDepthSize(const std::string& path, const NpyHeader& header) {
+  if (header.fortran_order) throw IoError(path, "Fortran-ordered .npy arrays are not supported");
+  const bool shape_ok =
+      (header.shape.size() == 2 || (header.shape.size() == 3 && header.shape[2] == 1)) &&
+      header.shape[0] > 0 && header.shape[1] > 0;
+  if (!shape_ok) throw IoError(path, "expected a depth array of shape (H, W) or (H, W, 1)");
+  const std::uint64_t max_side = kMaxImageSidePx;
+  if (header.shape[0] > max_side || header.shape[1] > max_side) {
+    throw IoError(path, "depth array shape (" + std::to_string(header.shape[0]) + ", " +
+                            std::to_string(header.shape[1]) +
+                            ") exceeds the largest image side of " +
+                            std::to_string(kMaxImageSidePx) + " pixels");
+  }
+  return {static_cast<int>(header.shape[1]), static_cast<int>(header.shape[0])};
+}
+
+// PNG signature and the start of its first chunk, which must be IHDR (PNG spec, 5.2 and 11.2.2):
+// length (4), "IHDR", width (4, big-endian), height (4), bit depth (1), colour type (1).
+constexpr std::size_t kPngHeaderBytes = 26;
+constexpr unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+constexpr int kPngGreyColourType = 0;
+constexpr int kPngDepthBits = 16;
+// Deepest channel of a mask PNG (1, 2, 4 and 8-bit masks are read as they are).
+constexpr int kPngMaskBits = 8;
+
+struct PngHeader {
+  std::uint32_t width = 0, height = 0;
+  int bits = 0, colour_type = 0;
+};
+
+// The IHDR of a PNG file, or nothing when the file does not start with the PNG signature (another
+// format: OpenCV's decoder checks it).
+std::optional<PngHeader> readPngHeader(const std::string& path) {
+  checkReadable(path);
+  std::ifstream in(path, std::ios::binary);
+  unsigned char b[kPngHeaderBytes];
+  if (!in.read(reinterpret_cast<char*>(b), kPngHeaderBytes) ||
+      std::memcmp(b, kPngSignature, sizeof kPngSignature) != 0) {
+    return std::nullopt;
+  }
+  if (std::memcmp(b + 12, "IHDR", 4) != 0) throw IoError(path, "PNG file without an IHDR header");
+  auto big_endian = [&](int at) {
+    return (std::uint32_t{b[at]} << 24) | (std::uint32_t{b[at + 1]} << 16) |
+           (std::uint32_t{b[at + 2]} << 8) | std::uint32_t{b[at + 3]};
+  };
+  return PngHeader{big_endian(16), big_endian(20), b[24], b[25]};
+}
+
+// Each side of a PNG at most kMaxImageSidePx, checked before the decoder allocates (a 1.7 MB PNG
+// declaring 30000x30000 decoded into gigabytes).
+void checkPngSize(const std::string& path, const PngHeader& header, const char* what) {
+  const std::uint32_t max_side = kMaxImageSidePx;
+  if (header.width == 0 || header.height == 0 || header.width > max_side ||
+      header.height > max_side) {
+    throw IoError(path, std::string(what) + " PNG declares " + std::to_string(header.width) + "x" +
+                            std::to_string(header.height) + " pixels; each side must be in [1, " +
+                            std::to_string(kMaxImageSidePx) + "]");
+  }
+}
+
+// The size a depth PNG declares, read from its IHDR without decoding: it must be 16-bit grey (an
+// RGB16 PNG decoded as depth would be a grey mix of its channels) of a size within the cap.
+ImageSize pngDepthSize(const std::string& path) {
+  const auto header = readPngHeader(path);
+  if (!header) throw IoError(path, "not a PNG file (no PNG signature)");
+  if (header->bits != kPngDepthBits || header->colour_type != kPngGreyColourType) {
+    throw IoError(path, "expected a 16-bit single-channel depth PNG, the header says " +
+                            std::to_string(header->bits) + "-bit colour type " +
+                            std::to_string(header->colour_type));
+  }
+  checkPngSize(path, *header, "depth");
+  return {static_cast<int>(header->width), static_cast<int>(header->height)};
+}
+
 }  // namespace
 
+ImageSize readDepthImageSize(const std::string& path) {
+  const std::string ext = fileExtension(path);
+  if (ext == "png") return pngDepthSize(path);
+  if (ext != "npy") throw IoError(path, "a depth image must be a .npy or 16-bit .png file");
+  checkReadable(path);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(path, "cannot open for reading");
+  return npyDepthSize(path, readNpyHeader(path, in));
+}
+
 MaskImage readMaskImage(const std::string& path) {
+  if (const auto header = readPngHeader(path)) {
+    // A 16-bit PNG reduced to 8 bits made every nonzero pixel of a depth image a mask pixel: the
+    // whole scene became the object.
+    if (header->bits > kPngMaskBits) {
+      throw IoError(path, "expected an 8-bit mask PNG, the header says " +
+                              std::to_string(header->bits) + "-bit");
+    }
+    checkPngSize(path, *header, "mask");
+  }
   const cv::Mat image = readWithOpenCv(path, cv::IMREAD_GRAYSCALE);
   MaskImage mask(image.cols, image.rows);
   for (int v = 0; v < image.rows; ++v) {
@@ -141,6 +241,7 @@ void writeMaskImage(const std::string& path, const MaskImage& mask) {
 }
 
 Image<Rgb> readColorImage(const std::string& path) {
+  if (const auto header = readPngHeader(path)) checkPngSize(path, *header, "colour");
   const cv::Mat bgr = readWithOpenCv(path, cv::IMREAD_COLOR);
   Image<Rgb> image(bgr.cols, bgr.rows);
   for (int v = 0; v < bgr.rows; ++v) {
@@ -169,15 +270,7 @@ DepthImage readDepthNpy(const std::string& path, double scale) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(path, "cannot open for reading");
   const NpyHeader header = readNpyHeader(path, in);
-  if (header.fortran_order) throw IoError(path, "Fortran-ordered .npy arrays are not supported");
-  const bool shape_ok =
-      (header.shape.size() == 2 || (header.shape.size() == 3 && header.shape[2] == 1)) &&
-      header.shape[0] > 0 && header.shape[1] > 0;
-  if (!shape_ok) throw IoError(path, "expected a depth array of shape (H, W) or (H, W, 1)");
-  if (header.shape[0] > INT_MAX || header.shape[1] > INT_MAX) {
-    throw IoError(path, "depth array shape (" + std::to_string(header.shape[0]) + ", " +
-                            std::to_string(header.shape[1]) + ") is too large for an image");
-  }
+  const ImageSize size = npyDepthSize(path, header);
   std::size_t item = 0;
   if (header.descr == "<f4") {
     item = 4;
@@ -189,7 +282,7 @@ DepthImage readDepthNpy(const std::string& path, double scale) {
     throw IoError(path, "unsupported .npy dtype '" + header.descr + "' (use <f4, <f8 or <u2)");
   }
   // Before allocating: the shape must fit in the bytes the file holds (rows and columns are each
-  // below 2^31, so the product of the two and the item size cannot overflow 64 bits).
+  // at most kMaxImageSidePx, so the product of the two and the item size cannot overflow).
   const std::uint64_t needed = header.shape[0] * header.shape[1] * item;
   std::error_code ec;
   const std::uint64_t file_size = std::filesystem::file_size(path, ec);
@@ -201,7 +294,7 @@ DepthImage readDepthNpy(const std::string& path, double scale) {
                             std::to_string(needed) + " bytes, the file holds " +
                             std::to_string(available) + " after its header");
   }
-  DepthImage depth(static_cast<int>(header.shape[1]), static_cast<int>(header.shape[0]));
+  DepthImage depth(size.width, size.height);
   std::vector<char> raw(depth.data.size() * item);
   if (!in.read(raw.data(), static_cast<std::streamsize>(raw.size()))) {
     throw IoError(path, "truncated .npy data: expected " + std::to_string(raw.size()) + " bytes");
@@ -245,6 +338,7 @@ void writeDepthNpy(const std::string& path, const DepthImage& depth) {
 }
 
 DepthImage readDepthPng(const std::string& path, double scale) {
+  pngDepthSize(path);  // type and size from the header, before the decoder allocates
   const cv::Mat image = readWithOpenCv(path, cv::IMREAD_ANYDEPTH);
   if (image.type() != CV_16UC1) throw IoError(path, "expected a 16-bit single-channel depth PNG");
   DepthImage depth(image.cols, image.rows);

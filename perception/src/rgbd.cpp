@@ -5,40 +5,74 @@
 #include <limits>
 #include <sstream>
 
+#include <fmt/format.h>
+
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/json.h"
 
 namespace skelgrasp::perception {
 
 void PinholeIntrinsics::validate() const {
-  if (!(fx > 0) || !(fy > 0) || width <= 0 || height <= 0 || !std::isfinite(cx) ||
-      !std::isfinite(cy)) {
-    throw InvalidArgument(
-        "pinhole intrinsics need positive fx, fy, width, height and finite cx, cy");
-  }
+  auto focal = [](const char* name, double f) {
+    if (!(f >= kMinFocalLengthPx && f <= kMaxFocalLengthPx))
+      throw InvalidArgument(fmt::format("{} = {:g} is not a focal length in [{:g}, {:g}] pixels",
+                                        name, f, kMinFocalLengthPx, kMaxFocalLengthPx));
+  };
+  auto side = [](const char* name, int n) {
+    if (n < 1 || n > kMaxImageSidePx)
+      throw InvalidArgument(
+          fmt::format("{} = {} is not an image size in [1, {}] pixels", name, n, kMaxImageSidePx));
+  };
+  auto centre = [](const char* name, double c, int size) {
+    const double margin = kMaxPrincipalPointOffImages * size;
+    if (!(c >= -margin && c <= size + margin))
+      throw InvalidArgument(fmt::format(
+          "{} = {:g} puts the principal point more than {:g} image size(s) off the {}-pixel image",
+          name, c, kMaxPrincipalPointOffImages, size));
+  };
+  focal("fx", fx);
+  focal("fy", fy);
+  side("width", width);
+  side("height", height);
+  centre("cx", cx, width);
+  centre("cy", cy, height);
 }
 
-PinholeIntrinsics readIntrinsicsJson(const std::string& path) {
-  const nlohmann::json j = readJsonFile(path);
+PinholeIntrinsics intrinsicsFromJson(const nlohmann::json& j, const std::string& path) {
+  if (!j.is_object()) throw IoError(path, "intrinsics must be a JSON object");
   auto get = [&](const std::string& key) -> double {
     for (const std::string& k : {key, "_" + key}) {
-      if (j.contains(k) && j[k].is_number()) return j[k].get<double>();
+      if (!j.contains(k)) continue;
+      if (!j[k].is_number()) throw IoError(path, "intrinsics '" + k + "' is not a number");
+      return j[k].get<double>();
     }
     throw IoError(path, "intrinsics lack a numeric '" + key + "'");
+  };
+  auto size = [&](const std::string& key) -> int {
+    const double n = get(key);
+    if (!(n >= 1 && n <= kMaxImageSidePx) || n != std::floor(n))
+      throw IoError(path, fmt::format("intrinsics {} = {:g} is not a whole number of pixels in "
+                                      "[1, {}]",
+                                      key, n, kMaxImageSidePx));
+    return static_cast<int>(n);
   };
   PinholeIntrinsics k;
   k.fx = get("fx");
   k.fy = get("fy");
   k.cx = get("cx");
   k.cy = get("cy");
-  k.width = static_cast<int>(get("width"));
-  k.height = static_cast<int>(get("height"));
+  k.width = size("width");
+  k.height = size("height");
   try {
     k.validate();
   } catch (const InvalidArgument& e) {
-    throw IoError(path, e.what());
+    throw IoError(path, std::string("intrinsics ") + e.what());
   }
   return k;
+}
+
+PinholeIntrinsics readIntrinsicsJson(const std::string& path) {
+  return intrinsicsFromJson(readJsonFile(path), path);
 }
 
 Pose readTransformText(const std::string& path) {

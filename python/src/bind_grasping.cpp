@@ -48,6 +48,7 @@ Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std
           bool alternative_preshapes) {
   if (planner != "skeleton" && planner != "surface")
     throw InvalidArgument("planner: '" + planner + "' is not skeleton or surface");
+  checkTimeout(timeout_s);
   ranking::PlanOptions options;
   options.planner = ranking::parsePlanner(planner);
   grasping::HypothesisParams hypothesis;

@@ -106,6 +106,7 @@ py::object run(const Cloud& cloud, const HandPtr& hand, const py::object& object
                const std::optional<std::string>& robustness_screen_by,
                std::optional<int> robustness_confirm_samples, std::optional<double> robustness_mu,
                bool robust_refine, std::optional<double> robust_refine_below_r) {
+  checkTimeout(timeout_s);
   pipeline::RunParams p;
   p.robust_ranking = robustRankingParams(
       robustness, robustness_samples, robustness_variant, robustness_top_k, robustness_screen,

@@ -101,7 +101,7 @@ py::list score(const Mesh& mesh, const HandPtr& hand, const py::object& grasps, 
   const std::vector<Grasp> list = graspsOf(grasps);
   const auto quality = grasping::withHandContactModel(
       qualityParams(mu, fc_test, reference_compat, torsional_friction), *hand);
-  if (robustness_samples < 0) throw InvalidArgument("robustness_samples: must be >= 0");
+  checkSamples("robustness_samples", robustness_samples, 0);
   ranking::RobustnessParams robustness;
   robustness.samples = robustness_samples;
   robustness.variant = ranking::parseRobustnessVariant(robustness_variant);
@@ -165,13 +165,23 @@ py::object scoreGraspsFile(const Mesh& mesh, const HandPtr& hand, const py::obje
     source = grasps.cast<std::string>();
     file = readJsonFile(source);
   } else {
-    const std::string text = py::module_::import("json").attr("dumps")(grasps).cast<std::string>();
+    // allow_nan=False: NaN or infinity would be written as a bare NaN that no JSON parser reads
+    // (nlohmann's raw parse error reached the caller as RuntimeError).
+    std::string text;
+    try {
+      text = py::module_::import("json")
+                 .attr("dumps")(grasps, py::arg("allow_nan") = false)
+                 .cast<std::string>();
+    } catch (py::error_already_set& e) {
+      if (!e.matches(PyExc_ValueError)) throw;
+      throw InvalidArgument("grasps: a number is not finite (NaN or infinity)");
+    }
     file = nlohmann::json::parse(text);
   }
   evaluation::ScoreParams params;
   params.frictions = mu;
   params.compute_robustness = robustness_samples > 0;
-  if (robustness_samples < 0) throw InvalidArgument("robustness_samples: must be >= 0");
+  checkSamples("robustness_samples", robustness_samples, 0);
   if (params.compute_robustness) params.robustness.samples = robustness_samples;
   params.robustness.variant = ranking::parseRobustnessVariant(robustness_variant);
   params.robustness.seed = seed;
@@ -180,7 +190,14 @@ py::object scoreGraspsFile(const Mesh& mesh, const HandPtr& hand, const py::obje
   params.closing.contact_patch = grasping::parseContactPatch(contact_patch);
   checkTorsionalFriction(torsional_friction);
   params.quality.torsional_friction_m = torsional_friction;
-  const auto placements = grasping::readGraspPlacements(file, *hand, object);
+  std::vector<grasping::GraspPlacement> placements;
+  try {
+    placements = grasping::readGraspPlacements(file, *hand, object);
+  } catch (const InvalidArgument& e) {
+    // As `skelgrasp score`: a file's problems name the file.
+    if (py::isinstance<py::str>(grasps)) throw IoError(source, e.what());
+    throw;
+  }
   nlohmann::json out;
   {
     py::gil_scoped_release release;

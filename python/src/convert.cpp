@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "skelgrasp/common/error.h"
+#include "skelgrasp/ranking/limits.h"
 #include "skelgrasp/skeleton/output.h"
 
 namespace skelgrasp::python {
@@ -159,11 +160,9 @@ ranking::RobustRankingParams robustRankingParams(
     const std::optional<std::string>& screen_by, std::optional<int> confirm_samples,
     std::optional<double> mu, std::uint64_t seed, bool refine,
     std::optional<double> refine_below_r) {
-  if (samples < 1) throw InvalidArgument("robustness_samples: must be >= 1");
-  if (screen_samples && *screen_samples < 1)
-    throw InvalidArgument("robustness_screen_samples: must be >= 1");
-  if (confirm_samples && *confirm_samples < 0)
-    throw InvalidArgument("robustness_confirm_samples: must be >= 0");
+  checkSamples("robustness_samples", samples, 1);
+  if (screen_samples) checkSamples("robustness_screen_samples", *screen_samples, 1);
+  if (confirm_samples) checkSamples("robustness_confirm_samples", *confirm_samples, 0);
   if (refine_below_r && !(*refine_below_r >= 0 && *refine_below_r <= 1))
     throw InvalidArgument("robust_refine_below_r: must be in [0, 1]");
   if (mu && !(std::isfinite(*mu) && *mu >= 0))
@@ -211,6 +210,18 @@ grasping::QualityParams qualityParams(double mu, const std::string& fc_test, boo
   q.reference_compat = reference_compat;
   q.torsional_friction_m = torsional_friction;
   return q;
+}
+
+void checkSamples(const char* name, int value, int min) {
+  if (value < min || static_cast<std::uint64_t>(value) > ranking::kMaxRobustnessSamples)
+    throw InvalidArgument(fmt::format("{}: {} is outside [{}, {}]", name, value, min,
+                                      ranking::kMaxRobustnessSamples));
+}
+
+void checkTimeout(double timeout_s) {
+  if (!(std::isfinite(timeout_s) && timeout_s >= 0 && timeout_s <= ranking::kMaxPlanTimeoutS))
+    throw InvalidArgument(fmt::format("timeout_s: {} is not a finite number of seconds in [0, {}]",
+                                      timeout_s, ranking::kMaxPlanTimeoutS));
 }
 
 void checkTorsionalFriction(const std::optional<double>& torsional_friction) {

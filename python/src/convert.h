@@ -112,6 +112,11 @@ ranking::RobustRankingParams robustRankingParams(bool robustness, int samples,
 py::list contactsList(const std::vector<grasping::Contact>& contacts);
 
 // A soft-finger torsion length from Python: None, or finite and >= 0 (else InvalidArgument).
+// A count of robustness samples in [min, ranking::kMaxRobustnessSamples], the command line's
+// range: a billion samples would run for days.
+void checkSamples(const char* name, int value, int min);
+// timeout_s of plan and run: finite, in [0, ranking::kMaxPlanTimeoutS] (0 = none).
+void checkTimeout(double timeout_s);
 void checkTorsionalFriction(const std::optional<double>& torsional_friction);
 
 // The quality keywords plan(), close() and score() share (--mu, --fc-test, --reference-compat,

@@ -4,6 +4,7 @@
 #include <numeric>
 
 #include "skelgrasp/common/logging.h"
+#include "skelgrasp/geometry/mesh_validity.h"
 
 namespace skelgrasp::ranking {
 namespace {
@@ -98,6 +99,14 @@ GraspPlan planGrasps(const grasping::GraspObject& object, const grasping::HandMo
                      const PlanOptions& options, const PlanInputs& inputs) {
   options.validate();
   GraspPlan plan;
+  // A mesh without area is bad input for either planner (the alpha wrap crashed on it, the
+  // surface planner sampled it until its time limit): refused as the skeleton stage refuses it.
+  if (const std::string problem = geometry::degenerateMeshProblem(object.mesh());
+      !problem.empty()) {
+    plan.status = Status::Make(StatusCode::kInvalidInput, problem);
+    plan.skeleton_failed = true;
+    return plan;
+  }
   grasping::PlanResult& planned = plan;
   const skeleton::SkeletonResult* skeleton = nullptr;
   if (options.planner == Planner::kSkeleton) {

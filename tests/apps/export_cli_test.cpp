@@ -131,9 +131,11 @@ INSTANTIATE_TEST_SUITE_P(Hands, ExportCli,
 TEST(ExportCliErrors, BadInputIsOneLineAndExitTwoAndWritesNothing) {
   const std::string dir = test::tempDir("cli_export_bad");
   std::ofstream(dir + "/broken.json") << "{\"hand\": \"sdh\", \"grasps\": [";
-  std::ofstream(dir + "/nograsps.json") << "{\"hand\": \"sdh\"}";
+  // With a schema: files without one are refused before their fields are read.
+  std::ofstream(dir + "/nograsps.json") << R"({"schema": "skelgrasp.grasps/3", "hand": "sdh"})";
   std::ofstream(dir + "/badjoint.json")
-      << R"({"hand": "sdh", "grasps": [{"id": 0, "preshape": "power", "retreat_m": 0,
+      << R"({"schema": "skelgrasp.grasps/3",
+           "hand": "sdh", "grasps": [{"id": 0, "preshape": "power", "retreat_m": 0,
            "epsilon": 0.1, "hand_pose": {"position": [0, 0, 0], "quaternion_wxyz": [1, 0, 0, 0]},
            "joints": {"no_such_joint": 0.3}}]})";
   const std::vector<std::pair<std::string, std::string>> cases = {

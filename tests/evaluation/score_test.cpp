@@ -201,7 +201,16 @@ TEST(GraspsFile, ReadsPlanAndRunFilesAndSaysWhatIsWrong) {
       << message(no_pose);
   nlohmann::json zero_quaternion = plan;
   zero_quaternion["grasps"][0]["hand_pose"]["quaternion_wxyz"] = {0, 0, 0, 0};
-  EXPECT_NE(message(zero_quaternion).find("zero quaternion"), std::string::npos);
+  EXPECT_NE(message(zero_quaternion).find("quaternion has length 0, not 1"), std::string::npos)
+      << message(zero_quaternion);
+  // The tolerance of --pose: a quaternion off unit length by more is refused, not normalised.
+  nlohmann::json long_quaternion = plan;
+  long_quaternion["grasps"][0]["hand_pose"]["quaternion_wxyz"] = {1.01, 0, 0, 0};
+  EXPECT_NE(message(long_quaternion).find("length 1.01"), std::string::npos)
+      << message(long_quaternion);
+  nlohmann::json far = plan;
+  far["grasps"][0]["hand_pose"]["position"] = {0, 0, 1001};
+  EXPECT_NE(message(far).find("limit of 100 m"), std::string::npos) << message(far);
   nlohmann::json bad_preshape = plan;
   bad_preshape["grasps"][0]["preshape"] = "fist";
   EXPECT_NE(message(bad_preshape).find("grasp 0"), std::string::npos) << message(bad_preshape);

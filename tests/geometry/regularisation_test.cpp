@@ -282,5 +282,38 @@ TEST(Regularisation, HandlesKitMeshesWithInvertedWindingAndSeveralParts) {
   }
 }
 
+TEST(Regularisation, RefusesMeshesWithoutAreaBeforeCgal) {
+  // Collinear corners (the alpha wrap died with SIGSEGV on this one), coincident corners, and
+  // faces that repeat one vertex: every method refuses them in the status, none throws.
+  TriangleMesh collinear;
+  collinear.vertices = {{0, 0, 0}, {0.05, 0, 0}, {0.1, 0, 0}};
+  collinear.faces = {{0, 1, 2}};
+  TriangleMesh point;
+  point.vertices = {{0.1, 0.2, 0.3}, {0.1, 0.2, 0.3}, {0.1, 0.2, 0.3}};
+  point.faces = {{0, 1, 2}};
+  TriangleMesh repeated;
+  repeated.vertices = {{0, 0, 0}, {0.1, 0, 0}, {0, 0.1, 0}, {0, 0, 0.1}};
+  repeated.faces = std::vector<Eigen::Vector3i>(10, Eigen::Vector3i(0, 0, 0));
+  for (const auto method : {RegularisationMethod::kAlphaWrap, RegularisationMethod::kAuto,
+                            RegularisationMethod::kNone}) {
+    RegularisationParams params;
+    params.method = method;
+    params.remesh_target_edge_m = 0.001;
+    for (const TriangleMesh* mesh : {&collinear, &point, &repeated}) {
+      const auto r = regularise(*mesh, params);
+      EXPECT_EQ(r.status.code, StatusCode::kInvalidInput) << toString(method);
+      EXPECT_NE(r.status.message.find("degenerate mesh"), std::string::npos) << r.status.message;
+    }
+  }
+}
+
+TEST(Regularisation, WrapsAFlatMeshWithArea) {
+  // A flat square has no volume but has area: its wrap is a thin closed shell, not a refusal.
+  TriangleMesh flat;
+  flat.vertices = {{0, 0, 0}, {0.1, 0, 0}, {0.1, 0.1, 0}, {0, 0.1, 0}};
+  flat.faces = {{0, 1, 2}, {0, 2, 3}, {0, 0, 1}};  // plus one degenerate face, skipped by the wrap
+  expectClosedSingleOutward(regularise(flat));
+}
+
 }  // namespace
 }  // namespace skelgrasp::geometry

@@ -93,6 +93,65 @@ TEST(Rgbd, CaptureDescriptionLoadsDepthMaskAndPose) {
   EXPECT_THROW(loadCapture(dir + "/zeros.json"), IoError);
 }
 
+TEST(Rgbd, InlineIntrinsicsTakeAutolabKeysAndPlausibleValuesOnly) {
+  const std::string dir = test::tempDir("capture_intrinsics");
+  writeDepthNpy(dir + "/depth.npy", DepthImage(8, 6, 0.7f));
+  // The docs allow "_fx"-style keys inline as in .intr files.
+  std::ofstream(dir + "/autolab.json") << R"({"depth": "depth.npy", "intrinsics": {"_fx": 100,
+             "_fy": 100, "_cx": 3.5, "_cy": 2.5, "_width": 8, "_height": 6}})";
+  EXPECT_EQ(readCaptureDescription(dir + "/autolab.json").intrinsics.width, 8);
+  const auto refused = [&](const std::string& intrinsics, const std::string& expected) {
+    SCOPED_TRACE(intrinsics);
+    std::ofstream(dir + "/bad.json")
+        << R"({"depth": "depth.npy", "intrinsics": )" << intrinsics << "}";
+    try {
+      readCaptureDescription(dir + "/bad.json");
+      ADD_FAILURE() << "accepted";
+    } catch (const IoError& e) {
+      EXPECT_EQ(e.path(), dir + "/bad.json");
+      EXPECT_NE(e.problem().find(expected), std::string::npos) << e.what();
+    }
+  };
+  const std::string rest = R"("width": 8, "height": 6})";
+  refused(R"({"fx": 100, "fy": 100, "cx": 1e308, "cy": 2.5, )" + rest, "cx = 1e+308");
+  refused(R"({"fx": 100, "fy": 100, "cx": -1e6, "cy": 2.5, )" + rest, "cx = -1e+06");
+  refused(R"({"fx": 1e308, "fy": 100, "cx": 3.5, "cy": 2.5, )" + rest, "fx = 1e+308");
+  refused(R"({"fx": 1e-308, "fy": 100, "cx": 3.5, "cy": 2.5, )" + rest, "fx = 1e-308");
+  refused(R"({"fx": 100, "fy": 100, "cx": 3.5, "cy": 2.5, "width": 8.5, "height": 6})",
+          "width = 8.5 is not a whole number");
+  refused(R"({"fx": 100, "fy": 100, "cx": 3.5, "cy": 2.5, "width": 8, "height": 4e9})",
+          "height = 4e+09 is not a whole number of pixels in [1, 20000]");
+  refused(R"({"fx": "100", "fy": 100, "cx": 3.5, "cy": 2.5, )" + rest, "'fx' is not a number");
+  refused(R"({"fy": 100, "cx": 3.5, "cy": 2.5, )" + rest, "lack a numeric 'fx'");
+}
+
+TEST(Rgbd, DepthImageSizeComesFromTheHeaderAndIsCapped) {
+  const std::string dir = test::tempDir("depth_size");
+  writeDepthNpy(dir + "/depth.npy", DepthImage(8, 6, 0.7f));
+  const ImageSize size = readDepthImageSize(dir + "/depth.npy");
+  EXPECT_EQ(size.width, 8);
+  EXPECT_EQ(size.height, 6);
+  // A header declaring 30000 x 30000 with four pixels of data: refused by the cap, not by the
+  // data's length (a sparse file would hold it).
+  std::string header = "{'descr': '<f4', 'fortran_order': False, 'shape': (30000, 30000), }";
+  while ((10 + header.size() + 1) % 64 != 0) header += ' ';
+  header += '\n';
+  std::ofstream huge(dir + "/huge.npy", std::ios::binary);
+  huge << std::string("\x93NUMPY\x01\x00", 8) << static_cast<char>(header.size() & 0xff)
+       << static_cast<char>(header.size() >> 8) << header << std::string(16, '\0');
+  huge.close();
+  for (const auto& read : {+[](const std::string& p) { readDepthImageSize(p); },
+                           +[](const std::string& p) { readDepthNpy(p); }}) {
+    try {
+      read(dir + "/huge.npy");
+      ADD_FAILURE() << "accepted";
+    } catch (const IoError& e) {
+      EXPECT_NE(e.problem().find("exceeds the largest image side of 20000"), std::string::npos)
+          << e.what();
+    }
+  }
+}
+
 TEST(Rgbd, PrimesenseCalibrationLooksDown) {
   SKELGRASP_REQUIRE_SHARED_DATA();
   const std::string calib = test::sharedDataDir() + "/captures/gqcnn_primesense/calib/";

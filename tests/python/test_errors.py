@@ -1,5 +1,7 @@
 """Every error path raises the right exception with the message the CLI prints, and nothing
 crashes the interpreter."""
+import json
+
 import numpy as np
 import pytest
 
@@ -104,3 +106,50 @@ def test_bad_log_level():
     with pytest.raises(ValueError):
         skelgrasp.set_log_level("loud")
     skelgrasp.set_log_level("warn")
+
+
+def test_mesh_without_area_is_value_error_not_a_crash(sdh):
+    # Ten faces that repeat one vertex, and one face on a line: the alpha wrap used to kill the
+    # interpreter (SIGSEGV); the skeleton stage refuses them first.
+    rng = np.random.default_rng(7)
+    vertices = rng.uniform(-0.05, 0.05, size=(10, 3))
+    for faces in (np.zeros((10, 3), dtype=np.int64), [[0, 1, 2]]):
+        mesh = skelgrasp.Mesh(vertices if len(faces) == 10 else
+                              np.array([[0, 0, 0], [0.05, 0, 0], [0.1, 0, 0]], dtype=float), faces)
+        with pytest.raises(ValueError, match="degenerate mesh: no face has a positive area"):
+            skelgrasp.plan(mesh, sdh, max_grasps=1, timeout_s=5)
+
+
+def test_plan_timeout_and_samples_take_the_cli_ranges(capsule, sdh):
+    for timeout in (float("nan"), -5.0, float("inf"), 1e7):
+        with pytest.raises(ValueError, match="timeout_s: "):
+            skelgrasp.plan(capsule, sdh, timeout_s=timeout)
+    with pytest.raises(ValueError, match="robustness_samples: 1000000000 is outside"):
+        skelgrasp.plan(capsule, sdh, robustness_samples=10**9, timeout_s=20)
+    with pytest.raises(ValueError, match="robustness_screen_samples: "):
+        skelgrasp.plan(capsule, sdh, robustness_screen_samples=10**9)
+    with pytest.raises(ValueError, match="robustness_samples: "):
+        skelgrasp.score(capsule, sdh, [], robustness_samples=10**9)
+
+
+def test_surface_planner_refuses_a_mesh_without_area(sdh):
+    mesh = skelgrasp.Mesh(np.array([[0, 0, 0], [0.05, 0, 0], [0.1, 0, 0]], dtype=float),
+                          [[0, 1, 2]])
+    with pytest.raises(ValueError, match="degenerate mesh"):
+        skelgrasp.plan(mesh, sdh, planner="surface", max_grasps=1, timeout_s=5)
+
+
+def test_score_grasps_names_what_is_wrong_in_a_dict_or_a_file(tmp_path, capsule, sdh):
+    grasp = {"id": 0, "hand_pose": {"position": [float("nan"), 0, 0],
+                                    "quaternion_wxyz": [1, 0, 0, 0]}}
+    document = {"schema": "skelgrasp.grasps/3", "hand": "sdh", "grasps": [grasp]}
+    # NaN in a dict was nlohmann's raw parse error as RuntimeError.
+    with pytest.raises(ValueError, match="grasps: a number is not finite"):
+        skelgrasp.score_grasps(capsule, sdh, document)
+    grasp["hand_pose"]["position"] = [0, 0, 1001]
+    with pytest.raises(ValueError, match="limit of 100 m"):
+        skelgrasp.score_grasps(capsule, sdh, document)
+    path = tmp_path / "far.json"
+    path.write_text(json.dumps(document))
+    with pytest.raises(OSError, match=f"^{path}: grasp 0: "):
+        skelgrasp.score_grasps(capsule, sdh, str(path))

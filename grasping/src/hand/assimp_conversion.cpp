@@ -37,7 +37,15 @@ void appendNode(const aiScene* scene, const aiNode* node, const aiMatrix4x4& par
 }  // namespace
 
 TriangleMesh loadMeshFile(const std::string& path, const Eigen::Vector3d& scale) {
-  if (!std::filesystem::exists(path)) throw IoError(path, "mesh file not found");
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw IoError(path, "mesh file not found");
+  if (!fs::is_regular_file(path, ec)) throw IoError(path, "link mesh is not a regular file");
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (ec || size > kMaxLinkMeshBytes) {
+    throw IoError(path, "link mesh of " + std::to_string(size) + " bytes exceeds the limit of " +
+                            std::to_string(kMaxLinkMeshBytes) + " bytes");
+  }
   Assimp::Importer importer;
   // DAE files carry their own unit and up axis; assimp applies them to the node transforms.
   const aiScene* scene = importer.ReadFile(

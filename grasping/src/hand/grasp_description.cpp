@@ -5,11 +5,14 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <map>
+#include <sstream>
 #include <string>
 
 #include "hand_loading.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/json.h"
+#include "skelgrasp/common/pose.h"
 
 namespace skelgrasp::grasping::internal {
 namespace {
@@ -20,6 +23,14 @@ using nlohmann::json;
 // million perturbed executions per candidate would be hours, and no plan has a billion grasps.
 constexpr std::uint64_t kMaxBudgetSamples = 1'000'000;
 constexpr std::uint64_t kMaxBudgetCount = 1'000'000'000;
+// Closing steps: below these a closing takes millions of steps, above them a finger jumps through
+// a thin object in one step (defaults 0.02 rad and 0.5 mm).
+constexpr double kMinClosingStepRad = 1e-4;
+constexpr double kMaxClosingStepRad = 0.5;
+constexpr double kMinClosingStepM = 1e-5;
+constexpr double kMaxClosingStepM = 0.05;
+// Torsional friction length, in metres: the range of --torsional-friction.
+constexpr double kMaxTorsionalFrictionM = 1e3;
 
 class DescriptionReader {
  public:
@@ -38,6 +49,22 @@ class DescriptionReader {
     if (i < 0) fail(where + ": unknown joint '" + name + "'");
     if (!hand_.joints()[i].movable()) fail(where + ": joint '" + name + "' is fixed");
     return i;
+  }
+  // j[key] (fallback when absent): a number in [min, max].
+  double numberIn(const json& j, const char* key, double fallback, double min, double max) const {
+    if (!j.contains(key)) return fallback;
+    if (!j.at(key).is_number()) fail(std::string("'") + key + "' must be a number");
+    const double v = j.at(key).get<double>();
+    if (!(v >= min && v <= max)) {
+      fail(std::string("'") + key + "' is " + fmtNumber(v) + ", outside [" + fmtNumber(min) + ", " +
+           fmtNumber(max) + "]");
+    }
+    return v;
+  }
+  static std::string fmtNumber(double v) {
+    std::ostringstream text;
+    text << v;
+    return text.str();
   }
   double positive(const json& j, const char* key, double fallback) const {
     if (!j.contains(key)) return fallback;
@@ -122,6 +149,32 @@ class DescriptionReader {
     return t;
   }
 
+  // A grasp centre point's pose: within kMaxHandLengthM of its link, a rotation of unit length
+  // within --pose's tolerance (a zero quaternion was normalised to NaN, [2, 0, 0, 0] silently).
+  void checkGcp(const json& gcp, const std::string& where) const {
+    const auto vector = [&](const char* key, std::size_t size) {
+      const json& v = gcp.at(key);
+      if (!v.is_array() || v.size() != size) fail(where + " gcp: '" + key + "' has a wrong size");
+      Eigen::VectorXd out(static_cast<Eigen::Index>(size));
+      for (std::size_t i = 0; i < size; ++i) {
+        if (!v[i].is_number() || !std::isfinite(v[i].get<double>()))
+          fail(where + " gcp: '" + key + "' is not finite");
+        out[static_cast<Eigen::Index>(i)] = v[i].get<double>();
+      }
+      return out;
+    };
+    const double offset = vector("position", 3).stableNorm();
+    if (!(offset <= kMaxHandLengthM)) {
+      fail(where + " gcp: position is " + fmtNumber(offset) + " m from its link, more than " +
+           fmtNumber(kMaxHandLengthM) + " m");
+    }
+    const double length = vector("quaternion_wxyz", 4).stableNorm();
+    if (!(std::abs(length - 1) <= kPoseUnitTolerance)) {
+      fail(where + " gcp: quaternion has length " + fmtNumber(length) + ", not 1 within " +
+           fmtNumber(kPoseUnitTolerance));
+    }
+  }
+
   Preshape preshape(const std::string& name, const json& j) const {
     Preshape p;
     p.name = name;
@@ -141,6 +194,7 @@ class DescriptionReader {
     hand_.normalise(p.joints);
     const json& gcp = j.at("gcp");
     p.gcp_link = link(gcp.at("link").get<std::string>(), where + " gcp");
+    checkGcp(gcp, where);
     p.gcp_in_link = poseFromJson(gcp);
     // "power" and "precision" are of their own type; another preshape is an alternative of the
     // type it names, or none.
@@ -187,6 +241,16 @@ void applyGraspDescription(HandModel& hand, const std::string& description_json,
       reader.fail("schema must be \"skelgrasp.grasp_description/1\" (got \"" + schema + "\")");
     }
     std::vector<Finger> fingers;
+    // Each joint is driven by one finger, as a drive or as a follower: two fingers driving one
+    // joint fight over it, and a joint following its own follower is a coupling cycle.
+    std::map<int, std::string> driven_by;
+    const auto drive_once = [&](int joint, const std::string& where) {
+      const auto [it, inserted] = driven_by.emplace(joint, where);
+      if (!inserted) {
+        reader.fail(where + ": joint '" + hand.joints()[joint].name + "' is already driven by " +
+                    it->second);
+      }
+    };
     for (const auto& f : d.at("fingers")) {
       Finger finger;
       finger.name = f.at("name").get<std::string>();
@@ -194,13 +258,16 @@ void applyGraspDescription(HandModel& hand, const std::string& description_json,
       for (const auto& drive_json : f.at("joints")) {
         FingerDrive drive;
         drive.joint = reader.movableJoint(drive_json.at("joint").get<std::string>(), where);
+        drive_once(drive.joint, where);
         drive.direction = drive_json.value("direction", 1.0);
         if (drive.direction != 1.0 && drive.direction != -1.0)
           reader.fail(where + ": direction must be 1 or -1");
         for (const auto& follower : drive_json.value("followers", json::array())) {
-          drive.followers.emplace_back(
-              reader.movableJoint(follower.at("joint").get<std::string>(), where),
-              follower.value("ratio", 1.0));
+          const int joint = reader.movableJoint(follower.at("joint").get<std::string>(), where);
+          drive_once(joint, where);
+          const double ratio =
+              reader.numberIn(follower, "ratio", 1.0, -kMaxJointLimit, kMaxJointLimit);
+          drive.followers.emplace_back(joint, ratio);
         }
         finger.drives.push_back(std::move(drive));
       }
@@ -245,12 +312,14 @@ void applyGraspDescription(HandModel& hand, const std::string& description_json,
 
     ClosingDefaults closing;
     const json c = d.value("closing", json::object());
-    closing.step_rad = reader.positive(c, "step_rad", closing.step_rad);
-    closing.step_m = reader.positive(c, "step_m", closing.step_m);
+    closing.step_rad =
+        reader.numberIn(c, "step_rad", closing.step_rad, kMinClosingStepRad, kMaxClosingStepRad);
+    closing.step_m =
+        reader.numberIn(c, "step_m", closing.step_m, kMinClosingStepM, kMaxClosingStepM);
     closing.palm_contact_distance_m =
         reader.positive(c, "palm_contact_distance_m", closing.palm_contact_distance_m);
-    closing.torsional_friction_m = c.value("torsional_friction_m", closing.torsional_friction_m);
-    if (!(closing.torsional_friction_m >= 0)) reader.fail("'torsional_friction_m' must be >= 0");
+    closing.torsional_friction_m = reader.numberIn(
+        c, "torsional_friction_m", closing.torsional_friction_m, 0, kMaxTorsionalFrictionM);
 
     hand.setDescription(std::move(fingers), std::move(palm), std::move(preshapes), thresholds,
                         precision_m, power_m, closing);

@@ -10,21 +10,32 @@
 #include "skelgrasp/common/logging.h"
 
 namespace skelgrasp::grasping {
-namespace {
 
-std::string readText(const std::string& path) {
+namespace internal {
+
+std::string readBoundedText(const std::string& path, std::uintmax_t max_bytes,
+                            const std::string& what) {
   namespace fs = std::filesystem;
-  if (!fs::exists(path)) throw IoError(path, "no such file");
-  if (fs::is_directory(path)) throw IoError(path, "is a directory");
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw IoError(path, "no such file");
+  if (fs::is_directory(path, ec)) throw IoError(path, "is a directory");
+  // A device or a pipe (/dev/zero) has no size to check and may never end.
+  if (!fs::is_regular_file(path, ec)) throw IoError(path, "is not a regular file");
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (ec) throw IoError(path, "cannot read file size: " + ec.message());
+  if (size > max_bytes) {
+    throw IoError(path, what + " of " + std::to_string(size) + " bytes exceeds the limit of " +
+                            std::to_string(max_bytes) + " bytes");
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(path, "cannot open for reading");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (text.str().empty()) throw IoError(path, "file is empty");
-  return text.str();
+  std::string text(static_cast<std::size_t>(size), '\0');
+  if (!in.read(text.data(), static_cast<std::streamsize>(size))) throw IoError(path, "read failed");
+  if (text.empty()) throw IoError(path, "file is empty");
+  return text;
 }
 
-}  // namespace
+}  // namespace internal
 
 namespace {
 
@@ -48,8 +59,16 @@ HandModel buildHand(const std::string& urdf_xml, const std::string& description_
   } catch (const nlohmann::json::exception&) {
     // Reported with its position by applyGraspDescription below.
   }
-  HandModel hand(parsed.name, title, std::move(parsed.links), std::move(parsed.joints),
-                 parsed.root_link);
+  // The tree's own checks (a kinematic loop, a link not connected to the root) are about the
+  // URDF: they name its file.
+  HandModel hand = [&] {
+    try {
+      return HandModel(parsed.name, title, std::move(parsed.links), std::move(parsed.joints),
+                       parsed.root_link);
+    } catch (const InvalidArgument& e) {
+      throw IoError(urdf_origin, e.what());
+    }
+  }();
   internal::applyGraspDescription(hand, description_json, origin);
   log().debug("hand '{}': {} links, {} joints, {} fingers, {} drives", hand.name(),
               hand.links().size(), hand.joints().size(), hand.fingers().size(), hand.numDrives());
@@ -64,8 +83,9 @@ HandModel loadHandFromText(const std::string& urdf_xml, const std::string& descr
 }
 
 HandModel loadHand(const std::string& urdf_path, const std::string& description_path) {
-  const std::string urdf = readText(urdf_path);
-  const std::string description = readText(description_path);
+  const std::string urdf = internal::readBoundedText(urdf_path, internal::kMaxUrdfBytes, "URDF");
+  const std::string description = internal::readBoundedText(
+      description_path, internal::kMaxGraspDescriptionBytes, "grasp description");
   const std::string dir = std::filesystem::path(urdf_path).parent_path().string();
   return buildHand(urdf, description, dir.empty() ? "." : dir, urdf_path, description_path);
 }

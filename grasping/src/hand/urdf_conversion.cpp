@@ -2,6 +2,8 @@
 #include <console_bridge/console.h>
 #include <urdf_parser/urdf_parser.h>
 
+#include <fmt/format.h>
+
 #include <filesystem>
 #include <map>
 
@@ -43,12 +45,48 @@ std::string resolveMeshPath(const std::string& filename, const std::string& base
   return (fs::path(base_dir) / path).string();
 }
 
+// Ranges of the numbers a hand's URDF may hold besides kMaxHandLengthM and kMaxJointLimit
+// (hand_loading.h); shapes must have a size.
+// Mesh scales: 0.001 turns millimetre meshes into metres; beyond these no mesh is a hand part.
+constexpr double kMinMeshScale = 1e-6;
+constexpr double kMaxMeshScale = 1e3;
+// A joint axis shorter than this has no direction.
+constexpr double kMinAxisNorm = 1e-9;
+
+// `value` (named `what`) is finite and in [min, max], else IoError(origin, ...).
+void checkRange(const std::string& origin, const std::string& what, double value, double min,
+                double max) {
+  if (!(value >= min && value <= max)) {
+    throw IoError(origin, fmt::format("{} is {:g}, outside [{:g}, {:g}]", what, value, min, max));
+  }
+}
+
+// A shape's or a joint's origin: finite and within kMaxHandLengthM of its parent's frame.
+void checkOrigin(const std::string& origin, const std::string& what, const urdf::Pose& pose) {
+  const Eigen::Vector3d p(pose.position.x, pose.position.y, pose.position.z);
+  const Eigen::Vector4d q(pose.rotation.w, pose.rotation.x, pose.rotation.y, pose.rotation.z);
+  if (!q.allFinite() || !(q.norm() > 0))
+    throw IoError(origin, what + " origin has no finite rotation");
+  checkRange(origin, what + " origin offset (m)", p.stableNorm(), 0, kMaxHandLengthM);
+}
+
 }  // namespace
 
 ParsedUrdf parseUrdf(const std::string& urdf_xml, const std::string& base_dir,
                      const std::string& origin) {
   // urdfdom reports through console_bridge on stderr; we report one error line ourselves.
   console_bridge::setLogLevel(console_bridge::CONSOLE_BRIDGE_LOG_NONE);
+  // Before urdfdom builds its tree (and we our per-link tables): count the elements in the text.
+  for (const char* element : {"<link", "<joint"}) {
+    std::size_t count = 0;
+    for (auto at = urdf_xml.find(element); at != std::string::npos;
+         at = urdf_xml.find(element, at + 1)) {
+      if (++count > kMaxHandLinks) {
+        throw IoError(origin, std::string("URDF has more than ") + std::to_string(kMaxHandLinks) +
+                                  " " + (element + 1) + " elements");
+      }
+    }
+  }
   urdf::ModelInterfaceSharedPtr model;
   try {
     model = urdf::parseURDF(urdf_xml);
@@ -72,6 +110,8 @@ ParsedUrdf parseUrdf(const std::string& urdf_xml, const std::string& base_dir,
     link.name = l->name;
     for (const auto& c : l->collision_array) {
       if (!c || !c->geometry) continue;
+      const std::string what = "link '" + l->name + "' collision";
+      checkOrigin(origin, what, c->origin);
       CollisionShape shape;
       shape.origin = toPose(c->origin);
       switch (c->geometry->type) {
@@ -79,22 +119,33 @@ ParsedUrdf parseUrdf(const std::string& urdf_xml, const std::string& base_dir,
           const auto* b = static_cast<const urdf::Box*>(c->geometry.get());
           shape.type = ShapeType::kBox;
           shape.box_size = Eigen::Vector3d(b->dim.x, b->dim.y, b->dim.z);
+          for (int k = 0; k < 3; ++k)
+            checkRange(origin, what + " box size (m)", shape.box_size[k], 0, kMaxHandLengthM);
+          if (!(shape.box_size.minCoeff() > 0)) throw IoError(origin, what + " box has no volume");
           break;
         }
         case urdf::Geometry::SPHERE:
           shape.type = ShapeType::kSphere;
           shape.radius = static_cast<const urdf::Sphere*>(c->geometry.get())->radius;
+          checkRange(origin, what + " sphere radius (m)", shape.radius, 0, kMaxHandLengthM);
+          if (!(shape.radius > 0)) throw IoError(origin, what + " sphere has no radius");
           break;
         case urdf::Geometry::CYLINDER: {
           const auto* cyl = static_cast<const urdf::Cylinder*>(c->geometry.get());
           shape.type = ShapeType::kCylinder;
           shape.radius = cyl->radius;
           shape.length = cyl->length;
+          checkRange(origin, what + " cylinder radius (m)", shape.radius, 0, kMaxHandLengthM);
+          checkRange(origin, what + " cylinder length (m)", shape.length, 0, kMaxHandLengthM);
+          if (!(shape.radius > 0 && shape.length > 0))
+            throw IoError(origin, what + " cylinder has no volume");
           break;
         }
         case urdf::Geometry::MESH: {
           const auto* m = static_cast<const urdf::Mesh*>(c->geometry.get());
           shape.type = ShapeType::kMesh;
+          for (const double scale : {m->scale.x, m->scale.y, m->scale.z})
+            checkRange(origin, what + " mesh scale", scale, kMinMeshScale, kMaxMeshScale);
           const std::string path = resolveMeshPath(m->filename, base_dir);
           shape.mesh = std::make_shared<const TriangleMesh>(
               loadMeshFile(path, Eigen::Vector3d(m->scale.x, m->scale.y, m->scale.z)));
@@ -128,11 +179,13 @@ ParsedUrdf parseUrdf(const std::string& urdf_xml, const std::string& base_dir,
     }
     joint.parent_link = link_index.at(j->parent_link_name);
     joint.child_link = link_index.at(j->child_link_name);
+    checkOrigin(origin, "joint '" + name + "'", j->parent_to_joint_origin_transform);
     joint.origin = toPose(j->parent_to_joint_origin_transform);
     joint.axis = Eigen::Vector3d(j->axis.x, j->axis.y, j->axis.z);
     if (joint.movable()) {
-      if (joint.axis.norm() < 1e-9) throw IoError(origin, "joint '" + name + "' has a zero axis");
-      joint.axis.normalize();
+      if (!joint.axis.allFinite() || !(joint.axis.stableNorm() >= kMinAxisNorm))
+        throw IoError(origin, "joint '" + name + "' has a zero or non-finite axis");
+      joint.axis /= joint.axis.stableNorm();
     }
     if (j->type == urdf::Joint::CONTINUOUS) {
       joint.lower = -1e9;
@@ -141,6 +194,10 @@ ParsedUrdf parseUrdf(const std::string& urdf_xml, const std::string& base_dir,
       if (!j->limits) throw IoError(origin, "joint '" + name + "' has no <limit>");
       joint.lower = j->limits->lower;
       joint.upper = j->limits->upper;
+      checkRange(origin, "joint '" + name + "' lower limit", joint.lower, -kMaxJointLimit,
+                 kMaxJointLimit);
+      checkRange(origin, "joint '" + name + "' upper limit", joint.upper, -kMaxJointLimit,
+                 kMaxJointLimit);
       if (joint.lower > joint.upper)
         throw IoError(origin, "joint '" + name + "': lower limit above upper");
     }
@@ -156,9 +213,25 @@ ParsedUrdf parseUrdf(const std::string& urdf_xml, const std::string& base_dir,
                     "joint '" + name + "' mimics unknown joint '" + j->mimic->joint_name + "'");
     }
     auto& joint = out.joints[joint_index[name]];
+    if (it->second == joint_index[name])
+      throw IoError(origin, "joint '" + name + "' mimics itself");
     joint.mimic_of = it->second;
     joint.mimic_multiplier = j->mimic->multiplier;
     joint.mimic_offset = j->mimic->offset;
+    checkRange(origin, "joint '" + name + "' mimic multiplier", joint.mimic_multiplier,
+               -kMaxJointLimit, kMaxJointLimit);
+    checkRange(origin, "joint '" + name + "' mimic offset", joint.mimic_offset, -kMaxJointLimit,
+               kMaxJointLimit);
+  }
+  // A joint follows its leader, which must lead back to a joint that follows none: a cycle of
+  // mimics has no value to start from.
+  for (const auto& joint : out.joints) {
+    int leader = joint.mimic_of;
+    for (std::size_t steps = 0; leader >= 0; ++steps) {
+      if (steps >= out.joints.size())
+        throw IoError(origin, "joint '" + joint.name + "' is in a cycle of mimic joints");
+      leader = out.joints[static_cast<std::size_t>(leader)].mimic_of;
+    }
   }
   out.root_link = 0;
   return out;

@@ -14,29 +14,6 @@ namespace {
 
 constexpr double kNanosecondsPerSecond = 1e9;
 
-// Movable joints named in a grasp's "joints", in the hand's joint order (the order a URDF lists
-// them, which is also what MoveIt's JointTrajectory expects to be stable across grasps).
-std::vector<int> exportedJoints(const nlohmann::json& joints, const HandModel& hand,
-                                const std::string& where) {
-  if (!joints.is_object()) throw InvalidArgument(where + ": \"joints\" is not an object");
-  for (const auto& [name, value] : joints.items()) {
-    const int j = hand.jointIndex(name);
-    if (j < 0 || !hand.joints()[j].movable()) {
-      throw InvalidArgument(fmt::format("{}: joint \"{}\" is not a movable joint of hand {}", where,
-                                        name, hand.name()));
-    }
-    if (!value.is_number())
-      throw InvalidArgument(fmt::format("{}: joint \"{}\" is not a number", where, name));
-  }
-  std::vector<int> order;
-  for (std::size_t j = 0; j < hand.joints().size(); ++j) {
-    if (hand.joints()[j].movable() && joints.contains(hand.joints()[j].name)) {
-      order.push_back(static_cast<int>(j));
-    }
-  }
-  return order;
-}
-
 void emitVector(YAML::Emitter& out, const char* key, const Eigen::Vector3d& v) {
   // + 0.0 turns a negated zero into 0, which YAML would otherwise print as "-0".
   out << YAML::Key << key << YAML::Value << YAML::BeginMap << YAML::Key << "x" << YAML::Value
@@ -94,22 +71,49 @@ GraspFields readGrasp(const nlohmann::json& g, std::size_t index, const HandMode
   f.id = static_cast<int>(finiteNumberField(g, "id", f.where));
   f.hand_pose = handPoseField(g, f.where);
   f.preshape = preshapeField(g, hand, f.where, true);
-  f.retreat_m = finiteNumberField(g, "retreat_m", f.where);
+  f.retreat_m = retreatField(g, f.where);
   // The ranking score where the run wrote one, else the grasp quality ε.
   f.quality = g.contains("rank_score") ? finiteNumberField(g, "rank_score", f.where)
                                        : finiteNumberField(g, "epsilon", f.where);
-  const auto& joints = requiredField(g, "joints", f.where);
-  f.joints = exportedJoints(joints, hand, f.where);
-  for (int j : f.joints) f.closed.push_back(joints.at(hand.joints()[j].name).get<double>());
+  // Every movable joint, in the hand's joint order (the order a URDF lists them, which is also
+  // what MoveIt's JointTrajectory expects to be stable across grasps).
+  const std::vector<double> closed = closedJointsField(g, hand, f.where);
+  for (std::size_t j = 0; j < closed.size(); ++j) {
+    if (!hand.joints()[j].movable()) continue;
+    f.joints.push_back(static_cast<int>(j));
+    f.closed.push_back(closed[j]);
+  }
   return f;
+}
+
+// Longest object or frame name an export copies into every grasp: a path, never megabytes (a
+// 60 MB "object" was written 15 times per grasp).
+constexpr std::size_t kMaxNameBytes = 4096;
+
+// The name `j[key]` when present (a string of at most kMaxNameBytes), else `fallback`.
+std::string nameField(const nlohmann::json& j, const char* key, const std::string& fallback,
+                      const std::string& where) {
+  if (!j.is_object() || !j.contains(key)) return fallback;
+  const auto& value = j.at(key);
+  if (!value.is_string())
+    throw InvalidArgument(fmt::format("{}: \"{}\" is not a string", where, key));
+  if (value.get_ref<const std::string&>().size() > kMaxNameBytes) {
+    throw InvalidArgument(
+        fmt::format("{}: \"{}\" is longer than {} bytes", where, key, kMaxNameBytes));
+  }
+  return value.get<std::string>();
+}
+
+std::string objectOf(const nlohmann::json& file) {
+  return nameField(file, "object", "object", "grasps file");
 }
 
 std::string frameOf(const nlohmann::json& file, const ExportParams& params) {
   if (params.frame_id) return *params.frame_id;
-  if (file.contains("scene") && file["scene"].contains("frame")) {
-    return file["scene"]["frame"].get<std::string>();
+  if (file.contains("scene") && file["scene"].is_object() && file["scene"].contains("frame")) {
+    return nameField(file["scene"], "frame", "", "grasps file: \"scene\"");
   }
-  return file.value("object", std::string("object"));
+  return objectOf(file);
 }
 
 std::vector<std::string> jointNames(const HandModel& hand, const std::vector<int>& joints) {
@@ -122,7 +126,7 @@ std::string moveItYaml(const nlohmann::json& file, const std::vector<GraspFields
                        const HandModel& hand, const ExportParams& params) {
   const std::string frame = frameOf(file, params);
   const std::string hand_frame = hand.links()[hand.rootLink()].name;
-  const std::string object = file.value("object", std::string("object"));
+  const std::string object = objectOf(file);
   YAML::Emitter out;
   out << YAML::BeginSeq;
   for (const auto& g : grasps) {
@@ -181,7 +185,7 @@ std::string jointStatesJson(const nlohmann::json& file, const std::vector<GraspF
   }
   const nlohmann::json out = {{"schema", "skelgrasp.joint_states/1"},
                               {"hand", hand.name()},
-                              {"object", file.value("object", std::string("object"))},
+                              {"object", objectOf(file)},
                               {"grasps", list}};
   return out.dump(2) + "\n";
 }
@@ -210,13 +214,19 @@ std::string exportGrasps(const nlohmann::json& grasps_json, const HandModel& han
     throw InvalidArgument(
         "export parameters must be finite, non-negative and retreat >= min retreat");
   }
+  graspsFileKind(grasps_json);  // a file without a schema, or another tool's, is refused
   const auto& list = requiredField(grasps_json, "grasps", "grasps file");
   if (!list.is_array()) throw InvalidArgument("grasps file: \"grasps\" is not a list");
+  if (list.size() > kMaxGraspsPerFile) {
+    throw InvalidArgument(fmt::format("grasps file holds {} grasps, more than the {} one file may",
+                                      list.size(), kMaxGraspsPerFile));
+  }
   const auto& file_hand = requiredField(grasps_json, "hand", "grasps file");
   if (!file_hand.is_string() || file_hand.get<std::string>() != hand.name()) {
     throw InvalidArgument(
         fmt::format("grasps file was planned with hand {}, not {}", file_hand.dump(), hand.name()));
   }
+  frameOf(grasps_json, params);  // names checked before any grasp is read
   std::vector<GraspFields> grasps;
   for (std::size_t i = 0; i < list.size(); ++i) grasps.push_back(readGrasp(list[i], i, hand));
   return format == ExportFormat::kMoveIt ? moveItYaml(grasps_json, grasps, hand, params)

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/json.h"
@@ -13,8 +14,6 @@ namespace {
 
 constexpr const char* kPlanSchemaPrefix = "skelgrasp.grasps/";
 constexpr const char* kRunSchemaPrefix = "skelgrasp.run/";
-// A quaternion shorter than this cannot be normalised to a rotation (its entries are O(1)).
-constexpr double kMinQuaternionNorm = 1e-9;
 
 bool startsWith(const std::string& text, const std::string& prefix) {
   return text.compare(0, prefix.size(), prefix) == 0;
@@ -76,11 +75,66 @@ Pose handPoseField(const nlohmann::json& grasp, const std::string& where) {
       if (!v.is_number() || !std::isfinite(v.get<double>())) throw bad();
     }
   }
+  const Eigen::Vector3d position(p[0].get<double>(), p[1].get<double>(), p[2].get<double>());
+  if (!(position.stableNorm() <= kMaxGraspPositionM)) {
+    throw InvalidArgument(
+        fmt::format("{}: \"hand_pose\" position is {:.3g} m from the origin, "
+                    "more than the limit of {:g} m",
+                    where, position.stableNorm(), kMaxGraspPositionM));
+  }
   const Eigen::Quaterniond rotation(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(),
                                     q[3].get<double>());
-  if (!(rotation.norm() > kMinQuaternionNorm))
-    throw InvalidArgument(where + ": \"hand_pose\" has a zero quaternion");
+  // stableNorm: [1e308, 1e308, 0, 0] must not overflow to a length that looks like anything.
+  const double length = rotation.coeffs().stableNorm();
+  if (!(std::abs(length - 1) <= kPoseUnitTolerance)) {
+    throw InvalidArgument(
+        fmt::format("{}: \"hand_pose\" quaternion has length {:.6g}, not 1 "
+                    "within {:g}",
+                    where, length, kPoseUnitTolerance));
+  }
   return poseFromJson(pose);
+}
+
+double retreatField(const nlohmann::json& grasp, const std::string& where) {
+  const double retreat = finiteNumberField(grasp, "retreat_m", where);
+  if (!(retreat >= 0 && retreat <= kMaxRetreatM)) {
+    throw InvalidArgument(fmt::format("{}: \"retreat_m\" is {:g}, outside [0, {:g}] m", where,
+                                      retreat, kMaxRetreatM));
+  }
+  return retreat;
+}
+
+std::vector<double> closedJointsField(const nlohmann::json& grasp, const HandModel& hand,
+                                      const std::string& where) {
+  const auto& joints = requiredField(grasp, "joints", where);
+  if (!joints.is_object()) throw InvalidArgument(where + ": \"joints\" is not an object");
+  for (const auto& [name, value] : joints.items()) {
+    const int j = hand.jointIndex(name);
+    if (j < 0 || !hand.joints()[j].movable()) {
+      throw InvalidArgument(fmt::format("{}: joint \"{}\" is not a movable joint of hand {}", where,
+                                        name, hand.name()));
+    }
+  }
+  std::vector<double> values(hand.joints().size(), std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t j = 0; j < hand.joints().size(); ++j) {
+    const Joint& joint = hand.joints()[j];
+    if (!joint.movable()) continue;
+    if (!joints.contains(joint.name)) {
+      throw InvalidArgument(fmt::format("{}: \"joints\" lacks joint \"{}\" of hand {}", where,
+                                        joint.name, hand.name()));
+    }
+    const auto& value = joints.at(joint.name);
+    if (!value.is_number() || !std::isfinite(value.get<double>()))
+      throw InvalidArgument(
+          fmt::format("{}: joint \"{}\" is not a finite number", where, joint.name));
+    const double q = value.get<double>();
+    if (!(q >= joint.lower - kJointLimitTolerance && q <= joint.upper + kJointLimitTolerance)) {
+      throw InvalidArgument(fmt::format("{}: joint \"{}\" is {:g}, outside its limits [{:g}, {:g}]",
+                                        where, joint.name, q, joint.lower, joint.upper));
+    }
+    values[j] = q;
+  }
+  return values;
 }
 
 std::string defaultPreshapeName(const HandModel& hand) {

@@ -28,4 +28,13 @@ void writeDepthNpy(const std::string& path, const DepthImage& depth);
 // 16-bit single-channel PNG, values times `scale` (e.g. 0.001 for millimetres).
 DepthImage readDepthPng(const std::string& path, double scale);
 
+struct ImageSize {
+  int width = 0;
+  int height = 0;
+};
+// The size a depth image (.npy or 16-bit single-channel .png) declares, read from its header
+// alone, so that a caller can compare it with the intrinsics before decoding. Both depth readers
+// apply the same checks: no side above kMaxImageSidePx (rgbd.h), the right type. Throws IoError.
+ImageSize readDepthImageSize(const std::string& path);
+
 }  // namespace skelgrasp::perception

@@ -1,6 +1,8 @@
 #pragma once
 // Pinhole RGB-D geometry: depth image (+ optional mask, colour) -> points. Camera frame: x right,
 // y down, z forward (OpenCV/PCL convention); lengths in metres.
+#include <nlohmann/json.hpp>
+
 #include <string>
 
 #include "skelgrasp/common/point_cloud.h"
@@ -8,6 +10,18 @@
 #include "skelgrasp/perception/image.h"
 
 namespace skelgrasp::perception {
+
+// Plausible ranges of pinhole intrinsics, checked wherever intrinsics are read. Depth cameras have
+// a few hundred to a few thousand pixels a side and focal lengths of the same order; the caps leave
+// room for any real camera while refusing values that only overflow later (a principal point of
+// 1e308 put points at infinity and aborted PCL's kd-tree).
+// Largest image side, in pixels (a float depth image this size is 1.6 GB).
+constexpr int kMaxImageSidePx = 20000;
+// Focal lengths, in pixels.
+constexpr double kMinFocalLengthPx = 1;
+constexpr double kMaxFocalLengthPx = 1e6;
+// The principal point may lie off the image (a crop), by at most this many image sizes.
+constexpr double kMaxPrincipalPointOffImages = 1;
 
 struct PinholeIntrinsics {
   double fx = 525.0;  // focal lengths in pixels
@@ -19,7 +33,7 @@ struct PinholeIntrinsics {
 
   // The nominal Primesense Carmine 1.09 / Kinect v1 depth camera (VGA).
   static PinholeIntrinsics primesense() { return {}; }
-  // Throws InvalidArgument unless focal lengths and size are positive.
+  // Throws InvalidArgument naming the first value outside the ranges above.
   void validate() const;
   Eigen::Vector3d backProject(double u, double v, double depth) const {
     return {(u - cx) * depth / fx, (v - cy) * depth / fy, depth};
@@ -29,6 +43,9 @@ struct PinholeIntrinsics {
 // Reads intrinsics from JSON: {"fx","fy","cx","cy","width","height"}, keys optionally prefixed
 // with "_" (the autolab_core .intr files of the GQ-CNN captures). Throws IoError.
 PinholeIntrinsics readIntrinsicsJson(const std::string& path);
+// The same from a JSON object already read (a capture description's inline "intrinsics"); errors
+// name `path`. Width and height must be whole numbers; every value is validated.
+PinholeIntrinsics intrinsicsFromJson(const nlohmann::json& j, const std::string& path);
 
 // Reads a camera-to-world transform from text: either an autolab_core RigidTransform (.tf: from
 // frame, to frame, translation, three rotation rows) or "x y z qw qx qy qz" on one line. Throws

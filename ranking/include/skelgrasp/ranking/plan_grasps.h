@@ -79,8 +79,9 @@ PlanTiming planTimingOf(const skeleton::SkeletonTimings* skeleton, double planni
 // What planGrasps returns. The PlanResult part (status, planner, grasps, summary) is what
 // grasping's planToJson, planSummaryLine and renderPlanPng read.
 //  * status: kOk with grasps; kNoResult when the planner kept none (summary.rejections say why);
-//    the skeleton stage's own status when it could not process the mesh (skeleton_failed: then no
-//    planner ran and there are no grasps).
+//    the skeleton stage's own status when it could not process the mesh, or kInvalidInput for a
+//    mesh without a face of positive area with either planner (skeleton_failed: then no planner
+//    ran and there are no grasps; callers report the mesh as bad input).
 //  * grasps: ranked, best first, ids 0..n-1 (id = rank); the scored ones carry their robustness.
 struct GraspPlan : grasping::PlanResult {
   bool skeleton_failed = false;

@@ -15,14 +15,34 @@
 
 namespace skelgrasp::grasping {
 
+// Limits of the values a grasps file hands to a robot (export) or to the simulation (score,
+// simulate): beyond them a value is a corrupt or hostile file, never a grasp.
+// A hand pose farther than this from the object's frame, in metres, holds nothing of it.
+inline constexpr double kMaxGraspPositionM = 100;
+// A grasp's "retreat_m" (how far the hand backed off along its approach) beyond this, in metres,
+// is longer than any hand.
+inline constexpr double kMaxRetreatM = 1;
+// Closed joint values may pass the URDF limits by this much (rad or m): rounding of the written
+// value, never a joint driven past its stop.
+inline constexpr double kJointLimitTolerance = 1e-3;
+
 // The field `key` of `j`; InvalidArgument "<where> has no "<key>"" when it is missing.
 const nlohmann::json& requiredField(const nlohmann::json& j, const char* key,
                                     const std::string& where);
 // A field that must be a finite number.
 double finiteNumberField(const nlohmann::json& j, const char* key, const std::string& where);
 // A grasp's "hand_pose" ({"position": [3], "quaternion_wxyz": [4]}, the quaternion normalised);
-// InvalidArgument when it is missing, malformed, not finite or its quaternion is zero.
+// InvalidArgument when it is missing, malformed, not finite, its position is beyond
+// kMaxGraspPositionM or its quaternion's length differs from 1 by more than kPoseUnitTolerance
+// (the tolerance of --pose).
 Pose handPoseField(const nlohmann::json& grasp, const std::string& where);
+// A grasp's "retreat_m": finite, in [0, kMaxRetreatM].
+double retreatField(const nlohmann::json& grasp, const std::string& where);
+// A grasp's closed "joints" ({"name": value}): every movable joint of `hand` present, no other
+// name, each value finite and within the joint's URDF limits widened by kJointLimitTolerance.
+// Returns the values in the hand's joint order (NaN for fixed joints).
+std::vector<double> closedJointsField(const nlohmann::json& grasp, const HandModel& hand,
+                                      const std::string& where);
 // A grasp's "preshape", checked against the hand (InvalidArgument naming the hand's preshapes).
 // Without one: defaultPreshapeName(hand) when `required` is false, else InvalidArgument.
 std::string preshapeField(const nlohmann::json& grasp, const HandModel& hand,
