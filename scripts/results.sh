@@ -232,16 +232,15 @@ physics_table() {
 import json, statistics, sys
 names = {"armar3": "ARMAR-III", "sdh": "Schunk SDH", "shadow": "Shadow", "parallel_gripper": "parallel gripper"}
 print("| hand | objects with a grasp | plan's top-10 r, median (mean) | nominal holds (physics) "
-      "| mean sim_r | mean r − sim_r | Spearman r ~ holds | Spearman r ~ sim_r | plan s, median | ms CPU per execution |")
-print("|---|---|---|---|---|---|---|---|---|---|")
+      "| mean sim_r | mean r − sim_r | Spearman r ~ holds | Spearman r ~ sim_r | ms CPU per execution |")
+print("|---|---|---|---|---|---|---|---|---|")
 for path in sys.argv[1:]:
     doc = json.load(open(path))
     for s in doc["summary"]:
         rows = [g for g in doc["grasps"] if g["hand"] == s["hand"]]
-        per_object, plan_s = {}, {}
+        per_object = {}
         for g in rows:
             per_object.setdefault(g["object"], []).append(g["r"] or 0.0)
-            plan_s[g["object"]] = g["plan_s"]
         tops = [statistics.mean(v) for v in per_object.values()]
         tops += [0.0] * (s["objects"] - len(tops))
         fmt = lambda v, f="{:.2f}": "–" if v is None else f.format(v)
@@ -249,8 +248,7 @@ for path in sys.argv[1:]:
               f"| {statistics.median(tops):.2f} ({statistics.mean(tops):.2f}) "
               f"| **{100 * s['nominal_hold_rate']:.0f} %** of {s['grasps']} | {fmt(s['mean_sim_r'])} "
               f"| {fmt(s['mean_r_minus_sim_r'], '{:+.2f}')} | {fmt(s['spearman_r_nominal'])} "
-              f"| {fmt(s['spearman_r_sim_r'])} | {statistics.median(plan_s.values()) if plan_s else 0:.1f} "
-              f"| {s['ms_cpu_per_execution']:.0f} |")
+              f"| {fmt(s['spearman_r_sim_r'])} | {s['ms_cpu_per_execution']:.0f} |")
 PY
 }
 
