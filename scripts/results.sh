@@ -231,7 +231,7 @@ physics_table() {
   python3 - "$@" <<'PY'
 import json, statistics, sys
 names = {"armar3": "ARMAR-III", "sdh": "Schunk SDH", "shadow": "Shadow", "parallel_gripper": "parallel gripper"}
-print("| hand | objects with a grasp | plan's top-10 r, median (mean) | nominal holds (physics) "
+print("| hand | objects with a grasp | r of the executed grasps, median (mean) over objects | nominal holds (physics) "
       "| mean sim_r | mean r − sim_r | Spearman r ~ holds | Spearman r ~ sim_r | ms CPU per execution |")
 print("|---|---|---|---|---|---|---|---|---|")
 for path in sys.argv[1:]:
