@@ -95,6 +95,18 @@ ParsedUrdf parseUrdf(const std::string& urdf_xml, const std::string& base_dir,
   }
   if (!model)
     throw IoError(origin, "invalid URDF (malformed XML or missing robot/link/joint attributes)");
+  // urdfdom links hold their children by shared pointers: a URDF with a kinematic loop (refused
+  // later, by the hand model) makes a cycle that would never be freed. Cut every link's child
+  // pointers when the model is done with.
+  struct CutChildLinks {
+    const urdf::ModelInterfaceSharedPtr& model;
+    ~CutChildLinks() {
+      for (auto& entry : model->links_) {
+        entry.second->child_links.clear();
+        entry.second->child_joints.clear();
+      }
+    }
+  } cut_child_links{model};
   if (!model->getRoot()) throw IoError(origin, "URDF has no root link");
 
   ParsedUrdf out;
