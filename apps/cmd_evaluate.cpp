@@ -14,6 +14,7 @@
 #include "robustness_options.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/evaluation/batch.h"
+#include "skelgrasp/physics/physical_object.h"
 
 namespace skelgrasp::cli {
 namespace {
@@ -146,11 +147,7 @@ int runEvaluate(const EvaluateArgs& a) {
   p.ranking.screen_candidates = screenCandidates(a.screen_by);
   p.ranking.confirm_samples = a.confirm_samples;
   a.refine.applyTo(p.ranking.refinement);
-  // As plan: the paper's criterion is force closure, its variants stay as published.
-  if (a.no_load_check || p.ranking.robustness.variant == ranking::RobustnessVariant::kPaper ||
-      p.ranking.robustness.variant == ranking::RobustnessVariant::kReference) {
-    p.ranking.robustness.load.reset();
-  }
+  ranking::setLoadCheck(p.ranking.robustness, !a.no_load_check);
   if (a.judge == "physics") {
     p.physics = evaluation::PhysicsJudging{a.physics_grasps, a.mass_kg};
   } else if (a.judge != "model") {
@@ -229,7 +226,7 @@ void registerEvaluateCommands(CLI::App& app, Action& action) {
       ->transform(countIn(1, kMaxCount))
       ->capture_default_str();
   cmd->add_option("--mass", a->mass_kg, "With --judge physics: the object's mass (kg)")
-      ->check(positiveFinite(kMaxMassKg))
+      ->check(positiveFinite(physics::kMaxObjectMassKg))
       ->capture_default_str();
   cmd->add_flag("--reference-compat", a->reference_compat,
                 "Quality as the reference code (docs/hands.md)");

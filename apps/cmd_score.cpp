@@ -56,12 +56,7 @@ evaluation::ScoreParams scoreParams(const ScoreArgs& a) {
   p.robustness.samples = a.samples;
   p.robustness.variant = ranking::parseRobustnessVariant(a.variant);
   p.robustness.seed = a.seed;
-  // As plan: the paper's criterion is force closure, its variants (paper, reference) stay as
-  // published.
-  if (a.no_load_check || p.robustness.variant == ranking::RobustnessVariant::kPaper ||
-      p.robustness.variant == ranking::RobustnessVariant::kReference) {
-    p.robustness.load.reset();
-  }
+  ranking::setLoadCheck(p.robustness, !a.no_load_check);
   return p;
 }
 

@@ -119,7 +119,7 @@ void registerSimulateCommand(CLI::App& app, Action& action) {
       ->delimiter(',')
       ->check(finiteIn(0, kMaxFriction));
   cmd->add_option("--mass", a->mass_kg, "Object mass (kg)")
-      ->check(positiveFinite(kMaxMassKg))
+      ->check(positiveFinite(physics::kMaxObjectMassKg))
       ->capture_default_str();
   cmd->add_option("--density", a->density,
                   "Object density (kg/m^3) instead of --mass: mass = density x enclosed volume")

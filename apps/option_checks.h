@@ -24,8 +24,6 @@ constexpr double kMaxRatio = 1e6;
 // Largest count (grasps, hypotheses, samples, objects): anything above is a typo, and it keeps
 // products of counts far from overflowing 64 bits.
 constexpr std::uint64_t kMaxCount = 1'000'000'000;
-// Heaviest object the physics judge takes (kg): far beyond what a hand lifts.
-constexpr double kMaxMassKg = 1000;
 // Most repetitions of a benchmark run.
 constexpr std::uint64_t kMaxRepeat = 1000;
 

@@ -192,11 +192,7 @@ struct RobustnessOptions {
     p.robustness.samples = samples;
     p.robustness.variant = ranking::parseRobustnessVariant(variant);
     p.robustness.seed = seed;
-    // The paper's criterion is force closure: its variants (paper, reference) stay as published.
-    if (no_load_check || p.robustness.variant == ranking::RobustnessVariant::kPaper ||
-        p.robustness.variant == ranking::RobustnessVariant::kReference) {
-      p.robustness.load.reset();
-    }
+    ranking::setLoadCheck(p.robustness, !no_load_check);
     p.friction = mu;
     refine.applyTo(p.refinement);
     return p;

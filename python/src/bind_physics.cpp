@@ -1,4 +1,5 @@
 // simulate(): the physics judge on grasps (`skelgrasp simulate`, docs/physics.md).
+#include <fmt/format.h>
 #include <pybind11/stl.h>
 
 #include <cmath>
@@ -14,9 +15,6 @@
 
 namespace skelgrasp::python {
 namespace {
-
-// Heaviest object the judge takes (kg), as the command line.
-constexpr double kMaxMassKg = 1000;
 
 // A grasps.json given as a path, as the parsed document (a dict) or as a plan result (its
 // to_dict()).
@@ -35,7 +33,8 @@ py::object simulate(const Mesh& mesh, const HandPtr& hand, const py::object& gra
                     const std::vector<double>& mu, int samples, std::uint64_t seed, double mass,
                     std::optional<double> fingertip_force, std::optional<double> force,
                     const std::optional<long long>& object, std::optional<std::size_t> max_grasps) {
-  if (!(mass > 0) || !(mass <= kMaxMassKg)) throw InvalidArgument("mass: must be in (0, 1000] kg");
+  if (!(mass > 0) || !(mass <= physics::kMaxObjectMassKg))
+    throw InvalidArgument(fmt::format("mass: must be in (0, {:g}] kg", physics::kMaxObjectMassKg));
   if (fingertip_force && !(*fingertip_force > 0 && std::isfinite(*fingertip_force)))
     throw InvalidArgument("fingertip_force: must be a finite number > 0 (N)");
   if (force && !(*force > 0 && std::isfinite(*force)))

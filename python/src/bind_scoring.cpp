@@ -87,12 +87,6 @@ std::vector<Grasp> graspsOf(const py::object& grasps) {
   }
 }
 
-// The paper's criterion is force closure: its variants never check the load (as the CLI).
-bool publishedVariant(ranking::RobustnessVariant variant) {
-  return variant == ranking::RobustnessVariant::kPaper ||
-         variant == ranking::RobustnessVariant::kReference;
-}
-
 py::list score(const Mesh& mesh, const HandPtr& hand, const py::object& grasps, double mu,
                const std::string& fc_test, bool reference_compat, int robustness_samples,
                const std::string& robustness_variant, std::uint64_t seed,
@@ -106,8 +100,7 @@ py::list score(const Mesh& mesh, const HandPtr& hand, const py::object& grasps, 
   robustness.samples = robustness_samples;
   robustness.variant = ranking::parseRobustnessVariant(robustness_variant);
   robustness.seed = seed;
-  if (load_check && !publishedVariant(robustness.variant))
-    robustness.load = ranking::defaultLoadCheck();
+  ranking::setLoadCheck(robustness, load_check);
   robustness.quality = quality;
   robustness.closing.contact_patch = grasping::contactPatchFor(contact_patch, reference_compat);
   std::vector<grasping::WrenchSpaceResult> judged(list.size());
@@ -185,7 +178,7 @@ py::object scoreGraspsFile(const Mesh& mesh, const HandPtr& hand, const py::obje
   if (params.compute_robustness) params.robustness.samples = robustness_samples;
   params.robustness.variant = ranking::parseRobustnessVariant(robustness_variant);
   params.robustness.seed = seed;
-  if (!load_check || publishedVariant(params.robustness.variant)) params.robustness.load.reset();
+  ranking::setLoadCheck(params.robustness, load_check);
   params.closing.method = grasping::parseClosingMethod(closing);
   params.closing.contact_patch = grasping::parseContactPatch(contact_patch);
   checkTorsionalFriction(torsional_friction);

@@ -172,11 +172,7 @@ ranking::RobustRankingParams robustRankingParams(
   p.robustness.samples = samples;
   p.robustness.variant = ranking::parseRobustnessVariant(variant);
   p.robustness.seed = seed;
-  // As the CLI: the paper's criterion is force closure, its variants stay as published.
-  if (p.robustness.variant == ranking::RobustnessVariant::kPaper ||
-      p.robustness.variant == ranking::RobustnessVariant::kReference) {
-    p.robustness.load.reset();
-  }
+  ranking::setLoadCheck(p.robustness, true);
   p.top_k = top_k;
   p.screen_k = screen_k;
   p.screen_samples = screen_samples;

@@ -36,6 +36,8 @@ MassProperties massProperties(const TriangleMesh& closed_mesh);
 // The default mass of a judged object: the disturbance tests of the dexterous-grasping benchmarks
 // (DexGraspBench, BODex) use 0.1 kg.
 inline constexpr double kDefaultObjectMassKg = 0.1;
+// Heaviest object the judge takes (kg): far beyond what a hand lifts.
+inline constexpr double kMaxObjectMassKg = 1000;
 
 struct PhysicalObjectParams {
   // Mass of the object (kg, > 0). Ignored when density_kg_m3 is set.

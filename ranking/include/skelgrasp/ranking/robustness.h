@@ -64,6 +64,18 @@ inline grasping::LoadCapacityParams defaultLoadCheck() {
   return load;
 }
 
+// Sets `params.load` to the load check when `wanted` and the variant has one, else unsets it: the
+// paper's criterion is force closure, so its variants (paper, reference) stay as published. The
+// one rule plan, score, evaluate and Python follow.
+inline void setLoadCheck(RobustnessParams& params, bool wanted) {
+  const bool published = params.variant == RobustnessVariant::kPaper ||
+                         params.variant == RobustnessVariant::kReference;
+  if (wanted && !published)
+    params.load = defaultLoadCheck();
+  else
+    params.load.reset();
+}
+
 // The pose error standard deviations `params` stands for: its own, or its variant's defaults.
 double positionSigmaM(const RobustnessParams& params);
 double orientationSigmaRad(const RobustnessParams& params);
