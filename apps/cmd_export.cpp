@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "cli.h"
+#include "grasps_hand.h"
 #include "output_paths.h"
 #include "skelgrasp/common/atomic_file.h"
 #include "skelgrasp/common/error.h"
@@ -38,13 +39,7 @@ int runExport(const ExportArgs& args) {
   checkOutputFileOption(out);
   checkOutputIsNotInput(out, {args.grasps, args.description});
   const nlohmann::json grasps = readJsonFile(args.grasps);
-  std::string hand_name = args.hand;
-  if (hand_name.empty()) {
-    if (!grasps.contains("hand") || !grasps["hand"].is_string())
-      throw IoError(args.grasps, "names no hand; give --hand");
-    hand_name = grasps["hand"].get<std::string>();
-  }
-  const auto hand = grasping::resolveHand(hand_name, args.description);
+  const auto hand = handOfGraspsFile(grasps, args.grasps, args.hand, args.description);
   grasping::ExportParams params;
   if (!args.frame_id.empty()) params.frame_id = args.frame_id;
   std::string text;

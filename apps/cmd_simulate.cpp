@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "cli.h"
+#include "grasps_hand.h"
 #include "option_checks.h"
 #include "output_paths.h"
 #include "skelgrasp/common/json.h"
@@ -50,13 +51,7 @@ int runSimulate(const SimulateArgs& a) {
         fmt::format("--mu: {} values, at most {}", a.mu.size(), evaluation::kMaxScoreFrictions));
   }
   const nlohmann::json file = readJsonFile(a.grasps);
-  std::string hand_name = a.hand;
-  if (hand_name.empty()) {
-    if (!file.is_object() || !file.contains("hand") || !file["hand"].is_string())
-      throw IoError(a.grasps, "names no hand; give --hand");
-    hand_name = file["hand"].get<std::string>();
-  }
-  const auto hand = grasping::resolveHand(hand_name, a.description);
+  const auto hand = handOfGraspsFile(file, a.grasps, a.hand, a.description);
   std::vector<grasping::GraspPlacement> placements;
   try {
     std::optional<long long> object;
