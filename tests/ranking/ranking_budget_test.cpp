@@ -37,6 +37,7 @@ TEST(RobustRanking, ScreeningTakesEachPreshapesBestGraspsInTurn) {
   params.screen_samples = 2;
   params.refinement.enabled = false;
   params.screening_pruning = ScreeningPruning::kNone;  // every candidate keeps its screening score
+  params.robustness.load.reset();  // the turns alone, without the carryable-first order
   // The order under test, and no confirmation, whatever the SDH's own budget says.
   params.screen_candidates = ScreenCandidates::kPreshapesInTurn;
   params.confirm_samples = 0;

@@ -1,4 +1,5 @@
 #include "skelgrasp/ranking/robust_ranking.h"
+#include "skelgrasp/grasping/quality/load_capacity.h"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -17,6 +18,7 @@
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/grasping/planning/planners.h"
+#include "skelgrasp/grasping/quality/load_capacity.h"
 #include "skelgrasp/skeleton/extraction.h"
 #include "test_support.h"
 
@@ -41,7 +43,9 @@ RobustnessParams judgedAs(const Planned& p, const RobustRankingParams& ranking) 
 TEST(RobustRanking, ScoresTheTopKAndRanksThemFirstByR) {
   const Planned& p = cylinder();
   ASSERT_GE(p.plan.grasps.size(), 4u);
-  const auto params = fewSamples(16, 3);
+  auto params = fewSamples(16, 3);
+  // The order rule alone: the load check's carryable-first order is tested below.
+  params.robustness.load.reset();
   const auto result =
       rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params);
   EXPECT_TRUE(result.status.ok());
@@ -85,6 +89,38 @@ TEST(RobustRanking, ScoresTheTopKAndRanksThemFirstByR) {
   }
   // The scored grasps are the three best by epsilon.
   for (std::size_t i = 0; i < 3; ++i) EXPECT_LT(result.order[i], 3u);
+}
+
+TEST(RobustRanking, WithTheLoadCheckTheGraspsThatCarryTheWeightAreScoredFirst) {
+  const Planned& p = cylinder();
+  const std::size_t n = p.plan.grasps.size();
+  auto params = fewSamples(4, 2);
+  params.refinement.enabled = false;
+  ASSERT_TRUE(params.robustness.load.has_value());  // the ranking's default
+  // Which grasps carry the object's weight at their own pose, as the ranking's r judges it.
+  const RobustnessParams rp = judgedAs(p, params);
+  std::vector<bool> carries(n);
+  std::size_t carrying = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& g = p.plan.grasps[i];
+    const auto capacity = grasping::loadCapacity(p.hand, g.hand_pose, g.joints, g.contacts,
+                                                 p.object->centerOfMass(), rp.quality, *rp.load);
+    carries[i] = capacity.error.empty() && capacity.min >= 1.0;
+    carrying += carries[i];
+  }
+  // The cylinder has both kinds, and enough carrying grasps for the two scored.
+  ASSERT_GE(carrying, params.top_k);
+  ASSERT_LT(carrying, n);
+  const auto result =
+      rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params);
+  EXPECT_EQ(result.carryable, carrying);
+  for (std::size_t i = 0; i < params.top_k; ++i) EXPECT_TRUE(carries[result.order[i]]) << i;
+  // Without the load check the same budget scores the two best by epsilon.
+  params.robustness.load.reset();
+  const auto plain =
+      rankByRobustness(p.hand, *p.object, p.plan.grasps, p.params.hypothesis, params);
+  EXPECT_EQ(plain.carryable, 0u);
+  for (std::size_t i = 0; i < params.top_k; ++i) EXPECT_LT(plain.order[i], params.top_k);
 }
 
 TEST(RobustRanking, ScreeningChoosesTheScoredGraspsByAScreeningROnItsOwnSamples) {

@@ -202,14 +202,15 @@ SqueezeLpResult solveSqueezeLp(const std::vector<Wrench>& wrenches, const std::v
 }
 
 LoadLpResult solveLoadLp(const std::vector<Wrench>& columns, const Wrench& load,
-                         const Eigen::MatrixXd& limits, const Eigen::VectorXd& bounds,
-                         double max_scale) {
+                         const Eigen::MatrixXd& limits, const Eigen::VectorXd& lower,
+                         const Eigen::VectorXd& upper, double max_scale) {
   const int n = static_cast<int>(columns.size());
-  if (limits.cols() != n || limits.rows() != bounds.size())
-    throw InvalidArgument("load LP: one limit column per wrench and one bound per limit row");
-  if (!load.allFinite() || !limits.allFinite() || !bounds.allFinite() ||
-      !(bounds.array() >= 0).all() || !(max_scale > 0) || !std::isfinite(max_scale))
-    throw InvalidArgument("load LP: non-finite load, limits or bounds, or a negative bound");
+  if (limits.cols() != n || limits.rows() != lower.size() || limits.rows() != upper.size())
+    throw InvalidArgument("load LP: one limit column per wrench and two bounds per limit row");
+  if (!load.allFinite() || !limits.allFinite() || !lower.allFinite() || !upper.allFinite() ||
+      !(lower.array() <= upper.array()).all() || !(max_scale > 0) || !std::isfinite(max_scale))
+    throw InvalidArgument(
+        "load LP: non-finite load, limits or bounds, or a lower bound above its upper");
   for (const auto& w : columns) {
     if (!w.allFinite()) throw InvalidArgument("load LP: non-finite wrench");
   }
@@ -222,8 +223,8 @@ LoadLpResult solveLoadLp(const std::vector<Wrench>& columns, const Wrench& load,
   glp_add_rows(lp, kWrenchRows + std::max(m, 0));
   for (int row = 1; row <= kWrenchRows; ++row) glp_set_row_bnds(lp, row, GLP_FX, 0.0, 0.0);
   for (int r = 0; r < m; ++r) {
-    const double b = bounds[r];
-    glp_set_row_bnds(lp, kWrenchRows + 1 + r, b > 0 ? GLP_DB : GLP_FX, -b, b);
+    glp_set_row_bnds(lp, kWrenchRows + 1 + r, lower[r] < upper[r] ? GLP_DB : GLP_FX, lower[r],
+                     upper[r]);
   }
   glp_add_cols(lp, n + 1);
   Triplets matrix;
@@ -244,6 +245,10 @@ LoadLpResult solveLoadLp(const std::vector<Wrench>& columns, const Wrench& load,
   options.presolve = GLP_OFF;
   LoadLpResult result;
   const int code = glp_simplex(lp, &options);
+  if (code == 0 && glp_get_status(lp) == GLP_NOFEAS) {
+    result.feasible = false;
+    return result;
+  }
   if (code != 0 || glp_get_status(lp) != GLP_OPT) {
     result.error = "glp_simplex failed (code " + std::to_string(code) + ", status " +
                    std::to_string(glp_get_status(lp)) + ")";

@@ -20,6 +20,27 @@ std::vector<int> jointsAbove(const HandModel& hand, int link) {
   return chain;
 }
 
+// Each joint's closing direction along its axis (+1 or -1), 0 for joints that do not close: a
+// finger's drives, their followers and the mimics of either (as the hand closes them).
+std::vector<double> closingDirections(const HandModel& hand) {
+  std::vector<double> direction(hand.joints().size(), 0.0);
+  const auto sign = [](double v) { return v > 0 ? 1.0 : (v < 0 ? -1.0 : 0.0); };
+  for (const auto& finger : hand.fingers()) {
+    for (const auto& drive : finger.drives) {
+      direction[static_cast<std::size_t>(drive.joint)] = sign(drive.direction);
+      for (const auto& [follower, ratio] : drive.followers)
+        direction[static_cast<std::size_t>(follower)] = sign(drive.direction * ratio);
+    }
+  }
+  for (std::size_t j = 0; j < hand.joints().size(); ++j) {
+    const int leader = hand.joints()[j].mimic_of;
+    if (leader >= 0 && direction[j] == 0)
+      direction[j] =
+          direction[static_cast<std::size_t>(leader)] * sign(hand.joints()[j].mimic_multiplier);
+  }
+  return direction;
+}
+
 }  // namespace
 
 LoadCapacity loadCapacity(const HandModel& hand, const Pose& hand_pose,
@@ -89,9 +110,24 @@ LoadCapacity loadCapacity(const HandModel& hand, const Pose& hand_pose,
   }
   Eigen::MatrixXd limit_rows =
       Eigen::MatrixXd::Zero(rows, static_cast<Eigen::Index>(columns.size()));
-  Eigen::VectorXd bounds(rows);
+  // A closing joint supplies torque towards closing only, up to its share of the limit; another
+  // joint either way within its share.
+  const std::vector<double> closing = closingDirections(hand);
+  Eigen::VectorXd lower(rows), upper(rows);
   for (std::size_t j = 0; j < row_of_joint.size(); ++j) {
-    if (row_of_joint[j] >= 0) bounds[row_of_joint[j]] = params.torque_share * limits[j];
+    const int row = row_of_joint[j];
+    if (row < 0) continue;
+    const double most = params.torque_share * limits[j];
+    if (closing[j] > 0) {
+      lower[row] = 0.0;
+      upper[row] = most;
+    } else if (closing[j] < 0) {
+      lower[row] = -most;
+      upper[row] = 0.0;
+    } else {
+      lower[row] = -most;
+      upper[row] = most;
+    }
   }
   for (std::size_t col = 0; col < joint_torques.size(); ++col) {
     for (const auto& [j, torque] : joint_torques[col]) {
@@ -106,7 +142,9 @@ LoadCapacity loadCapacity(const HandModel& hand, const Pose& hand_pose,
   for (int d = 0; d < 6; ++d) {
     Wrench load;
     load << weight * directions[d], Eigen::Vector3d::Zero();
-    const LoadLpResult lp = solveLoadLp(columns, load, limit_rows, bounds, params.max_capacity);
+    const LoadLpResult lp =
+        solveLoadLp(columns, load, limit_rows, lower, upper, params.max_capacity);
+    // The bounds admit no force at all (scale 0), so the LP is always feasible.
     if (!lp.error.empty()) {
       capacity.error = lp.error;
       capacity.min = 0;

@@ -145,8 +145,11 @@ struct RobustRankingResult {
   // Screened candidates that ran the confirmation's samples too (0 without confirmation).
   std::size_t confirmed = 0;
   std::size_t screen_pruned = 0;  // candidates whose screening stopped short (screening_pruning)
-  std::size_t scored = 0;         // grasps that got a robustness
-  std::size_t refined = 0;        // scored grasps replaced by a more robust pose
+  // With the load check: the candidates whose planned closing carries the weight at the grasp's
+  // own pose; they go first to the screening (or, without screening, to the scoring).
+  std::size_t carryable = 0;
+  std::size_t scored = 0;   // grasps that got a robustness
+  std::size_t refined = 0;  // scored grasps replaced by a more robust pose
   double time_s = 0;
   // Where time_s went (their sum is at most time_s; the rest is sorting and moving grasps).
   double screening_s = 0, scoring_s = 0, refinement_s = 0;

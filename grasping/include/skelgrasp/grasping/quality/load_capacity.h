@@ -29,6 +29,8 @@ struct LoadCapacityParams {
   std::optional<double> fingertip_force_n;
   // The share of each joint's torque limit the contact forces may draw on, in (0, 1]: 1 for what
   // the hand could do at full strength, kGripTorqueShare for what its grip holds without reserve.
+  // Closing joints (a finger's drives, their followers and the mimics of either) supply torque
+  // towards closing only: a finger presses, it does not pull. Other joints turn either way.
   double torque_share = 1.0;
   // The capacity is reported up to this many weights (a grasp that reaches it in every direction
   // holds by the palm's and the friction cones' geometry alone).

@@ -135,15 +135,18 @@ constexpr double kSqueezeBalanceTolerance = 1e-7;
 // The largest multiple `scale` of `load` (a wrench on the object) that non-negative weights x of
 // `columns` (contact force edges as wrenches on the object, in physical units: N and N m) can
 // balance, sum_c x_c columns_c + scale load = 0, while every row r of `limits` keeps
-// |limits.row(r) x| <= bounds[r] (joint torques within their limits) and 0 <= scale <= max_scale.
-// error is non-empty when GLPK failed (scale then means nothing).
+// lower[r] <= limits.row(r) x <= upper[r] (joint torques within their limits, and the torques a
+// gripping joint keeps pressing with) and 0 <= scale <= max_scale. `feasible` is false when no
+// weights balance even a scale of 0 (scale is then 0); error is non-empty when GLPK failed (scale
+// then means nothing).
 struct LoadLpResult {
   double scale = 0;
+  bool feasible = true;
   std::string error;
 };
 LoadLpResult solveLoadLp(const std::vector<Wrench>& columns, const Wrench& load,
-                         const Eigen::MatrixXd& limits, const Eigen::VectorXd& bounds,
-                         double max_scale);
+                         const Eigen::MatrixXd& limits, const Eigen::VectorXd& lower,
+                         const Eigen::VectorXd& upper, double max_scale);
 
 // Force closure by LP needs n l* > this (n wrenches; l* relative to its largest value 1/n). The
 // band (0, tolerance] is where the origin is on the hull's boundary up to rounding (GLPK's
