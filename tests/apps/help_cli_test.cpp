@@ -45,13 +45,18 @@ TEST(CliHelp, HelpFitsAScreenAndHelpAllShowsEveryOption) {
   }
 }
 
-// The document without its wall-clock times (every key ending in "_s").
+bool endsWith(const std::string& text, const std::string& end) {
+  return text.size() >= end.size() && text.compare(text.size() - end.size(), end.size(), end) == 0;
+}
+
+// The document without its wall-clock times (keys ending in "_s" or "_ms", and the time per
+// valid grasp).
 nlohmann::json withoutTimes(nlohmann::json j) {
   if (j.is_object()) {
     nlohmann::json out = nlohmann::json::object();
     for (auto it = j.begin(); it != j.end(); ++it) {
       const std::string& key = it.key();
-      if (key.size() > 2 && key.compare(key.size() - 2, 2, "_s") == 0) continue;
+      if (endsWith(key, "_s") || endsWith(key, "_ms") || key == "ms_per_valid_grasp") continue;
       out[key] = withoutTimes(it.value());
     }
     return out;
