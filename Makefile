@@ -34,7 +34,10 @@ test: build
 	@scripts/install-deps.sh --test
 	@cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
 
-demo: build
+# The demo needs only the `skelgrasp` target: the launcher and the two command programs it starts
+# (apps/CMakeLists.txt). The tests, benchmarks and the Python module are left to `make test`.
+demo: configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target skelgrasp
 	@$(SKELGRASP) demo --out $(DEMO_OUT)
 
 # AddressSanitizer + UndefinedBehaviorSanitizer build of everything, then the test suite under it

@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "cli.h"
+#include "help_format.h"
 #include "mesh_list.h"
 #include "option_checks.h"
 #include "output_paths.h"
@@ -208,14 +209,15 @@ void registerEvaluateCommands(CLI::App& app, Action& action) {
                   "the r of the returned top grasps",
                   ranking::RobustRankingParams{}.top_k, ranking::kDefaultScreenK,
                   ranking::RobustRankingParams{}.robustness.samples));
-  addScreenOption(*cmd, a->screen_k);
-  addScreenSamplesOption(*cmd, a->screen_samples);
-  addScreenByOption(*cmd, a->screen_by);
-  addConfirmSamplesOption(*cmd, a->confirm_samples);
+  addScreenOption(*cmd, a->screen_k)->group(kRankingDetails);
+  addScreenSamplesOption(*cmd, a->screen_samples)->group(kRankingDetails);
+  addScreenByOption(*cmd, a->screen_by)->group(kRankingDetails);
+  addConfirmSamplesOption(*cmd, a->confirm_samples)->group(kRankingDetails);
   a->refine.addTo(*cmd);
   cmd->add_flag("--no-load-check", a->no_load_check,
                 "With --robust-ranking: r counts force closure alone, not whether the grip "
-                "carries the object's weight");
+                "carries the object's weight")
+      ->group(kRankingDetails);
   cmd->add_option("--judge", a->judge,
                   "model: the quality model's figures; physics: also execute each run's first "
                   "--physics-grasps grasps in the physics engine (docs/physics.md)")
@@ -229,19 +231,21 @@ void registerEvaluateCommands(CLI::App& app, Action& action) {
       ->check(positiveFinite(physics::kMaxObjectMassKg))
       ->capture_default_str();
   cmd->add_flag("--reference-compat", a->reference_compat,
-                "Quality as the reference code (docs/hands.md)");
-  addForceClosureTestOption(*cmd, a->fc_test);
-  addTorsionalFrictionOption(*cmd, a->torsional_friction_m);
-  addWrenchVolumeFlag(*cmd, a->wrench_volume);
-  addClosingMethodOption(*cmd, a->closing);
-  addContactPatchOption(*cmd, a->contact_patch);
+                "Quality as the reference code (docs/hands.md)")
+      ->group(kPlannerDetails);
+  addForceClosureTestOption(*cmd, a->fc_test)->group(kPlannerDetails);
+  addTorsionalFrictionOption(*cmd, a->torsional_friction_m)->group(kPlannerDetails);
+  addWrenchVolumeFlag(*cmd, a->wrench_volume)->group(kPlannerDetails);
+  addClosingMethodOption(*cmd, a->closing)->group(kPlannerDetails);
+  addContactPatchOption(*cmd, a->contact_patch)->group(kPlannerDetails);
   cmd->add_option("--vertex-distance", a->vertex_distance_m,
                   "Skeleton planner vertex distance d (m, 0 = every vertex)")
       ->check(lengthOrZero())
-      ->capture_default_str();
-  addCentreCandidatesFlag(*cmd, a->centre_candidates);
-  addAlternativePreshapesFlag(*cmd, a->alternative_preshapes);
-  addSurfaceCandidatesOption(*cmd, a->surface_candidates);
+      ->capture_default_str()
+      ->group(kPlannerDetails);
+  addCentreCandidatesFlag(*cmd, a->centre_candidates)->group(kPlannerDetails);
+  addAlternativePreshapesFlag(*cmd, a->alternative_preshapes)->group(kPlannerDetails);
+  addSurfaceCandidatesOption(*cmd, a->surface_candidates)->group(kPlannerDetails);
   cmd->add_option("--units", a->units, "Mesh units: auto, m or mm")->capture_default_str();
   cmd->add_option("--limit", a->limit, "Only the first N objects (0 = all)")
       ->transform(countIn(0, kMaxCount))

@@ -6,6 +6,7 @@
 
 #include "cli.h"
 #include "hand_options.h"
+#include "help_format.h"
 #include "option_checks.h"
 #include "output_paths.h"
 #include "planner_options.h"
@@ -88,6 +89,19 @@ void RunOptions::addTo(CLI::App& cmd, bool single_hand) {
       ->check(CLI::IsMember({"on", "off"}))
       ->capture_default_str();
   if (single_hand) exports.addTo(cmd);
+  // Tuning of the scan's processing and of the scene checks: --help-all.
+  for (const char* name :
+       {"--cameras", "--angle-step", "--voxel", "--outlier-k", "--plane-distance", "--hull-margin",
+        "--cluster-tolerance", "--normal-radius", "--poisson-depth", "--point-weight",
+        "--samples-per-node", "--trim", "--trim-fraction", "--observed-distance", "--regularise",
+        "--alpha-divisor", "--offset-divisor", "--no-completion", "--max-vertices"}) {
+    cmd.get_option(name)->group(kScanDetails);
+  }
+  for (const char* name :
+       {"--octree-resolution", "--unknown-space", "--pregrasp", "--foot-distance", "--scene-lift",
+        "--top-centring", "--observed-weight", "--surface-clearance"}) {
+    cmd.get_option(name)->group(kSceneDetails);
+  }
 }
 
 std::string nearestObjectOption(const Eigen::Vector3d& point) {

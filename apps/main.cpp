@@ -8,6 +8,7 @@
 
 #include "cli.h"
 #include "command_programs.h"
+#include "help_format.h"
 #include "option_checks.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/logging.h"
@@ -48,6 +49,7 @@ int main(int argc, char** argv) {
   CLI::App app{"skelgrasp: skeleton-based grasp planning for multi-fingered hands"};
   // The build renders the top-level help with placeholders for the launcher to fill in.
   const bool help_template = std::getenv(cli::kHelpTemplateVariable) != nullptr;
+  cli::setUpHelp(app);  // before the commands, which inherit --help-all and the layout
   app.require_subcommand(1);
   app.fallthrough();  // global flags (-q, -v) may follow the subcommand
   bool quiet = false, verbose = false;

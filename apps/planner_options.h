@@ -2,6 +2,7 @@
 // Command-line options of the planners, shared by the commands that plan.
 #include <CLI/CLI.hpp>
 
+#include "help_format.h"
 #include "option_checks.h"
 
 #include <fmt/format.h>
@@ -78,7 +79,8 @@ struct PlannerOptions {
   bool refine = grasping::RefinementParams{}.enabled;
   double precision_retreat_m = grasping::SkeletonPlannerParams{}.precision_retreat_m;
 
-  // `choice`: also --planner and --hypotheses (commands that can run either planner).
+  // `choice`: also --planner and --hypotheses (commands that can run either planner). --min-epsilon
+  // and the options after --mu are in kPlannerDetails (--help-all).
   void addTo(CLI::App& cmd, bool choice = true) {
     if (choice) {
       cmd.add_option("--planner", planner, "skeleton or surface")
@@ -102,47 +104,55 @@ struct PlannerOptions {
         ->capture_default_str();
     cmd.add_option("--min-epsilon", min_epsilon, "Reject grasps with a lower epsilon")
         ->check(finiteIn(0, kMaxRatio))
-        ->capture_default_str();
+        ->capture_default_str()
+        ->group(kPlannerDetails);
     cmd.add_option("--mu", mu, "Friction coefficient")
         ->check(finiteIn(0, kMaxFriction))
         ->capture_default_str();
     cmd.add_option("--vertex-distance", vertex_distance_m,
                    "Skeleton vertex distance d in metres (0 = every vertex)")
         ->check(lengthOrZero())
-        ->capture_default_str();
+        ->capture_default_str()
+        ->group(kPlannerDetails);
     // No shown default: unset means the hand's own ratio.
     cmd.add_option("--round-ratio", round_ratio,
                    fmt::format("lambda1/lambda2 below this is round (default: the hand's; {} for "
                                "the built-in hands)",
                                grasping::PlannerThresholds{}.round_ratio))
-        ->check(finiteIn(0, kMaxRatio));
+        ->check(finiteIn(0, kMaxRatio))
+        ->group(kPlannerDetails);
     cmd.add_flag("--reference-compat", reference_compat,
-                 "Quality as the reference code (docs/hands.md)");
+                 "Quality as the reference code (docs/hands.md)")
+        ->group(kPlannerDetails);
     cmd.add_option("--precision-retreat", precision_retreat_m,
                    "Skeleton planner: back precision grasps' open hand off this much further "
                    "than the first collision-free pose, in metres (0 = as the paper; 0.008 gave "
                    "more robust grasps, docs/planning.md)")
         ->check(lengthOrZero())
-        ->capture_default_str();
+        ->capture_default_str()
+        ->group(kPlannerDetails);
     cmd.add_flag("--no-fallback", no_fallback,
                  "Skeleton planner: no fallback strategies for objects whose skeleton gives few "
-                 "grasps (docs/planning.md)");
-    addCentreCandidatesFlag(cmd, centre_candidates);
-    addAlternativePreshapesFlag(cmd, alternative_preshapes);
-    addSurfaceCandidatesOption(cmd, surface_candidates);
-    addForceClosureTestOption(cmd, fc_test);
-    addTorsionalFrictionOption(cmd, torsional_friction_m);
-    addWrenchVolumeFlag(cmd, wrench_volume);
-    addClosingMethodOption(cmd, closing);
-    addContactPatchOption(cmd, contact_patch);
+                 "grasps (docs/planning.md)")
+        ->group(kPlannerDetails);
+    addCentreCandidatesFlag(cmd, centre_candidates)->group(kPlannerDetails);
+    addAlternativePreshapesFlag(cmd, alternative_preshapes)->group(kPlannerDetails);
+    addSurfaceCandidatesOption(cmd, surface_candidates)->group(kPlannerDetails);
+    addForceClosureTestOption(cmd, fc_test)->group(kPlannerDetails);
+    addTorsionalFrictionOption(cmd, torsional_friction_m)->group(kPlannerDetails);
+    addWrenchVolumeFlag(cmd, wrench_volume)->group(kPlannerDetails);
+    addClosingMethodOption(cmd, closing)->group(kPlannerDetails);
+    addContactPatchOption(cmd, contact_patch)->group(kPlannerDetails);
     cmd.add_option("--refine-evaluations", refine_evaluations,
                    "Skeleton planner: poses tried around each closed hypothesis by local "
                    "refinement (0 = none, but each grasp records its closure margin)")
         ->check(CLI::Range(0, kMaxRefineEvaluations))
-        ->capture_default_str();
+        ->capture_default_str()
+        ->group(kPlannerDetails);
     cmd.add_flag("--refine,!--no-refine", refine,
                  "Skeleton planner: local refinement of every closed hypothesis (off by default: "
-                 "8-12x slower planning; docs/planning.md)");
+                 "8-12x slower planning; docs/planning.md)")
+        ->group(kPlannerDetails);
   }
 
   grasping::HypothesisParams hypothesis() const {
