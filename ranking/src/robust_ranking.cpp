@@ -508,6 +508,9 @@ RobustRankingResult rankByRobustness(const grasping::HandModel& hand,
     }
     out.refinement_s = refine_watch.seconds();
   }
+  // Ties break by the pre-score of the grasp returned: a refined grasp's pose, and so its
+  // epsilon, may have moved.
+  for (std::size_t i = 0; i < n; ++i) pre_score[i] = grasps[i].epsilon * trustOf(i);
   out.order = by_pre;
   std::stable_sort(out.order.begin(), out.order.end(), [&](std::size_t a, std::size_t b) {
     if (level[a] != level[b]) return level[a] > level[b];
