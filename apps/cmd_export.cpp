@@ -64,16 +64,14 @@ void ExportOptions::addTo(CLI::App& cmd) {
       ->check(CLI::IsMember(grasping::exportFormatNames()));
 }
 
-void ExportOptions::write(const std::string& grasps_json_path,
-                          const grasping::HandModel& hand) const {
-  if (formats.empty()) return;
-  const nlohmann::json grasps = readJsonFile(grasps_json_path);
+void ExportOptions::stage(OutputTransaction& outputs, const std::string& grasps_json_path,
+                          const nlohmann::json& grasps, const grasping::HandModel& hand) const {
   const auto stem = std::filesystem::path(grasps_json_path).replace_extension("").string();
   for (const auto& name : formats) {
     const auto format = grasping::parseExportFormat(name);
     const std::string suffix =
         grasping::defaultExportFileName(format).substr(std::string("grasps").size());
-    writeFileAtomically(stem + suffix, grasping::exportGrasps(grasps, hand, format));
+    writeFileAtomically(outputs.stage(stem + suffix), grasping::exportGrasps(grasps, hand, format));
   }
 }
 

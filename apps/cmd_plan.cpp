@@ -56,9 +56,10 @@ int runPlan(const PlanArgs& args) {
     presentation::renderPlanPng(outputs.stage(args.render), mesh,
                                 plan.skeleton ? &plan.skeleton->skeleton : nullptr, plan, hand);
   }
+  // The exports before grasps.json: all of them appear together or none does.
+  args.exports.stage(outputs, args.out, document, hand);
   writeJsonFile(outputs.stage(args.out), document);
   outputs.commit();
-  args.exports.write(args.out, hand);
   std::cout << grasping::planSummaryLine(plan, hand.name(), name);
   if (plan.ranking.scored > 0) {
     std::cout << fmt::format("; best r {:.2f} ({} of {} grasps scored, {:.2f} s)",

@@ -12,6 +12,7 @@
 #include "planner_options.h"
 #include "reconstruct_options.h"
 #include "run_command.h"
+#include "skelgrasp/common/directory_lock.h"
 #include "skelgrasp/datasets/input.h"
 #include "skelgrasp/pipeline/run_output.h"
 #include "skelgrasp/pipeline/run_scene.h"
@@ -110,6 +111,14 @@ std::string nearestObjectOption(const Eigen::Vector3d& point) {
 
 namespace {
 
+// --export's files, written with the run's others.
+pipeline::ExtraRunOutputs exportsOf(const RunOptions& options, const std::string& out_dir,
+                                    const grasping::HandModel& hand) {
+  return [&options, out_dir, &hand](OutputTransaction& outputs, const nlohmann::json& grasps) {
+    options.exports.stage(outputs, out_dir + "/grasps.json", grasps, hand);
+  };
+}
+
 // `run --object all`: every object in one process. Exit 0 when at least one object got grasps;
 // when none did, the outputs (each object with its reason) are still written and one error line
 // sums the reasons up.
@@ -119,8 +128,8 @@ int runOnEveryObject(const perception::Scan& scan, const std::string& name,
   const auto result = pipeline::runScene(scan, hand, options.params());
   const auto& ingest = result.reconstruction.ingest;
   if (!ingest.status.ok()) return fail(scan.source + ": " + ingest.status.message);
-  pipeline::writeSceneRunOutputs(out_dir, result, hand, scan, name);
-  options.exports.write(out_dir + "/grasps.json", hand);
+  pipeline::writeSceneRunOutputs(out_dir, result, hand, scan, name,
+                                 exportsOf(options, out_dir, hand));
   for (const auto& s : result.stages)
     std::cout << fmt::format("  {:<22} {:7.3f} s\n", s.stage, s.seconds);
   std::string reasons;
@@ -150,8 +159,7 @@ int runOnScan(const perception::Scan& scan, const std::string& name, const std::
   const auto result = pipeline::runPipeline(scan, hand, options.params());
   if (!result.reconstruction.status.ok())
     return fail(scan.source + ": " + result.reconstruction.status.message);
-  pipeline::writeRunOutputs(out_dir, result, hand, scan, name);
-  options.exports.write(out_dir + "/grasps.json", hand);
+  pipeline::writeRunOutputs(out_dir, result, hand, scan, name, exportsOf(options, out_dir, hand));
   for (const auto& s : result.stages)
     std::cout << fmt::format("  {:<22} {:7.3f} s\n", s.stage, s.seconds);
   const auto& summary = result.plan.summary;
@@ -183,6 +191,9 @@ void registerRunCommand(CLI::App& app, Action& action) {
   cmd->callback([=, &action] {
     action = [=] {
       checkOutputDirectoryOption(*out);
+      checkOutputIsNotInput(*out, {*input});
+      // One run at a time into --out; a directory made here and left empty goes again.
+      const LockedOutputDirectory locked(*out);
       const auto scan = datasets::loadInput(*input, options->reconstruction.inputOptions());
       return runOnScan(scan, std::filesystem::path(*input).filename().string(), *out, *options);
     };

@@ -76,6 +76,8 @@ int runScore(const ScoreArgs& a) {
     std::optional<long long> object;
     if (a.object) object = static_cast<long long>(*a.object);
     placements = grasping::readGraspPlacements(file, hand, object);
+    // Refused before the mesh is read: the file's grasps times the samples asked for.
+    evaluation::checkScoreWork(placements.size(), params);
   } catch (const InvalidArgument& e) {
     throw IoError(a.grasps, e.what());
   }

@@ -69,6 +69,12 @@ int runSimulate(const SimulateArgs& a) {
   params.judge.fingertip_force_n = a.fingertip_force_n;
   params.judge.time_step_s = a.time_step_s;
   params.judge.solver_iterations = a.solver_iterations;
+  // Refused before the mesh is read: the file's grasps times the executions asked for.
+  try {
+    evaluation::checkSimulationWork(placements.size(), params);
+  } catch (const InvalidArgument& e) {
+    throw IoError(a.grasps, e.what());
+  }
   MeshLoadOptions load;
   load.units = parseLengthUnit(a.units);
   const TriangleMesh mesh = loadMesh(a.mesh, load);

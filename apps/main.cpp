@@ -13,6 +13,7 @@
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/common/resources.h"
+#include "skelgrasp/common/signal_cleanup.h"
 
 namespace skelgrasp::cli {
 
@@ -119,6 +120,9 @@ int main(int argc, char** argv) {
     return cli::fail(cli::oneLine(e.what()));
   }
   setLogLevel(verbose ? spdlog::level::debug : quiet ? spdlog::level::warn : spdlog::level::info);
+  // Ctrl-C or `kill` removes the hidden temporaries and the empty output directories of the
+  // command (signal_cleanup.h) before ending it.
+  installSignalCleanup();
   try {
     if (!memory_limit.empty()) setMemoryLimitBytes(parseMemoryLimit(memory_limit));
     return action ? action() : cli::kExitOk;

@@ -16,9 +16,10 @@ packages=(
 )
 for option in "$@"; do
   case "$option" in
-    # `make test` also runs GNU parallel (sharded evaluation), a headless browser (the
-    # report's 3D view) and pytest (the Python module's tests, tests/python/).
-    --test) packages+=(parallel chromium python3-pytest) ;;
+    # `make test` also runs GNU parallel and Slurm (sharded evaluation; the test starts its own
+    # munged, slurmctld and slurmd), a headless browser (the report's 3D view) and pytest (the
+    # Python module's tests, tests/python/).
+    --test) packages+=(parallel slurm-wlm munge chromium python3-pytest) ;;
     # `make fuzz` also needs clang with its libFuzzer runtime.
     --fuzz) packages+=(clang libclang-rt-14-dev llvm) ;;
     *) echo "install-deps: error: unknown option $option (known: --test, --fuzz)" >&2; exit 2 ;;

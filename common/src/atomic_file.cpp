@@ -4,10 +4,18 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <signal.h>
+
+#include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <regex>
+#include <set>
 #include <system_error>
 
 #include "skelgrasp/common/error.h"
@@ -193,11 +201,16 @@ std::pair<std::string, int> createTemporaryFor(const fs::path& target,
   return {std::move(name), fd};
 }
 
-// Removes the temporary (and the directories made for it) unless released.
+// Removes the temporary (and the directories made for it) unless released; a signal ending the
+// process meanwhile removes them too (signal_cleanup.h).
 class TemporaryGuard {
  public:
   TemporaryGuard(std::string path, std::vector<std::string> created_directories)
-      : path_(std::move(path)), created_directories_(std::move(created_directories)) {}
+      : path_(std::move(path)), created_directories_(std::move(created_directories)) {
+    on_signal_.emplace_back(path_, SignalCleanupEntry::Kind::kFile);
+    for (const auto& dir : created_directories_)
+      on_signal_.emplace_back(dir, SignalCleanupEntry::Kind::kEmptyDirectory);
+  }
   ~TemporaryGuard() {
     if (!armed_) return;
     std::error_code ec;
@@ -211,6 +224,7 @@ class TemporaryGuard {
  private:
   std::string path_;
   std::vector<std::string> created_directories_;
+  std::vector<SignalCleanupEntry> on_signal_;
   bool armed_ = true;
 };
 
@@ -246,9 +260,12 @@ void replaceWith(const std::string& temporary, const fs::path& target,
   // (still whole); only the data had to be on disk before it, and that fsync is done.
 }
 
+// An error naming the temporary or the path asked for (a staged name) is reported under
+// `report_path`, the file it becomes.
 [[noreturn]] void rethrowNamingTarget(const IoError& error, const std::string& temporary,
-                                      const std::string& report_path) {
-  if (error.path() == temporary) throw IoError(report_path, error.problem());
+                                      const std::string& path, const std::string& report_path) {
+  if (error.path() == temporary || error.path() == path)
+    throw IoError(report_path, error.problem());
   throw error;
 }
 
@@ -262,29 +279,79 @@ std::string temporarySiblingPath(const std::string& path) {
   return (p.parent_path() / name).string();
 }
 
+std::string finalPathOfTemporary(const std::string& path) {
+  const fs::path p(path);
+  std::string name = p.filename().string();
+  const std::string marker = ".tmp." + std::to_string(::getpid()) + ".";
+  bool changed = false;
+  // ".STEM.tmp.PID.N.EXT" -> "STEM.EXT", as often as it applies (a writer's temporary of a staged
+  // name).
+  while (name.size() > 1 && name[0] == '.') {
+    const std::size_t at = name.rfind(marker);
+    if (at == std::string::npos || at < 1) break;
+    const std::size_t digits = at + marker.size();
+    std::size_t end = digits;
+    while (end < name.size() && std::isdigit(static_cast<unsigned char>(name[end]))) ++end;
+    if (end == digits || (end < name.size() && name[end] != '.')) break;
+    name = name.substr(1, at - 1) + name.substr(end);
+    changed = true;
+  }
+  return changed ? (p.parent_path() / name).string() : path;
+}
+
+std::size_t removeStaleTemporaries(const std::string& dir) {
+  static const std::regex temporary(R"(\..*\.tmp\.([0-9]+)\.[0-9]+(\..*)?)");
+  std::size_t removed = 0;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    std::smatch match;
+    if (!std::regex_match(name, match, temporary) || !entry.is_regular_file(ec)) continue;
+    const long pid = std::strtol(match[1].str().c_str(), nullptr, 10);
+    // Alive (or another user's, EPERM): its temporary may still become a file.
+    if (pid <= 0 || pid == ::getpid() || ::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH)
+      continue;
+    if (fs::remove(entry.path(), ec)) ++removed;
+  }
+  return removed;
+}
+
+std::vector<std::string> createOutputDirectory(const std::string& dir) {
+  if (dir.empty()) throw InvalidArgument("an output directory is empty");
+  std::error_code ec;
+  const fs::path normal = absoluteNormal(dir);
+  if (fs::exists(normal, ec)) {
+    if (!fs::is_directory(normal, ec)) throw IoError(dir, "exists and is not a directory");
+    return {};
+  }
+  return createParentDirectories(normal / "probe", dir);
+}
+
 void writeFileAtomically(const std::string& path,
                          const std::function<void(std::ostream& out)>& write) {
+  // A staged name of an OutputTransaction is reported as the file it becomes.
+  const std::string report = finalPathOfTemporary(path);
   const fs::path target = resolveTarget(path);
   if (isSpecialFile(target)) {
     const int fd = ::open(target.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
-    if (fd < 0) throw IoError(path, "cannot open for writing: " + errnoText(errno));
-    FdWriter direct(fd, path);
+    if (fd < 0) throw IoError(report, "cannot open for writing: " + errnoText(errno));
+    FdWriter direct(fd, report);
     write(direct.stream());
     direct.close();
     return;
   }
-  requireNotDirectory(target, path);
-  auto created = createParentDirectories(target, path);
-  auto [temporary, fd] = createTemporaryFor(target, path);
+  requireNotDirectory(target, report);
+  auto created = createParentDirectories(target, report);
+  auto [temporary, fd] = createTemporaryFor(target, report);
   TemporaryGuard guard(temporary, std::move(created));
-  FdWriter writer(fd, path);
+  FdWriter writer(fd, report);
   try {
     write(writer.stream());
   } catch (const IoError& e) {
-    rethrowNamingTarget(e, temporary, path);
+    rethrowNamingTarget(e, temporary, path, report);
   }
   writer.close();
-  replaceWith(temporary, target, path);
+  replaceWith(temporary, target, report);
   guard.release();
 }
 
@@ -296,28 +363,29 @@ void writeFileAtomically(const std::string& path, const std::string& text) {
 
 void writeFileViaTemporary(const std::string& path,
                            const std::function<void(const std::string& temporary_path)>& write) {
+  const std::string report = finalPathOfTemporary(path);
   const fs::path target = resolveTarget(path);
   if (isSpecialFile(target)) {
     write(target.string());
     return;
   }
-  requireNotDirectory(target, path);
-  auto created = createParentDirectories(target, path);
-  auto [temporary, fd] = createTemporaryFor(target, path);
+  requireNotDirectory(target, report);
+  auto created = createParentDirectories(target, report);
+  auto [temporary, fd] = createTemporaryFor(target, report);
   ::close(fd);
   TemporaryGuard guard(temporary, std::move(created));
   try {
     write(temporary);
   } catch (const IoError& e) {
-    rethrowNamingTarget(e, temporary, path);
+    rethrowNamingTarget(e, temporary, path, report);
   }
   // The library wrote by name; sync what it left there before it can replace the old file.
   const int written = ::open(temporary.c_str(), O_RDONLY | O_CLOEXEC);
-  if (written < 0) throw IoError(path, "the writer left no file: " + errnoText(errno));
+  if (written < 0) throw IoError(report, "the writer left no file: " + errnoText(errno));
   const int error = syncDescriptor(written);
   ::close(written);
-  if (error != 0) throw IoError(path, "cannot write: " + errnoText(error));
-  replaceWith(temporary, target, path);
+  if (error != 0) throw IoError(report, "cannot write: " + errnoText(error));
+  replaceWith(temporary, target, report);
   guard.release();
 }
 
@@ -385,7 +453,7 @@ void checkOutputDirectory(const std::string& path) {
 
 OutputTransaction::~OutputTransaction() {
   std::error_code ec;
-  for (const auto& [temporary, target] : staged_) fs::remove(temporary, ec);
+  for (const auto& staged : staged_) fs::remove(staged.temporary, ec);
   if (!committed_) removeCreatedDirectories(created_directories_);
 }
 
@@ -393,26 +461,86 @@ std::string OutputTransaction::stage(const std::string& final_path) {
   const fs::path target = resolveTarget(final_path);
   if (isSpecialFile(target)) return final_path;
   requireNotDirectory(target, final_path);
-  for (const auto& [temporary, staged_target] : staged_) {
-    if (staged_target == target.string()) return temporary;
+  for (const auto& staged : staged_) {
+    if (staged.target == target.string()) return staged.temporary;
   }
   for (auto& dir : createParentDirectories(target, final_path)) {
+    created_on_signal_.emplace_back(dir, SignalCleanupEntry::Kind::kEmptyDirectory);
     created_directories_.push_back(std::move(dir));
   }
   // Only a name: a writer that decides to write nothing (an empty picture) leaves no file, and
   // commit() then skips it.
-  staged_.emplace_back(temporarySiblingPath(target.string()), target.string());
-  return staged_.back().first;
+  std::string temporary = temporarySiblingPath(target.string());
+  SignalCleanupEntry on_signal(temporary, SignalCleanupEntry::Kind::kFile);
+  staged_.push_back({std::move(temporary), target.string(), std::move(on_signal)});
+  return staged_.back().temporary;
+}
+
+namespace {
+
+// The names an output list (kOutputListFile) in `dir` holds: plain visible file names only (no
+// path, nothing starting with "."), so that a hostile list can reach neither outside the directory
+// nor its lock or list.
+std::set<std::string> readOutputList(const fs::path& dir) {
+  const fs::path list = dir / kOutputListFile;
+  std::error_code ec;
+  const auto bytes = fs::file_size(list, ec);
+  if (ec || bytes > kMaxOutputListBytes) return {};
+  std::ifstream in(list);
+  std::set<std::string> names;
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '.' || line.find('/') != std::string::npos ||
+        line.find('\0') != std::string::npos)
+      continue;
+    names.insert(line);
+  }
+  return names;
+}
+
+void writeOutputList(const fs::path& dir, const std::set<std::string>& names) {
+  std::string text;
+  for (const auto& name : names) text += name + "\n";
+  writeFileAtomically((dir / kOutputListFile).string(), text);
+}
+
+}  // namespace
+
+void OutputTransaction::replacePreviousOutputsIn(const std::string& dir) {
+  owned_directory_ = dir;
 }
 
 void OutputTransaction::commit() {
   std::error_code ec;
+  // The files of the owned directory this commit writes, by name.
+  const fs::path owned = owned_directory_.empty() ? fs::path() : absoluteNormal(owned_directory_);
+  std::set<std::string> written;
+  for (const auto& staged : staged_) {
+    const fs::path target = absoluteNormal(staged.target);
+    if (!owned.empty() && target.parent_path() == owned && fs::exists(staged.temporary, ec))
+      written.insert(target.filename().string());
+  }
+  std::set<std::string> previous;
+  if (!owned.empty()) {
+    previous = readOutputList(owned);
+    // Listed before the renames: at any moment the list names every file a command owns here.
+    std::set<std::string> both = previous;
+    both.insert(written.begin(), written.end());
+    if (both != previous) writeOutputList(owned, both);
+  }
   while (!staged_.empty()) {
-    const auto [temporary, target] = staged_.front();
-    if (fs::exists(temporary, ec)) replaceWith(temporary, target, target);
+    const Staged& staged = staged_.front();
+    if (fs::exists(staged.temporary, ec))
+      replaceWith(staged.temporary, staged.target, staged.target);
     staged_.erase(staged_.begin());
   }
   committed_ = true;
+  created_on_signal_.clear();
+  if (owned.empty()) return;
+  for (const auto& name : previous) {
+    if (written.count(name)) continue;
+    if (fs::is_regular_file(fs::symlink_status(owned / name, ec))) fs::remove(owned / name, ec);
+  }
+  writeOutputList(owned, written);
 }
 
 }  // namespace skelgrasp

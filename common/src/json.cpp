@@ -15,6 +15,32 @@ namespace {
 // than ten levels (a run file: document, objects, grasps, a grasp, its pose, a list).
 constexpr int kMaxJsonNestingDepth = 64;
 
+// Whether arrays and objects in `text` nest more than kMaxJsonNestingDepth levels deep (brackets
+// inside strings do not count). A linear scan before parsing: nlohmann's callback parser, which
+// could count the depth as it goes, walks the enclosing array at the end of every object, so a
+// file of a million grasps took minutes to read.
+bool nestsTooDeep(const std::string& text) {
+  int depth = 0;
+  bool in_string = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\') {
+        ++i;  // the escaped character, a quote included
+      } else if (c == '"') {
+        in_string = false;
+      }
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxJsonNestingDepth) return true;
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 nlohmann::json toJson(const Eigen::Vector3d& v) {
@@ -100,18 +126,15 @@ nlohmann::json readJsonFile(const std::string& path, std::uintmax_t max_bytes) {
   if (in.bad()) throw IoError(path, "read failed");
   const std::string text = buffer.str();
   if (text.find_first_not_of(" \t\r\n") == std::string::npos) throw IoError(path, "file is empty");
-  // Nesting deeper than any file skelgrasp writes is refused while parsing: a grasp "id" nested
+  // Nesting deeper than any file skelgrasp writes is refused before parsing: a grasp "id" nested
   // 100 000 arrays deep (a 212 KB file) was copied into scores.json, and dumping it with an
   // indent asked for about 20 GB; recursion over such a value can also exhaust the stack.
-  const auto limit_depth = [&](int depth, nlohmann::json::parse_event_t, nlohmann::json&) {
-    if (depth > kMaxJsonNestingDepth) {
-      throw IoError(path,
-                    "JSON nesting deeper than " + std::to_string(kMaxJsonNestingDepth) + " levels");
-    }
-    return true;
-  };
+  if (nestsTooDeep(text)) {
+    throw IoError(path,
+                  "JSON nesting deeper than " + std::to_string(kMaxJsonNestingDepth) + " levels");
+  }
   try {
-    return nlohmann::json::parse(text, limit_depth);
+    return nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {
     // parse errors, and out_of_range for numbers beyond double ("1e999")
     throw IoError(path, describeJsonError(e, text));

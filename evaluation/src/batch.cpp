@@ -15,7 +15,7 @@
 #include "batch_physics.h"
 #include "batch_setup.h"
 #include "batch_store.h"
-#include "directory_lock.h"
+#include "skelgrasp/common/directory_lock.h"
 #include "skelgrasp/common/logging.h"
 
 namespace skelgrasp::evaluation {
@@ -366,7 +366,7 @@ BatchStats runBatch(const BatchParams& p) {
   std::vector<ObjectIdentity> objects = internal::identifyObjects(p.objects);
   if (p.object_limit > 0 && objects.size() > p.object_limit) objects.resize(p.object_limit);
   prepareOutDir(p.out_dir);
-  const internal::DirectoryLock lock(p.out_dir);
+  const DirectoryLock lock(p.out_dir);
   const nlohmann::json options = internal::resultOptions(p, hands);
   if (p.restart) {
     removeBatchFiles(p.out_dir);

@@ -4,7 +4,7 @@
 
 #include "batch_setup.h"
 #include "batch_store.h"
-#include "directory_lock.h"
+#include "skelgrasp/common/directory_lock.h"
 #include "skelgrasp/common/error.h"
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/evaluation/batch.h"
@@ -19,7 +19,7 @@ void mergeBatches(const std::vector<std::string>& shard_dirs, const std::string&
   for (const auto& dir : shard_dirs) {
     if (!std::filesystem::exists(dir + "/runs.jsonl"))
       throw IoError(dir, "no runs.jsonl (not a batch output)");
-    if (const auto holder = internal::lockHolder(dir)) {
+    if (const auto holder = lockHolder(dir)) {
       throw IoError(dir, (*holder > 0 ? "is in use by process " + std::to_string(*holder)
                                       : std::string("is in use by another process")) +
                              " (its evaluate has not finished)");
@@ -49,7 +49,7 @@ void mergeBatches(const std::vector<std::string>& shard_dirs, const std::string&
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   if (ec) throw IoError(out_dir, "cannot create the output directory: " + ec.message());
-  const internal::DirectoryLock lock(out_dir);
+  const DirectoryLock lock(out_dir);
   internal::writeBatchRecords(out_dir, merged);
   if (options) {
     internal::writeBatchOptions(out_dir, *options);

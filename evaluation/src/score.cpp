@@ -2,7 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/logging.h"
@@ -24,6 +26,12 @@ void checkParams(const ScoreParams& params) {
   }
   if (params.compute_robustness && params.robustness.samples < 1)
     throw InvalidArgument("score: robustness needs at least one sample");
+}
+
+// A count as a whole number, saturated (the products below may pass 2^64 for hostile inputs).
+std::uint64_t saturated(double count) {
+  constexpr double kLargest = 18446744073709549568.0;  // the largest double below 2^64
+  return count >= kLargest ? UINT64_MAX : static_cast<std::uint64_t>(count);
 }
 
 // The quality measure at `mu` with the hand's contact model unless the caller chose one.
@@ -129,17 +137,42 @@ FrictionTotals totalsAt(const ScoreResult& result, std::size_t k) {
 
 }  // namespace
 
+std::uint64_t scoreClosings(std::size_t grasps, const ScoreParams& params) {
+  const double per_grasp =
+      1.0 + (params.compute_robustness ? static_cast<double>(params.frictions.size()) *
+                                             std::max(params.robustness.samples, 0)
+                                       : 0.0);
+  return saturated(static_cast<double>(grasps) * per_grasp);
+}
+
+void checkScoreWork(std::size_t grasps, const ScoreParams& params) {
+  const std::uint64_t closings = scoreClosings(grasps, params);
+  if (closings <= ranking::kMaxScoreClosings) return;
+  const std::string samples = params.compute_robustness
+                                  ? fmt::format(" at {} friction(s) x {} robustness samples",
+                                                params.frictions.size(), params.robustness.samples)
+                                  : std::string();
+  throw InvalidArgument(fmt::format(
+      "scoring {} grasps{} is {} hand closings, more than the limit of {} per command; score "
+      "fewer grasps at a time or take fewer samples",
+      grasps, samples, closings, ranking::kMaxScoreClosings));
+}
+
 ScoreResult scoreGrasps(const grasping::HandModel& hand, const grasping::GraspObject& object,
                         const std::vector<grasping::GraspPlacement>& grasps,
                         const ScoreParams& params) {
   checkParams(params);
+  checkScoreWork(grasps.size(), params);
   Stopwatch watch;
   ScoreResult result;
   result.grasps.reserve(grasps.size());
   grasping::GraspSimulator simulator(hand, object);
+  ProgressReporter progress("score: grasps", grasps.size(), kGraspsProgressIntervalS);
   for (const auto& placement : grasps) {
     result.grasps.push_back(scoreOne(simulator, placement, params, result.robustness_s));
     result.closed += result.grasps.back().closing_failure.empty();
+    // Quick scorings print no progress: the first line comes after one interval.
+    if (watch.seconds() >= kGraspsProgressIntervalS) progress.step(result.grasps.size());
   }
   result.time_s = watch.seconds();
   if (grasps.empty()) {

@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/logging.h"
@@ -146,14 +148,33 @@ Totals totalsAt(const SimulateResult& result, std::size_t k) {
 
 }  // namespace
 
+std::uint64_t simulatedExecutions(std::size_t grasps, const SimulateParams& params) {
+  const double count = static_cast<double>(grasps) * static_cast<double>(params.frictions.size()) *
+                       (1.0 + std::max(params.samples, 0));
+  constexpr double kLargest = 18446744073709549568.0;  // the largest double below 2^64
+  return count >= kLargest ? UINT64_MAX : static_cast<std::uint64_t>(count);
+}
+
+void checkSimulationWork(std::size_t grasps, const SimulateParams& params) {
+  const std::uint64_t executions = simulatedExecutions(grasps, params);
+  if (executions <= kMaxSimulatedExecutions) return;
+  throw InvalidArgument(fmt::format(
+      "simulating {} grasps at {} friction(s) x (1 + {} samples) is {} executions, more than the "
+      "limit of {} per command; simulate fewer grasps at a time (--max-grasps) or take fewer "
+      "samples",
+      grasps, params.frictions.size(), params.samples, executions, kMaxSimulatedExecutions));
+}
+
 SimulateResult simulateGrasps(const grasping::HandModel& hand, const grasping::GraspObject& object,
                               const physics::PhysicalObject& physical,
                               const std::vector<grasping::GraspPlacement>& grasps,
                               const SimulateParams& params) {
   checkParams(params);
+  checkSimulationWork(grasps.size(), params);
   Stopwatch watch;
   SimulateResult result;
   grasping::GraspSimulator simulator(hand, object);
+  ProgressReporter progress("simulate: grasps", grasps.size(), kGraspsProgressIntervalS);
   for (const auto& placement : grasps) {
     GraspSimulation simulated;
     simulated.id = placement.id;
@@ -178,6 +199,8 @@ SimulateResult simulateGrasps(const grasping::HandModel& hand, const grasping::G
     }
     result.execution_cpu_s += simulated.cpu_s;
     result.grasps.push_back(std::move(simulated));
+    // Quick simulations print no progress: the first line comes after one interval.
+    if (watch.seconds() >= kGraspsProgressIntervalS) progress.step(result.grasps.size());
   }
   result.time_s = watch.seconds();
   if (grasps.empty()) result.status = Status::Make(StatusCode::kNoResult, "no grasps to simulate");

@@ -199,11 +199,13 @@ nlohmann::json runToJson(const RunResult& result, const HandModel& hand,
 }
 
 void writeRunOutputs(const std::string& dir, const RunResult& r, const HandModel& hand,
-                     const perception::Scan& scan, const std::string& input_name) {
+                     const perception::Scan& scan, const std::string& input_name,
+                     const ExtraRunOutputs& extra) {
   // All files go to temporary names and are renamed into place together at the end, grasps.json
   // (the index of the others) last: a failure on the way leaves neither a partial set nor stray
   // temporaries, and a directory without grasps.json is visibly incomplete.
   OutputTransaction outputs;
+  outputs.replacePreviousOutputsIn(dir);
   const auto staged = [&](const std::string& file) { return outputs.stage(dir + "/" + file); };
   presentation::HtmlReport report("skelgrasp run: " + input_name + " with " + hand.name());
   report.paragraph(r.status.ok()
@@ -258,7 +260,9 @@ void writeRunOutputs(const std::string& dir, const RunResult& r, const HandModel
   report.heading("Why hypotheses were rejected");
   internal::addRejectionTable(report, r.plan.summary);
   report.write(staged("report.html"));
-  writeJsonFile(staged("grasps.json"), runJson(r, hand, scan, input_name));
+  const nlohmann::json grasps = runJson(r, hand, scan, input_name);
+  if (extra) extra(outputs, grasps);
+  writeJsonFile(staged("grasps.json"), grasps);
   outputs.commit();
 }
 

@@ -178,9 +178,12 @@ nlohmann::json sceneRunToJson(const SceneRunResult& result, const HandModel& han
 }
 
 void writeSceneRunOutputs(const std::string& dir, const SceneRunResult& r, const HandModel& hand,
-                          const perception::Scan& scan, const std::string& input_name) {
-  // As writeRunOutputs: every file staged, renamed together, grasps.json last.
+                          const perception::Scan& scan, const std::string& input_name,
+                          const ExtraRunOutputs& extra) {
+  // As writeRunOutputs: every file staged, renamed together, grasps.json last, a previous run's
+  // files replaced.
   OutputTransaction outputs;
+  outputs.replacePreviousOutputsIn(dir);
   const auto staged = [&](const std::string& file) { return outputs.stage(dir + "/" + file); };
   presentation::HtmlReport report("skelgrasp run: every object of " + input_name + " with " +
                                   hand.name());
@@ -217,7 +220,9 @@ void writeSceneRunOutputs(const std::string& dir, const SceneRunResult& r, const
     addObjectSection(report, outputs, dir, o, hand);
   }
   report.write(staged("report.html"));
-  writeJsonFile(staged("grasps.json"), sceneRunJson(r, hand, scan, input_name));
+  const nlohmann::json grasps = sceneRunJson(r, hand, scan, input_name);
+  if (extra) extra(outputs, grasps);
+  writeJsonFile(staged("grasps.json"), grasps);
   outputs.commit();
 }
 

@@ -49,6 +49,7 @@ py::object simulate(const Mesh& mesh, const HandPtr& hand, const py::object& gra
   params.robustness.seed = seed;
   params.judge.fingertip_force_n = fingertip_force;
   params.judge.disturbance_force_n = force;
+  evaluation::checkSimulationWork(placements.size(), params);  // before the object is prepared
   physics::PhysicalObjectParams object_params;
   object_params.mass_kg = mass;
   nlohmann::json out;

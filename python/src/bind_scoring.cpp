@@ -186,6 +186,7 @@ py::object scoreGraspsFile(const Mesh& mesh, const HandPtr& hand, const py::obje
   std::vector<grasping::GraspPlacement> placements;
   try {
     placements = grasping::readGraspPlacements(file, *hand, object);
+    evaluation::checkScoreWork(placements.size(), params);  // before any closing
   } catch (const InvalidArgument& e) {
     // As `skelgrasp score`: a file's problems name the file.
     if (py::isinstance<py::str>(grasps)) throw IoError(source, e.what());

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "cli_support.h"
+#include "hostile_files.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/geometry/shapes.h"
@@ -25,17 +26,15 @@ using test::CliRun;
 using test::countLines;
 using test::lastLine;
 using test::runCli;
+using test::validGrasps;
 using test::withDir;
+using test::writeText;
 
 // The single face of this mesh has zero area: its corners lie on one line.
 const char* const kCollinearPly =
     "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
     "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
     "0 0 0\n0.05 0 0\n0.1 0 0\n3 0 1 2\n";
-
-void writeText(const std::string& path, const std::string& text) {
-  std::ofstream(path, std::ios::binary) << text;
-}
 
 // A file of `bytes` bytes that takes no disk space (a hole): the readers must refuse it by size.
 void writeSparse(const std::string& path, std::uintmax_t bytes) {
@@ -182,26 +181,6 @@ void writeHands(const std::string& dir) {
   nlohmann::json any_base = nlohmann::json::parse(gripper.description);
   any_base.erase("base_link");
   writeText(dir + "/any_base.json", any_base.dump());
-}
-
-// A grasps file of the SDH hand that export and score accept: every movable joint at the middle
-// of its limits.
-nlohmann::json validGrasps() {
-  const auto hand = grasping::loadBuiltinHand("sdh");
-  nlohmann::json joints = nlohmann::json::object();
-  for (const auto& joint : hand.joints())
-    if (joint.movable()) joints[joint.name] = 0.5 * (joint.lower + joint.upper);
-  nlohmann::json grasp = {
-      {"id", 0},
-      {"hand_pose", {{"position", {0, 0, 0.2}}, {"quaternion_wxyz", {1, 0, 0, 0}}}},
-      {"preshape", hand.preshapes().begin()->first},
-      {"retreat_m", 0.01},
-      {"epsilon", 0.1},
-      {"joints", joints}};
-  return {{"schema", "skelgrasp.grasps/3"},
-          {"hand", "sdh"},
-          {"object", "capsule.ply"},
-          {"grasps", {grasp}}};
 }
 
 // Grasps files with one hostile value each, named after it.

@@ -1,11 +1,15 @@
 // evaluate --shard + merge driven by the schedulers users run: GNU parallel on one machine and
-// Slurm job arrays (scripts/slurm/evaluate-array.sh) on a cluster. The merged directory must
+// Slurm job arrays (scripts/slurm/evaluate-array.sh) on a cluster, with a stand-in sbatch and
+// with real Slurm daemons on this machine. The merged directory must
 // hold exactly the results of one unsharded evaluate.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <thread>
 
 #include "cli_support.h"
 #include "skelgrasp/common/json.h"
@@ -137,6 +141,62 @@ TEST_F(SchedulerTest, TheSlurmArrayScriptShardsAndMergesToTheSingleRun) {
   int submitted = 0;
   while (std::getline(calls, call)) ++submitted;
   EXPECT_EQ(submitted, 2);  // one array job, one merge job
+  expectMergedEqualsSingle(out + "/merged");
+}
+
+std::string firstLineOf(const std::string& path) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  return line;
+}
+
+// The Slurm script against real slurmctld and slurmd on this machine
+// (scripts/slurm/local-cluster.sh: munge, one node, ports on 127.0.0.1): the array job's shards and
+// the dependent merge run as a cluster runs them.
+TEST_F(SchedulerTest, TheSlurmArrayJobOnALocalClusterMergesToTheSingleRun) {
+  constexpr int kJobTimeoutS = 600;
+  const std::string scripts = std::string(SKELGRASP_SOURCE_DIR) + "/scripts/slurm";
+  const std::string cluster = dir_ + "/slurm";
+  // Stops whatever start started, also after a failed start or a failed assertion.
+  struct StopCluster {
+    std::string command;
+    ~StopCluster() { [[maybe_unused]] const int ignored = std::system(command.c_str()); }
+  } stop{"bash " + scripts + "/local-cluster.sh stop " + cluster};
+  const int started = std::system(("bash " + scripts + "/local-cluster.sh start " + cluster +
+                                   " > /dev/null 2> " + dir_ + "/cluster.log")
+                                      .c_str());
+  if (WEXITSTATUS(started) == 3) {
+    GTEST_SKIP() << "Slurm cannot start here: " << firstLineOf(dir_ + "/cluster.log")
+                 << " (scripts/install-deps.sh --test installs slurm-wlm and munge)";
+  }
+  ASSERT_EQ(WEXITSTATUS(started), 0) << firstLineOf(dir_ + "/cluster.log");
+  const std::string slurm = "SLURM_CONF=" + cluster + "/slurm.conf ";
+  const std::string out = dir_ + "/cluster";
+  const std::string submit = slurm + "bash " + scripts + "/evaluate-array.sh --shards " +
+                             std::to_string(kShards) + " --time 00:30:00 --out " + out +
+                             " --skelgrasp " + SKELGRASP_CLI_PATH + " -- --objects " + objects_ +
+                             kFastOptions + " > " + dir_ + "/submit.log 2>&1";
+  ASSERT_EQ(std::system(submit.c_str()), 0) << submit;
+  // "evaluate-array: submitted 3 shard(s) as job 1, merge as job 2"
+  const std::string submitted = firstLineOf(dir_ + "/submit.log");
+  const auto at = submitted.find("merge as job ");
+  ASSERT_NE(at, std::string::npos) << submitted;
+  const std::string merge_job = submitted.substr(at + std::string("merge as job ").size());
+  std::string state;
+  for (int waited = 0; waited < kJobTimeoutS; ++waited) {
+    const std::string show = slurm + "scontrol show job " + merge_job + " > " + dir_ + "/job.txt";
+    ASSERT_EQ(std::system(show.c_str()), 0);
+    std::ifstream job(dir_ + "/job.txt");
+    const std::string text((std::istreambuf_iterator<char>(job)), {});
+    const auto from = text.find("JobState=");
+    ASSERT_NE(from, std::string::npos) << text;
+    state = text.substr(from + 9, text.find(' ', from) - from - 9);
+    if (state != "PENDING" && state != "RUNNING" && state != "CONFIGURING" && state != "COMPLETING")
+      break;
+    std::this_thread::sleep_for(std::chrono::seconds(1));
+  }
+  ASSERT_EQ(state, "COMPLETED") << "merge job " << merge_job << "; logs in " << out << "/logs";
   expectMergedEqualsSingle(out + "/merged");
 }
 

@@ -153,3 +153,14 @@ def test_score_grasps_names_what_is_wrong_in_a_dict_or_a_file(tmp_path, capsule,
     path.write_text(json.dumps(document))
     with pytest.raises(OSError, match=f"^{path}: grasp 0: "):
         skelgrasp.score_grasps(capsule, sdh, str(path))
+
+
+def test_score_grasps_and_simulate_refuse_more_work_than_a_command_may_run(capsule, sdh):
+    grasps = [{"id": i, "hand_pose": {"position": [0, 0, 0.2], "quaternion_wxyz": [1, 0, 0, 0]}}
+              for i in range(101)]
+    document = {"schema": "skelgrasp.grasps/3", "hand": "sdh", "grasps": grasps}
+    # 101 x (1 + 100000) closings, 11 x (1 + 10000) executions: refused before any of them.
+    with pytest.raises(ValueError, match="more than the limit of 10000000 per command"):
+        skelgrasp.score_grasps(capsule, sdh, document, robustness_samples=100000)
+    with pytest.raises(ValueError, match="more than the limit of 100000 per command"):
+        skelgrasp.simulate(capsule, sdh, document, samples=10000, max_grasps=11)

@@ -8,12 +8,15 @@
 //
 // Paths that exist and are neither regular files nor directories (/dev/null, /dev/stdout, a
 // FIFO) are written directly: renaming over them would replace the device node.
+#include <cstddef>
 #include <functional>
 #include <memory>
 #include <ostream>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "skelgrasp/common/signal_cleanup.h"
 
 namespace skelgrasp {
 
@@ -32,6 +35,20 @@ void writeFileViaTemporary(const std::string& path,
 
 // The temporary sibling name used for `path`: DIR/.STEM.tmp.PID.N.EXT (N counts per process).
 std::string temporarySiblingPath(const std::string& path);
+// The final path a temporary of this process stands for: DIR/STEM.EXT for DIR/.STEM.tmp.PID.N.EXT
+// with PID this process's id (a temporary of a temporary as well); any other path unchanged. Errors
+// of the writers name it, so that a full disk names object_0.ply, not the hidden file it was
+// written to.
+std::string finalPathOfTemporary(const std::string& path);
+// Removes the temporaries (.STEM.tmp.PID.N.EXT) in `dir` whose process no longer runs: what a
+// command killed by SIGKILL or a power cut left. Those of live processes stay. Returns how many
+// were removed; errors are ignored (a later command tries again).
+std::size_t removeStaleTemporaries(const std::string& dir);
+
+// Creates the output directory `dir` and its missing parents, as writing a file in it would
+// (never a first directory in the filesystem root). Returns the directories it created, outermost
+// first. Throws IoError(dir, problem).
+std::vector<std::string> createOutputDirectory(const std::string& dir);
 
 // An ostream over a POSIX file descriptor that keeps the errno of a failed write, which
 // std::ofstream forgets. close() flushes, fsyncs and closes; it throws IoError(path, strerror).
@@ -77,10 +94,30 @@ class OutputTransaction {
   // removed.
   void commit();
 
+  // The files of `dir` this transaction writes replace those of the previous command that wrote
+  // `dir` this way: commit() also removes the files that command listed in DIR/kOutputListFile
+  // and this one did not write (a scene run's object_3.ply after a run with two objects), and
+  // lists its own there. Files it never listed (the user's) are left alone. The list names plain
+  // files of `dir` only; a malformed or oversized one is ignored.
+  void replacePreviousOutputsIn(const std::string& dir);
+
  private:
-  std::vector<std::pair<std::string, std::string>> staged_;  // temporary, final
-  std::vector<std::string> created_directories_;             // outermost first
+  struct Staged {
+    std::string temporary;
+    std::string target;
+    SignalCleanupEntry on_signal;  // the temporary, removed if a signal ends the process
+  };
+  std::vector<Staged> staged_;
+  std::vector<std::string> created_directories_;  // outermost first
+  std::vector<SignalCleanupEntry> created_on_signal_;
+  std::string owned_directory_;  // replacePreviousOutputsIn's
   bool committed_ = false;
 };
+
+// The hidden file that lists the outputs a command wrote in its directory
+// (OutputTransaction::replacePreviousOutputsIn), one name per line.
+inline constexpr const char* kOutputListFile = ".skelgrasp-outputs";
+// A longer list is not one skelgrasp wrote and is ignored.
+inline constexpr std::size_t kMaxOutputListBytes = 1 << 20;
 
 }  // namespace skelgrasp

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,6 +18,7 @@
 #include "skelgrasp/grasping/quality/quality.h"
 #include "skelgrasp/grasping/simulation/grasp_object.h"
 #include "skelgrasp/grasping/simulation/grasp_simulator.h"
+#include "skelgrasp/ranking/limits.h"
 #include "skelgrasp/ranking/robustness.h"
 
 namespace skelgrasp::evaluation {
@@ -24,6 +26,9 @@ namespace skelgrasp::evaluation {
 // Most friction coefficients one scoring judges every grasp at (each one repeats the robustness
 // samples).
 inline constexpr std::size_t kMaxScoreFrictions = 64;
+// Seconds between the progress lines of a long scoring or simulation (`score`, `simulate`): none
+// before the first interval has passed, then one at most every interval, after a whole grasp.
+inline constexpr double kGraspsProgressIntervalS = 5.0;
 
 struct ScoreParams {
   // Coulomb coefficients mu at which every grasp is judged, in the order given (at least one, at
@@ -83,8 +88,16 @@ struct ScoreResult {
   double robustness_s = 0;  // part of time_s spent on robustness samples
 };
 
+// The hand closings scoreGrasps runs for `grasps` grasps: one per grasp, and with robustness
+// `samples` more per grasp and friction.
+std::uint64_t scoreClosings(std::size_t grasps, const ScoreParams& params);
+// Throws InvalidArgument when scoreClosings exceeds ranking::kMaxScoreClosings, saying how the
+// count arises.
+void checkScoreWork(std::size_t grasps, const ScoreParams& params);
+
 // Throws InvalidArgument for bad parameters (no friction, too many, a negative or non-finite one,
-// robustness samples < 1 when robustness is asked for). `object` must be the mesh the poses refer
+// robustness samples < 1 when robustness is asked for, more closings than
+// ranking::kMaxScoreClosings). `object` must be the mesh the poses refer
 // to (same frame and units).
 ScoreResult scoreGrasps(const grasping::HandModel& hand, const grasping::GraspObject& object,
                         const std::vector<grasping::GraspPlacement>& grasps,

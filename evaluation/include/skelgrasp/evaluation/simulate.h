@@ -6,6 +6,7 @@
 // of perturbed executions that hold.
 #include <nlohmann/json.hpp>
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -22,6 +23,10 @@ namespace skelgrasp::evaluation {
 
 // Most perturbed executions per grasp and friction: a Wilson interval is already ±0.03 at 1000.
 inline constexpr int kMaxSimulationSamples = 10'000;
+// Most physics executions one simulation of a grasps file may run (`simulate`, Python simulate):
+// grasps x frictions x (1 + samples). About ten hours of CPU at the 240-420 ms an execution costs
+// (docs/physics.md); beyond it a request is refused before any work.
+inline constexpr std::uint64_t kMaxSimulatedExecutions = 100'000;
 
 struct SimulateParams {
   // Friction coefficients, each judged in turn (as ScoreParams::frictions).
@@ -69,8 +74,16 @@ struct SimulateResult {
   double time_s = 0;           // wall time, the object's preparation excluded
 };
 
+// The physics executions simulateGrasps runs for `grasps` grasps: grasps x frictions x
+// (1 + samples).
+std::uint64_t simulatedExecutions(std::size_t grasps, const SimulateParams& params);
+// Throws InvalidArgument when simulatedExecutions exceeds kMaxSimulatedExecutions, saying how the
+// count arises.
+void checkSimulationWork(std::size_t grasps, const SimulateParams& params);
+
 // Throws InvalidArgument for bad parameters (no friction, more than kMaxScoreFrictions, a
-// negative one, samples outside [0, kMaxSimulationSamples], bad judge parameters). `object` and
+// negative one, samples outside [0, kMaxSimulationSamples], bad judge parameters, more work than
+// kMaxSimulatedExecutions). `object` and
 // `physical` must be the same mesh in the grasps' frame.
 SimulateResult simulateGrasps(const grasping::HandModel& hand, const grasping::GraspObject& object,
                               const physics::PhysicalObject& physical,

@@ -1,4 +1,4 @@
-#include "directory_lock.h"
+#include "skelgrasp/common/directory_lock.h"
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -6,15 +6,18 @@
 
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <string>
 
+#include "skelgrasp/common/atomic_file.h"
 #include "skelgrasp/common/error.h"
+#include "skelgrasp/common/logging.h"
 
-namespace skelgrasp::evaluation::internal {
+namespace skelgrasp {
 namespace {
 
 std::string lockPath(const std::string& dir) {
-  return dir + "/.lock";
+  return dir + "/" + kDirectoryLockFile;
 }
 
 // The process id written in the lock file, -1 when there is none.
@@ -68,4 +71,40 @@ std::optional<long> lockHolder(const std::string& dir) {
   return holder;
 }
 
-}  // namespace skelgrasp::evaluation::internal
+LockedOutputDirectory::LockedOutputDirectory(const std::string& dir) : dir_(dir) {
+  created_directories_ = createOutputDirectory(dir);
+  if (created()) {
+    // Registered before the lock file exists: a signal between the two still removes both.
+    on_signal_.emplace_back(lockPath(dir), SignalCleanupEntry::Kind::kFile);
+    for (const auto& created : created_directories_)
+      on_signal_.emplace_back(created, SignalCleanupEntry::Kind::kEmptyDirectory);
+  }
+  try {
+    lock_ = std::make_unique<DirectoryLock>(dir);
+  } catch (...) {
+    removeIfLeftEmpty();
+    throw;
+  }
+  if (const std::size_t removed = removeStaleTemporaries(dir))
+    log().info("{}: removed {} temporary file(s) of a command that was killed", dir, removed);
+}
+
+LockedOutputDirectory::~LockedOutputDirectory() {
+  removeIfLeftEmpty();  // the lock file goes while the lock is held
+  lock_.reset();
+}
+
+void LockedOutputDirectory::removeIfLeftEmpty() {
+  if (!created()) return;
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir_, ec)) {
+    if (entry.path().filename() != kDirectoryLockFile) return;  // the command's outputs
+  }
+  if (ec) return;
+  fs::remove(lockPath(dir_), ec);
+  for (auto it = created_directories_.rbegin(); it != created_directories_.rend(); ++it)
+    fs::remove(*it, ec);  // only if empty
+}
+
+}  // namespace skelgrasp
