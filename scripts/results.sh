@@ -8,7 +8,6 @@
 # Sections (the fast ones take minutes on 2 cores, the slow ones hours):
 #   fast:  judge segment reconstruct skeleton demo run           (the default)
 #   slow:  ranking (58 YCB meshes, 3 hands, mu 0.35 and 0.5; about an hour on one core)
-#          ranking97 (the 97 objects of scripts/reproduce-paper.sh; about 1.5 hours)
 #          scan2grasp (ten YCB meshes seen in two single views, 4 hands, two judges; about an hour)
 #          paper (scripts/reproduce-paper.sh; about 1.5 hours with JOBS=2 in the environment)
 #          physics (bench physics: 58 YCB meshes, 3 hands, nominal; sim_r on 12; about 1.5 hours)
@@ -261,24 +260,6 @@ section_physics() {
   splice physics "$out/physics.md"
 }
 
-# The 97 objects of scripts/reproduce-paper.sh (58 YCB google_16k, 17 Poisson, every 6th KIT model).
-objects97() {
-  local objects
-  objects=$(realpath "$data/objects")
-  { ls "$objects"/ycb/*.ply "$objects"/ycb_poisson_simox/*.stl
-    ls "$objects"/kit/*.obj | awk 'NR % 6 == 1'; } > "$1"
-}
-
-section_ranking97() {
-  objects97 "$out/objects97.txt"
-  ranking_batch "$out/ranking97_mu035" "$out/objects97.txt" 0.35
-  ranking_batch "$out/ranking97_mu05" "$out/objects97.txt" 0.5
-  { ranking_header
-    ranking_rows "$out/ranking97_mu035" 0.35 ""
-    ranking_rows "$out/ranking97_mu05" 0.5 ""; } > "$out/ranking97.md"
-  splice ranking97 "$out/ranking97.md"
-}
-
 # From one view to the real object: ten YCB meshes, two single views each, run per view and hand,
 # the top 10 judged on the true mesh; with the load check (run's default) and without it.
 scan2grasp_meshes=(003_cracker_box 005_tomato_soup_can 006_mustard_bottle 011_banana 021_bleach_cleanser
@@ -320,7 +301,7 @@ section_paper() {
 }
 
 fast=(judge segment reconstruct skeleton demo run)
-slow=(ranking ranking97 scan2grasp paper physics)
+slow=(ranking scan2grasp paper physics)
 sections=("$@")
 [[ ${#sections[@]} -eq 0 ]] && sections=("${fast[@]}")
 [[ "${sections[*]}" == "all" ]] && sections=("${fast[@]}" "${slow[@]}")
