@@ -97,7 +97,7 @@ std::pair<double, double> motionBetween(const Pose& from, const Pose& to,
 }
 
 // Joints that close while the fingers close, with their signed speeds; every other movable joint
-// holds its preshape value.
+// holds its preshape value by a torque-limited spring.
 std::vector<JointDrive> closingDrives(const HandModel& hand, const grasping::Preshape& preshape,
                                       const std::vector<double>& torque_limits,
                                       const JudgeParams& params) {
@@ -108,8 +108,6 @@ std::vector<JointDrive> closingDrives(const HandModel& hand, const grasping::Pre
         joints[joint].type == JointType::kPrismatic ? kPrismaticSpeedPerRadian : 1.0;
     return direction * params.closing_speed_rad_s * unit;
   };
-  // Joints that do not close keep their preshape value, locked (drive kFixed): the preshape is
-  // their servo's target and the engine need not simulate a servo holding still.
   for (std::size_t j = 0; j < joints.size(); ++j) drives[j].torque_limit = torque_limits[j];
   for (const auto& finger : hand.fingers()) {
     for (const auto& drive : finger.drives) {
@@ -130,6 +128,19 @@ std::vector<JointDrive> closingDrives(const HandModel& hand, const grasping::Pre
     drives[j].mode = JointDrive::Mode::kClose;
     drives[j].velocity = drives[leader].velocity * joints[j].mimic_multiplier;
     drives[j].closing_torque = kClosingTorqueShare * torque_limits[j];
+  }
+  // Every other movable joint is a servo too: it holds its preshape value with a PD spring that
+  // reaches its torque limit at kGripAngleRad (kGripDistanceM) off, and no more. A joint locked
+  // rigid would make the judge stronger than the hand.
+  Eigen::VectorXd open = preshape.joints;
+  hand.normalise(open);
+  for (std::size_t j = 0; j < joints.size(); ++j) {
+    if (drives[j].mode != JointDrive::Mode::kFixed || !joints[j].movable()) continue;
+    if (!(torque_limits[j] > 0)) continue;
+    const double span = joints[j].type == JointType::kPrismatic ? kGripDistanceM : kGripAngleRad;
+    drives[j].mode = JointDrive::Mode::kHold;
+    drives[j].target = open[static_cast<Eigen::Index>(j)];
+    drives[j].stiffness = torque_limits[j] / span;
   }
   return drives;
 }
