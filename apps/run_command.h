@@ -24,7 +24,8 @@ struct RunOptions {
   // "on": open hands keep clear of the reconstruction's error bounds
   // (RunParams::surface_clearance).
   std::string surface_clearance = pipeline::RunParams{}.surface_clearance ? "on" : "off";
-  // Flat objects on a table (docs/planning.md, "Flat objects on a table").
+  // Flat objects on a table (docs/planning.md, "The candidate pool beyond the skeleton
+  // strategies").
   double foot_distance_m = pipeline::RunParams{}.table_obstacles.target_foot_distance_m;
   double scene_lift_m = grasping::HypothesisParams{}.scene_lift_max_m;
   double top_centring_m = grasping::FallbackStrategyParams{}.top_centring_band_m;

@@ -121,7 +121,7 @@ void decimate(CgalMesh& mesh, std::size_t max_vertices) {
   mesh.collect_garbage();
 }
 
-// Calibration of the estimates (docs/limits.md, "Regularisation"): `skeleton` on YCB
+// Calibration of the estimates (docs/limits.md, "The estimates"): `skeleton` on YCB
 // 006_mustard_bottle (0.0455 m^2, 0.225 m diagonal) at alpha divisors 50, 100 and 200 output 4052,
 // 12772 and 48282 triangles (1.8, 1.4, 1.3 x A / alpha^2) and its peak RSS grew by about 2.4-3.2
 // KiB per output triangle (wrap, remesh and contraction together).

@@ -1,7 +1,7 @@
 // One object seen in pieces around an occluder: a low box behind a can shows its left and its
 // right end, which touch nowhere, so no convexity rule can join them (mOSD osd_test26). The
 // pieces are joined when everything between them is hidden from the sensor by a third segment
-// and they look alike (docs/reconstruction.md, "Hidden gaps").
+// and they look alike (docs/perception.md, "Segmentation of touching objects").
 #include <algorithm>
 #include <cmath>
 #include <limits>

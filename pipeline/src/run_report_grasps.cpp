@@ -13,7 +13,7 @@ constexpr std::size_t kHistogramBins = 10;  // bins of 0.1 in r
 constexpr int kChartWidthPx = 420, kChartHeightPx = 180, kMarginPx = 30;
 
 // What the robustness variant of the scored grasps means, for a reader of the report who does not
-// know the option (docs/evaluation.md, "Robustness score").
+// know the option (docs/ranking.md, "Robustness score").
 std::string variantPhrase(const std::string& variant) {
   if (variant == "settled") return "settled variant: the object free to move in the closing hand";
   if (variant == "paper") return "paper variant: the object held still";

@@ -314,7 +314,7 @@ get a robustness r from
 friction ``robustness_mu`` or ``mu``, samples seeded by ``seed``) and are ranked first by r;
 ``robustness=False`` keeps the epsilon order. ``robust_refine`` searches near the most robust
 scored grasps whose r is below ``robust_refine_below_r`` (None: the hand's, 0.7 or the SDH's
-and the Shadow hand's 0.5) for more robust poses (docs/planning.md, "Refinement for robustness"). ``centre_candidates`` (skeleton planner) also tries
+and the Shadow hand's 0.5) for more robust poses (docs/ranking.md, "Refinement for robustness"). ``centre_candidates`` (skeleton planner) also tries
 power and precision grasps about the object's centre on every object, the robust grasps the
 ranking chooses from; ``surface_candidates`` (skeleton planner) adds that many surface-normal hypotheses to the
 same pool (0: none; docs/planning.md, "Surface candidates"). ``wrench_volume`` also computes each

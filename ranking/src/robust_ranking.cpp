@@ -29,7 +29,7 @@ constexpr std::uint64_t kRefineStream = 2;
 // own: were it made on the scoring samples, the r reported for whichever is kept would be the
 // better of two noisy estimates: over the 58 YCB meshes the moved grasps' reported r then stood
 // 0.7-2.6 points further above their r on fresh samples than the other returned grasps' did
-// (docs/results.md, "The reported r no longer chooses").
+// (CHANGELOG.md has the measurement).
 constexpr std::uint64_t kCheckStream = 3;
 
 // Refinement for robustness of one scored grasp (its robustness set): the search runs on its own

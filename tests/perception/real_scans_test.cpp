@@ -146,7 +146,7 @@ TEST(RealScans, OsdLccpSegmentsSeparateTouchingObjects) {
 
 // Objects at the edge of the visible table stand partly or wholly outside the hull of the
 // table's points: in mOSD scan 58 one object (label 60, 6 000 points) is wholly outside it. The
-// hull margin keeps them (docs/reconstruction.md, "Hull margin").
+// hull margin keeps them (docs/perception.md, "Stages and parameters").
 TEST(RealScans, OsdObjectsAtTheTableEdgeAreKeptByTheHullMargin) {
   SKELGRASP_REQUIRE_SHARED_DATA();
   const std::string path = test::sharedDataDir() + "/scans/pcd/osd_test58.pcd";

@@ -1,4 +1,4 @@
-// The fast closing (docs/hands.md, "Closing: fast or stepwise"): the stepwise closing's steps,
+// The fast closing (docs/hands.md, "Closing"): the stepwise closing's steps,
 // but those that provably keep every link clear are taken at once, bounded by gaps that stay
 // valid while the links move.
 #include <algorithm>

@@ -90,7 +90,7 @@ struct RobustRankingParams {
   // samples a grasp that holds in 7 of 10 executions shows 10 of 10 one time in 35, so among 60
   // candidates the best by screening include lucky ones; a second look at the contenders only
   // costs a fraction of screening every candidate with more samples, and takes most of its gain
-  // (docs/results.md, "Confirming the screening's choice"). Unset: the hand's ranking budget (its
+  // (CHANGELOG.md has the measurement). Unset: the hand's ranking budget (its
   // "confirm_samples"), else kDefaultConfirmSamples. Applies only when screening runs.
   std::optional<int> confirm_samples;
   // How screening saves samples without changing its choice: the top_k chosen (with a

@@ -4,7 +4,7 @@
 // closure margin, this searches a scored grasp's neighbourhood for the largest robustness r: the
 // share of perturbed executions that still close to force closure (robustness.h). It runs in the
 // robust ranking on the grasps it scores (robust_ranking.h), so it costs closings only where they
-// pay: docs/planning.md, "Refinement for robustness".
+// pay: docs/ranking.md, "Refinement for robustness".
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -30,7 +30,7 @@ struct RobustRefinementParams {
   // than 0.9 cut the median plan time by 15-18 % for 0.2-0.3 points of mean top-10 r. The SDH's
   // grasps below 0.7 gain 4 times as much r per perturbed execution as those at 0.7-0.9,
   // ARMAR-III's about as much; at r >= 0.9 (at most one failure expected in the search's 12
-  // samples) a win is mostly luck (docs/results.md, "Only grasps below r = 0.7 searched").
+  // samples) a win is mostly luck (CHANGELOG.md has the measurement).
   // Unset: the hand's ranking budget (grasping::RankingBudget::refine_below_r), else
   // kDefaultSearchBelowR.
   std::optional<double> search_below_r;
@@ -48,7 +48,7 @@ struct RobustRefinementParams {
   // approach (x and y), roll about the approach. The compass tries them in that order: most
   // failed samples of a good grasp start with the open hand in the object, which only standoff
   // cures. Its step is 10 mm because a 5 mm gain is about one sample in 12 and mostly went
-  // unseen, so the budget went to shifts (docs/planning.md, "Refinement for robustness").
+  // unseen, so the budget went to shifts (docs/ranking.md, "Refinement for robustness").
   double standoff_step_m = 0.010;
   double shift_step_m = 0.005;
   double roll_step_rad = 0.2617993877991494;  // 15 degrees

@@ -1,8 +1,8 @@
 #pragma once
 // How strongly a hand's fingers can press: each joint's torque limit from a force at the
-// fingertip (HandModel::strength(), docs/hands.md "Strength"). The physics judge drives the joints
-// with these limits, and the load capacity of a grasp (load_capacity.h) bounds its contact forces
-// by them.
+// fingertip (HandModel::strength(), docs/physics.md, "Finger strength"). The physics judge drives
+// the joints with these limits, and the load capacity of a grasp (load_capacity.h) bounds its
+// contact forces by them.
 #include <optional>
 #include <vector>
 

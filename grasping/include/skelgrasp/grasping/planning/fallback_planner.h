@@ -16,7 +16,8 @@
 //   "top"     scenes only (the hypothesis' scene check knows a support plane): approaches from
 //             above, straight down and tilted towards the object from several sides, with rolls
 //             aligned to the object's longest horizontal axis. Among touching neighbours only a
-//             hand coming from above finds room (docs/planning.md, "Top strategy").
+//             hand coming from above finds room (docs/planning.md, "The candidate pool beyond the
+//             skeleton strategies").
 // Every pose is tried with the precision and the power preshape where the hand does such grasps.
 #include <cstdint>
 

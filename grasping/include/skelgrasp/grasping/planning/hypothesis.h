@@ -33,8 +33,8 @@ struct HypothesisParams {
   // placed open hand or approach hits the scene is lifted back along its approach in
   // scene_lift_step_m steps, up to scene_lift_max_m, until the scene check passes: fingers that
   // close around a flat object beside the table grasp it higher up instead of being rejected
-  // (docs/planning.md, "Flat objects on a table"). 0: no lift, the pose is rejected
-  // (scene_collision).
+  // (docs/planning.md, "The candidate pool beyond the skeleton strategies"). 0: no lift, the pose
+  // is rejected (scene_collision).
   double scene_lift_max_m = 0.02;
   double scene_lift_step_m = 0.002;
 };

@@ -57,7 +57,7 @@ struct SkeletonPlannerParams {
   // within the time and grasp count left, and their grasps (strategy "surface") added to the
   // pool the robust ranking chooses from. 0: none. The surface planner's pool holds better than
   // the centre-aimed candidates on handles and small round objects for some hands (the Shadow
-  // hand: docs/results.md, "Why the returned grasps' perturbed executions fail"). 50 since the
+  // hand: CHANGELOG.md has the measurement). 50 since the
   // settled judge: the Shadow hand's top-10 r median 69.3 -> 76.7 % over the 58 YCB meshes, the
   // other hands within noise, no measurable time (docs/results.md, "Surface candidates by
   // default").
@@ -70,7 +70,7 @@ struct SkeletonPlannerParams {
   // power_retreat_m. 0: as the paper, which leaves the open hand about a retreat step (1 mm)
   // from the object, so that most pose errors towards the object start in collision. 8 mm raised
   // the r of the planner's grasps over the 58 YCB meshes by 3.5-5 points at mu = 0.35, but that of
-  // the returned top 10 by only 0-3 (docs/planning.md, "Clearance of precision grasps"); the
+  // the returned top 10 by only 0-3 (docs/planning.md, "Skeleton planner"); the
   // skeleton strategies only.
   double precision_retreat_m = 0;
   // Local refinement of every hypothesis that closes (refinement.h); enabled = false plans as the

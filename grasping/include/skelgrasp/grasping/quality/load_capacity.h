@@ -1,7 +1,7 @@
 #pragma once
 // The load capacity of a grasp: how many times its own weight the object can hang in each of the
 // six directions +-x, +-y, +-z before the contacts must slip or a finger joint exceed its torque
-// limit (docs/hands.md, "Load capacity"). Force closure alone assumes fingers of unbounded
+// limit (docs/ranking.md, "Load check"). Force closure alone assumes fingers of unbounded
 // strength: a fingertip pressing a few newtons far from the centre of mass holds the closure but
 // not the object. This is the physics judge's disturbance test as a linear program on the grasp's
 // contacts: the best contact forces within the friction cones (the hand's soft-finger torsion

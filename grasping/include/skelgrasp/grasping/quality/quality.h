@@ -17,7 +17,7 @@ class HandModel;
 
 using Wrench = Eigen::Matrix<double, 6, 1>;
 
-// How force closure is decided (docs/hands.md, "Force closure: LP or hull").
+// How force closure is decided (docs/hands.md, "Quality").
 enum class ForceClosureTest {
   kHull,  // 6D convex hull of the wrenches: closure when every facet is > 1e-12 from the origin
   kLp,    // rank 6 and the min-weight LP's margin above kClosureMarginTolerance; no hull needed

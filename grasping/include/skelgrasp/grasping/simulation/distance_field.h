@@ -2,7 +2,7 @@
 // The signed distance field of an object to grasp: a regular grid over the object's bounding box
 // (plus a margin) with exact distances to the surface in a narrow band, and a grid of triangles
 // for exact queries near the surface. The fast closing reads conservative gap bounds from it in
-// O(1) and asks the exact queries only near contact (docs/hands.md, "The judge, old against new").
+// O(1) and asks the exact queries only near contact (docs/hands.md, "Benchmarks").
 #include <cstddef>
 #include <memory>
 #include <optional>

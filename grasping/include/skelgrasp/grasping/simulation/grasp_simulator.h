@@ -16,7 +16,7 @@ namespace internal {
 class AllowedPairs;
 }
 
-// How the fingers advance (docs/hands.md, "Closing: fast or stepwise").
+// How the fingers advance (docs/hands.md, "Closing").
 enum class ClosingMethod {
   kStepwise,  // one step per drive and iteration, a collision test per step (the reference's way)
   kFast,      // the same steps, but the steps that provably stay clear of every obstacle (by the
