@@ -303,7 +303,7 @@ std::size_t carryableFirst(const grasping::HandModel& hand, const grasping::Gras
     const grasping::Grasp& grasp = grasps[candidates[k]];
     const auto capacity = grasping::loadCapacity(
         hand, grasp.hand_pose, grasp.joints, grasp.contacts, object.centerOfMass(), quality, load);
-    carries[k] = capacity.error.empty() && capacity.min >= 1.0;
+    carries[k] = capacity.carries();
   });
   std::vector<std::size_t> reordered;
   reordered.reserve(candidates.size());

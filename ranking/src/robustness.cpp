@@ -197,7 +197,7 @@ RobustnessResult evaluateSampleRange(grasping::GraspSimulator& simulator,
     const auto capacity =
         grasping::loadCapacity(local.hand(), hand_pose, closed.joints, closed.contacts,
                                local.object().centerOfMass(), load_quality, *params.load);
-    return capacity.error.empty() && capacity.min >= 1.0;
+    return capacity.carries();
   };
   const auto heldOutcome = [](char outcome) {
     return outcome == kForceClosure || outcome == kGuardedForceClosure ||

@@ -105,7 +105,7 @@ TEST(RobustRanking, WithTheLoadCheckTheGraspsThatCarryTheWeightAreScoredFirst) {
     const auto& g = p.plan.grasps[i];
     const auto capacity = grasping::loadCapacity(p.hand, g.hand_pose, g.joints, g.contacts,
                                                  p.object->centerOfMass(), rp.quality, *rp.load);
-    carries[i] = capacity.error.empty() && capacity.min >= 1.0;
+    carries[i] = capacity.carries();
     carrying += carries[i];
   }
   // The cylinder has both kinds, and enough carrying grasps for the two scored.

@@ -43,6 +43,9 @@ struct LoadCapacity {
   std::array<double, 6> per_direction{};
   double min = 0;
   std::string error;  // non-empty when an LP failed (the capacity then means nothing)
+
+  // Whether the grasp carries the object's weight in every direction: the load check's verdict.
+  bool carries() const { return error.empty() && min >= 1.0; }
 };
 
 // `contacts` in the object frame as the closing reached them with the hand root at `hand_pose`
