@@ -18,9 +18,11 @@
 #include <set>
 #include <system_error>
 
+#include "atomic_file_internal.h"
 #include "skelgrasp/common/error.h"
 
 namespace skelgrasp {
+using namespace internal;
 namespace {
 
 namespace fs = std::filesystem;
@@ -127,7 +129,10 @@ class FdWriter {
   std::ostream stream_;
 };
 
-// Absolute, lexically normal form, so that walking up the ancestors ends at the root.
+}  // namespace
+
+namespace internal {
+
 fs::path absoluteNormal(const std::string& path) {
   std::error_code ec;
   fs::path p = fs::absolute(path, ec);
@@ -135,10 +140,6 @@ fs::path absoluteNormal(const std::string& path) {
   return p.lexically_normal();
 }
 
-// The directories above `file` that do not exist yet, innermost first, and the nearest one that
-// does. Throws IoError(report_path) when that one is not a directory, or when the first missing
-// directory would be made in the filesystem root: "/nonexistent/dir/x.png" is a typo far more
-// often than a wish (and as root it would succeed).
 std::vector<fs::path> missingDirectories(const fs::path& file, const std::string& report_path,
                                          fs::path* existing) {
   std::vector<fs::path> missing;
@@ -161,7 +162,6 @@ void removeCreatedDirectories(const std::vector<std::string>& created) {
   for (auto it = created.rbegin(); it != created.rend(); ++it) fs::remove(*it, ec);  // if empty
 }
 
-// Creates the missing parent directories of `file`; returns those it created, outermost first.
 std::vector<std::string> createParentDirectories(const fs::path& file,
                                                  const std::string& report_path) {
   const auto missing = missingDirectories(file, report_path, nullptr);
@@ -177,6 +177,10 @@ std::vector<std::string> createParentDirectories(const fs::path& file,
   }
   return created;
 }
+
+}  // namespace internal
+
+namespace {
 
 // Opens a new temporary sibling of `target` exclusively: its descriptor and name, or -errno.
 int openNewTemporary(const fs::path& target, std::string* name) {
@@ -228,8 +232,10 @@ class TemporaryGuard {
   bool armed_ = true;
 };
 
-// Where the output really goes: the file a symlink points to (replacing the link itself would
-// silently detach it).
+}  // namespace
+
+namespace internal {
+
 fs::path resolveTarget(const std::string& path) {
   std::error_code ec;
   if (fs::is_symlink(path, ec) && fs::exists(path, ec)) {
@@ -239,7 +245,6 @@ fs::path resolveTarget(const std::string& path) {
   return fs::path(path);
 }
 
-// Existing and neither a regular file nor a directory: a device or a FIFO, written in place.
 bool isSpecialFile(const fs::path& path) {
   std::error_code ec;
   const auto status = fs::status(path, ec);
@@ -259,6 +264,10 @@ void replaceWith(const std::string& temporary, const fs::path& target,
   // The directory is not fsynced: after a crash the rename may be lost, which shows the old file
   // (still whole); only the data had to be on disk before it, and that fsync is done.
 }
+
+}  // namespace internal
+
+namespace {
 
 // An error naming the temporary or the path asked for (a staged name) is reported under
 // `report_path`, the file it becomes.
@@ -449,98 +458,6 @@ void checkOutputDirectory(const std::string& path) {
   fs::path existing;
   missingDirectories(dir / "probe", path, &existing);
   probeDirectory(existing, path);
-}
-
-OutputTransaction::~OutputTransaction() {
-  std::error_code ec;
-  for (const auto& staged : staged_) fs::remove(staged.temporary, ec);
-  if (!committed_) removeCreatedDirectories(created_directories_);
-}
-
-std::string OutputTransaction::stage(const std::string& final_path) {
-  const fs::path target = resolveTarget(final_path);
-  if (isSpecialFile(target)) return final_path;
-  requireNotDirectory(target, final_path);
-  for (const auto& staged : staged_) {
-    if (staged.target == target.string()) return staged.temporary;
-  }
-  for (auto& dir : createParentDirectories(target, final_path)) {
-    created_on_signal_.emplace_back(dir, SignalCleanupEntry::Kind::kEmptyDirectory);
-    created_directories_.push_back(std::move(dir));
-  }
-  // Only a name: a writer that decides to write nothing (an empty picture) leaves no file, and
-  // commit() then skips it.
-  std::string temporary = temporarySiblingPath(target.string());
-  SignalCleanupEntry on_signal(temporary, SignalCleanupEntry::Kind::kFile);
-  staged_.push_back({std::move(temporary), target.string(), std::move(on_signal)});
-  return staged_.back().temporary;
-}
-
-namespace {
-
-// The names an output list (kOutputListFile) in `dir` holds: plain visible file names only (no
-// path, nothing starting with "."), so that a hostile list can reach neither outside the directory
-// nor its lock or list.
-std::set<std::string> readOutputList(const fs::path& dir) {
-  const fs::path list = dir / kOutputListFile;
-  std::error_code ec;
-  const auto bytes = fs::file_size(list, ec);
-  if (ec || bytes > kMaxOutputListBytes) return {};
-  std::ifstream in(list);
-  std::set<std::string> names;
-  for (std::string line; std::getline(in, line);) {
-    if (line.empty() || line[0] == '.' || line.find('/') != std::string::npos ||
-        line.find('\0') != std::string::npos)
-      continue;
-    names.insert(line);
-  }
-  return names;
-}
-
-void writeOutputList(const fs::path& dir, const std::set<std::string>& names) {
-  std::string text;
-  for (const auto& name : names) text += name + "\n";
-  writeFileAtomically((dir / kOutputListFile).string(), text);
-}
-
-}  // namespace
-
-void OutputTransaction::replacePreviousOutputsIn(const std::string& dir) {
-  owned_directory_ = dir;
-}
-
-void OutputTransaction::commit() {
-  std::error_code ec;
-  // The files of the owned directory this commit writes, by name.
-  const fs::path owned = owned_directory_.empty() ? fs::path() : absoluteNormal(owned_directory_);
-  std::set<std::string> written;
-  for (const auto& staged : staged_) {
-    const fs::path target = absoluteNormal(staged.target);
-    if (!owned.empty() && target.parent_path() == owned && fs::exists(staged.temporary, ec))
-      written.insert(target.filename().string());
-  }
-  std::set<std::string> previous;
-  if (!owned.empty()) {
-    previous = readOutputList(owned);
-    // Listed before the renames: at any moment the list names every file a command owns here.
-    std::set<std::string> both = previous;
-    both.insert(written.begin(), written.end());
-    if (both != previous) writeOutputList(owned, both);
-  }
-  while (!staged_.empty()) {
-    const Staged& staged = staged_.front();
-    if (fs::exists(staged.temporary, ec))
-      replaceWith(staged.temporary, staged.target, staged.target);
-    staged_.erase(staged_.begin());
-  }
-  committed_ = true;
-  created_on_signal_.clear();
-  if (owned.empty()) return;
-  for (const auto& name : previous) {
-    if (written.count(name)) continue;
-    if (fs::is_regular_file(fs::symlink_status(owned / name, ec))) fs::remove(owned / name, ec);
-  }
-  writeOutputList(owned, written);
 }
 
 }  // namespace skelgrasp
