@@ -121,6 +121,10 @@ void adoptOrphans(const pcl::PointCloud<SvPoint>& input, std::vector<std::uint32
 // bottle's neck: 0.97; the demo ball pushed against the bottle, 0.18 of its points: 0.06).
 constexpr double kPartRestsAbove = 0.5;
 
+// Two segments are tested as one symmetric body when their boxes come this close: a mug's rim is
+// thinner than a supervoxel and the ends of its near and far walls can be centimetres apart.
+constexpr double kSymmetricPairReachM = 0.05;
+
 // How a segment stands on the support: its lowest point above the plane, its own height (top
 // above its lowest point) and its widest horizontal extent (along the main axis of its points
 // projected on the plane). The part rule reads from these whether the segment could stand alone.
@@ -365,6 +369,34 @@ Segmentation lccpSegments(const PointCloud& cloud, const std::vector<int>& candi
       absorb(label, target, "");
       changed = true;
       break;
+    }
+  }
+  // Symmetric bodies: segments on one circle about an axis normal to the support are one body cut
+  // at its rim; the smaller joins the larger. The pieces need not share a supervoxel edge (a thin
+  // rim leaves none), only come within kSymmetricPairReachM of each other.
+  for (bool changed = lp.join_symmetric_bodies; changed;) {
+    changed = false;
+    std::vector<std::pair<std::uint32_t, AxisAlignedBox>> boxes;
+    for (const auto& [label, m] : members) {
+      AxisAlignedBox box;
+      for (int i : m) box.extend(cloud.points[i]);
+      boxes.emplace_back(label, box);
+    }
+    for (std::size_t i = 0; i < boxes.size() && !changed; ++i) {
+      for (std::size_t j = i + 1; j < boxes.size() && !changed; ++j) {
+        const AxisAlignedBox& bi = boxes[i].second;
+        const AxisAlignedBox& bj = boxes[j].second;
+        if (((bi.min.array() - kSymmetricPairReachM) > bj.max.array()).any() ||
+            ((bj.min.array() - kSymmetricPairReachM) > bi.max.array()).any())
+          continue;
+        const std::uint32_t a = boxes[i].first, b = boxes[j].first;
+        if (!oneSymmetricBody(cloud, members[a], members[b], plane, lp)) continue;
+        const bool a_smaller = members[a].size() < members[b].size();
+        log().debug("scene: segments of {} and {} points are one symmetric body", members[a].size(),
+                    members[b].size());
+        absorb(a_smaller ? a : b, a_smaller ? b : a, "");
+        changed = true;
+      }
     }
   }
   std::vector<std::vector<int>> segments;

@@ -126,6 +126,48 @@ TEST(Segmentation, AnObjectSeenInTwoPiecesAroundAnOccluderIsOneObject) {
   EXPECT_EQ(lccpObjectCount(apart, true), 3u);
 }
 
+// An open cup (8 cm wide, 10 cm tall, 5 mm wall) standing at (x, y): from above the scan sees
+// the outside of its near wall and, over the rim, the inside of its far wall.
+TriangleMesh openCup(double x, double y) {
+  TriangleMesh cup = geometry::shapes::makeRevolution(
+      {{0.0, 0.0}, {0.04, 0.0}, {0.04, 0.10}, {0.035, 0.10}, {0.035, 0.006}, {0.0, 0.006}}, 64);
+  cup.transform(Pose(Eigen::Translation3d(x, y, 0)));
+  return cup;
+}
+
+// LCCP segments of the objects on a table seen from 45 degrees up, with or without the
+// symmetric-body rule.
+std::size_t cupSceneObjects(const std::vector<TriangleMesh>& objects, bool join_symmetric) {
+  TriangleMesh table = geometry::shapes::makeBox({1.0, 0.8, 0.04}, 4);
+  table.transform(Pose(Eigen::Translation3d(0, 0, -0.02)));
+  std::vector<TriangleMesh> meshes{table};
+  meshes.insert(meshes.end(), objects.begin(), objects.end());
+  DepthCameraParams camera;
+  camera.noise.seed = 11;
+  Scan scan;
+  scan.cloud = renderDepth(meshes, lookAt({0.5, 0.0, 0.5}, {0, 0, 0.05}), camera).cloud;
+  IngestParams params;
+  params.scene.target = TargetSpec::parse("all");
+  params.scene.lccp.join_symmetric_bodies = join_symmetric;
+  const IngestResult r = ingestScan(scan, params);
+  EXPECT_TRUE(r.status.ok()) << r.status.message;
+  return r.scene.clusters.size();
+}
+
+TEST(Segmentation, ACupCutAtItsRimIsOneObjectAndTwoCupsSideBySideStayTwo) {
+  // LCCP cuts the cup where the inside of its far wall meets the outside of its near wall; both
+  // lie on one circle about its axis, so the rule joins them.
+  const std::size_t without_rule = cupSceneObjects({openCup(0, 0)}, false);
+  const std::size_t with_rule = cupSceneObjects({openCup(0, 0)}, true);
+  std::cout << "[ cup      ] " << without_rule << " segment(s) without the rule, " << with_rule
+            << " with it" << std::endl;
+  EXPECT_EQ(with_rule, 1u);
+  // Two cups side by side, touching across the line of sight and 2 cm apart along it: each is
+  // joined about its own axis, and the two stay apart.
+  EXPECT_EQ(cupSceneObjects({openCup(0, -0.041), openCup(0, 0.041)}, true), 2u);
+  EXPECT_EQ(cupSceneObjects({openCup(-0.05, 0), openCup(0.05, 0)}, true), 2u);
+}
+
 TEST(Segmentation, DefaultDemoSceneYieldsFiveObjectsWithEitherMethod) {
   const DemoScene scene = makeDemoScene(1, 3);
   for (const auto method : {SegmentationMethod::kLccp, SegmentationMethod::kEuclidean}) {
