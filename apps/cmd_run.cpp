@@ -37,6 +37,7 @@ pipeline::RunParams RunOptions::params() const {
   p.observed_weight = observed_weight;
   if (surface_clearance == "off") p.surface_clearance.reset();
   p.robust_ranking = robustness.params(planner.seed);
+  p.object_jobs = object_jobs;
   return p;
 }
 
@@ -50,6 +51,11 @@ void RunOptions::addTo(CLI::App& cmd, bool single_hand) {
   reconstruction.addInputOptions(cmd);
   reconstruction.addIngestOptions(cmd);
   reconstruction.addMeshingOptions(cmd);
+  cmd.add_option("--jobs", object_jobs,
+                 "--object all: objects planned at once (0 = one per core; the grasps do not "
+                 "depend on it)")
+      ->transform(threadCount(0))
+      ->capture_default_str();
   cmd.add_option("--octree-resolution", octree_resolution_m, "Scene occupancy voxel size (m)")
       ->check(positiveLength())
       ->capture_default_str();

@@ -17,6 +17,7 @@ struct RunOptions {
   RobustnessOptions robustness;
   ReconstructOptions reconstruction;
   double octree_resolution_m = grasping::SceneOccupancyParams{}.resolution_m;
+  int object_jobs = pipeline::RunParams{}.object_jobs;
   std::string unknown = "free";
   double pregrasp_m = grasping::SceneCheckParams{}.pregrasp_distance_m;
   double observed_weight = pipeline::RunParams{}.observed_weight;

@@ -180,6 +180,30 @@ PY
   splice run "$out/run.md"
 }
 
+# Every object of the eight labelled mOSD scans in one run each (run --object all), SDH and
+# ARMAR-III, on one thread and on both cores.
+section_scenes() {
+  local scans=("$data"/scans/pcd/osd_test*.pcd)
+  for hand in sdh armar3; do
+    sg bench run "${scans[@]}" --object all --hand "$hand" --repeat 1 \
+      --json "$out/scenes_$hand.json" > "$out/scenes_$hand.txt"
+  done
+  python3 - "$out/scenes_sdh.json" "$out/scenes_armar3.json" > "$out/scenes.md" <<'PY'
+import json, os, sys
+sdh, armar = (json.load(open(p))["rows"] for p in sys.argv[1:3])
+print("| scene | objects | with a grasp: SDH / ARMAR-III | one thread, s: SDH / ARMAR-III | two threads / one |")
+print("|---|---|---|---|---|")
+totals = [0, 0, 0]
+for a, b in zip(sdh, armar):
+    totals[0] += a["objects"]; totals[1] += a["objects_with_grasps"]; totals[2] += b["objects_with_grasps"]
+    print(f"| {os.path.basename(a['input'])} | {a['objects']} | {a['objects_with_grasps']} / {b['objects_with_grasps']} | "
+          f"{a['one_thread_s']:.1f} / {b['one_thread_s']:.1f} | {a['ratio']:.2f} / {b['ratio']:.2f} |")
+print(f"| **all 8 scans** | {totals[0]} | **{totals[1]} ({100 * totals[1] / totals[0]:.0f} %) / "
+      f"{totals[2]} ({100 * totals[2] / totals[0]:.0f} %)** | | |")
+PY
+  splice scenes "$out/scenes.md"
+}
+
 # evaluate --robust-ranking, as plan ranks; writes one table row per hand from summary.md.
 # ranking_rows DIR MU LABEL: the rows of one batch ("58 YCB": the object count, then LABEL).
 ranking_rows() {
@@ -300,7 +324,7 @@ section_paper() {
   done
 }
 
-fast=(judge segment reconstruct skeleton demo run)
+fast=(judge segment reconstruct skeleton demo run scenes)
 slow=(ranking scan2grasp paper physics)
 sections=("$@")
 [[ ${#sections[@]} -eq 0 ]] && sections=("${fast[@]}")

@@ -28,10 +28,11 @@ double observedContactRatio(const Grasp& grasp, const TriangleMesh& mesh,
 }  // namespace
 
 ReconstructionResult reconstructForRun(const perception::Scan& scan, const RunParams& params,
-                                       std::vector<StageTime>& stages) {
+                                       std::vector<StageTime>& stages, bool mesh_objects) {
   if (params.scene_check)
     checkSceneOccupancyMemory(scan.cloud, scan.cloud.sensor_origin, params.occupancy);
-  ReconstructionResult reconstruction = reconstructScan(scan, params.reconstruction);
+  ReconstructionResult reconstruction = mesh_objects ? reconstructScan(scan, params.reconstruction)
+                                                     : ingestObjects(scan, params.reconstruction);
   const auto& ingest = reconstruction.ingest;
   stages.push_back({"filter", ingest.filter_time_s});
   stages.push_back({"segment", ingest.scene_time_s});

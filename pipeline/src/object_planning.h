@@ -9,10 +9,11 @@
 namespace skelgrasp::pipeline::internal {
 
 // The shared start of runPipeline and runScene: the occupancy's memory checked against the whole
-// scan (fail fast: the obstacles are a part of it), then filters, segmentation, normals and
-// meshing, whose times go to `stages` as filter, segment and normals.
+// scan (fail fast: the obstacles are a part of it), then filters, segmentation, normals and, with
+// mesh_objects, meshing (pipeline::ingestObjects without); the times go to `stages` as filter,
+// segment and normals.
 ReconstructionResult reconstructForRun(const perception::Scan& scan, const RunParams& params,
-                                       std::vector<StageTime>& stages);
+                                       std::vector<StageTime>& stages, bool mesh_objects = true);
 
 // The skeleton of a reconstruction. Reconstructions are normally closed single-part manifolds
 // already (params.skeleton skips the regularisation); when one is not, the regularisation's

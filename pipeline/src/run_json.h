@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "skelgrasp/pipeline/run_pipeline.h"
+#include "skelgrasp/pipeline/run_scene.h"
 
 namespace skelgrasp::pipeline::internal {
 
@@ -25,13 +26,15 @@ struct ObjectEntry {
   const Status* status = nullptr;
   std::string reason;  // empty when the object has grasps
   const std::vector<RankedGrasp>* ranked = nullptr;
-  const grasping::PlanSummary* plan = nullptr;  // null: not planned
+  const grasping::PlanSummary* plan = nullptr;                // null: not planned
+  const std::vector<BlockingObstacle>* blocked_by = nullptr;  // null: not a scene run
   double time_s = 0;
   const std::vector<StageTime>* stages = nullptr;  // null: no per-object stage times
 };
 
 // One entry of "objects": id, cluster, points, centroid, box, mesh, status, reason, grasp count,
-// best rank score, time, its stage times ("timing", null when unknown) and "planning" (the
+// best rank score, "blocked_by" (scene runs), time, its stage times ("timing", null when unknown)
+// and "planning" (the
 // planner's summary of the object, as in skelgrasp.grasps without "kept"; null when the object was
 // not planned).
 nlohmann::json objectJson(const ObjectEntry& entry);

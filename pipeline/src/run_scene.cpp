@@ -1,9 +1,19 @@
 #include "skelgrasp/pipeline/run_scene.h"
 
+#include <cstring>
+#include <map>
+
+#include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
+#include <tbb/task_arena.h>
+
 #include "object_planning.h"
 #include "scene_obstacles.h"
 #include "skelgrasp/common/logging.h"
 #include "skelgrasp/perception/cloud_ops.h"
+#include "skelgrasp/reconstruction/meshing.h"
 
 namespace skelgrasp::pipeline {
 using namespace grasping;
@@ -16,14 +26,70 @@ std::size_t SceneRunResult::objectsWithGrasps() const {
 
 namespace {
 
+// The obstacles an object's no-grasp status names, most blocking first.
+constexpr std::size_t kNamedObstacles = 3;
+
 // Everything the sensor saw that a hand may hit: every object, the support (less its top, which
-// the plane stands for), the clutter.
+// the plane stands for), the clutter. Labelled for the scene check: the points of cluster c
+// c + 1, the rest (parts.loose) 0.
 PointCloud sceneObstacles(const perception::SceneResult& scene,
                           const internal::ObstacleParts& parts) {
-  PointCloud obstacles = parts.objects;  // unselected clusters
-  perception::append(obstacles, parts.loose);
-  for (std::size_t c : scene.selected) perception::append(obstacles, scene.clusters[c]);
+  PointCloud obstacles;
+  obstacles.sensor_origin = parts.loose.sensor_origin;
+  for (std::size_t c = 0; c < scene.clusters.size(); ++c) {
+    const auto& points = scene.clusters[c].points;
+    obstacles.points.insert(obstacles.points.end(), points.begin(), points.end());
+    obstacles.labels.resize(obstacles.points.size(), static_cast<std::uint32_t>(c + 1));
+  }
+  obstacles.points.insert(obstacles.points.end(), parts.loose.points.begin(),
+                          parts.loose.points.end());
+  obstacles.labels.resize(obstacles.points.size(), 0);
   return obstacles;
+}
+
+// The obstacles of an object's rejected poses (PlanSummary::scene_collision_obstacles), named:
+// label c + 1 is cluster c, the object whose cluster it is.
+std::vector<BlockingObstacle> blockingObstacles(const grasping::PlanSummary& summary,
+                                                const std::vector<SceneObjectRun>& objects) {
+  std::map<std::pair<std::string, std::optional<std::size_t>>, std::size_t> counts;
+  for (const auto& [name, poses] : summary.scene_collision_obstacles) {
+    std::pair<std::string, std::optional<std::size_t>> key{"clutter", std::nullopt};
+    if (name == "support_plane") key.first = "table";
+    constexpr const char* kLabel = "label ";
+    if (name.rfind(kLabel, 0) == 0) {
+      const std::size_t cluster = std::stoul(name.substr(std::strlen(kLabel))) - 1;
+      for (const auto& o : objects) {
+        if (o.cluster == cluster) key = {"object", o.id};
+      }
+    }
+    counts[key] += poses;
+  }
+  std::vector<BlockingObstacle> out;
+  for (const auto& [key, poses] : counts) out.push_back({key.first, key.second, poses});
+  std::stable_sort(out.begin(), out.end(),
+                   [](const auto& a, const auto& b) { return a.poses > b.poses; });
+  return out;
+}
+
+std::string describe(const BlockingObstacle& b) {
+  return b.obstacle == "object" ? "object " + std::to_string(*b.object) : b.obstacle;
+}
+
+// An object without a grasp whose poses the scene blocked: its status names what blocked them.
+void explainNoGrasp(SceneObjectRun& object) {
+  const auto& summary = object.plan.summary;
+  const auto blocked = summary.rejections.find(grasping::reason::kSceneCollision);
+  if (object.blocked_by.empty() || blocked == summary.rejections.end()) return;
+  std::string names;
+  for (std::size_t k = 0; k < object.blocked_by.size() && k < kNamedObstacles; ++k) {
+    names += (k ? ", " : "") + describe(object.blocked_by[k]) + " " +
+             std::to_string(object.blocked_by[k].poses);
+  }
+  object.status = Status::Make(
+      object.status.code,
+      fmt::format("no grasp: the scene blocked {} of {} hand poses ({}); the other rejections are "
+                  "in planning.rejections",
+                  blocked->second, summary.poses, names));
 }
 
 // Plans one meshed object; the failure of any step is the object's status and reason.
@@ -78,7 +144,13 @@ SceneRunResult runScene(const perception::Scan& scan, const HandModel& hand,
   SceneRunResult out;
   auto stage = [&](const char* name, double seconds) { out.stages.push_back({name, seconds}); };
 
-  out.reconstruction = internal::reconstructForRun(scan, params, out.stages);
+  if (params.object_jobs < 0) throw InvalidArgument("runScene: object_jobs must be >= 0");
+  // The scene is parsed and mapped once; then each object is meshed and planned as one task, in an
+  // arena of params.object_jobs threads that the stages' own parallel loops share. Poisson runs
+  // one object at a time (reconstruction::meshObject), the planning of others goes on meanwhile.
+  tbb::task_arena arena(params.object_jobs == 0 ? tbb::task_arena::automatic : params.object_jobs);
+  arena.execute(
+      [&] { out.reconstruction = internal::reconstructForRun(scan, params, out.stages, false); });
   const auto& ingest = out.reconstruction.ingest;
   if (!ingest.status.ok() || out.reconstruction.objects.empty()) {
     out.status = ingest.status.ok() ? Status::Make(StatusCode::kNoResult, "no object selected")
@@ -93,27 +165,17 @@ SceneRunResult runScene(const perception::Scan& scan, const HandModel& hand,
                                 scene.plane->normal.z(), scene.plane->d);
     support = SupportPlane{*out.plane};
   }
-
+  AxisAlignedBox objects_box;  // of the objects' points; their meshes close what those show
   for (std::size_t k = 0; k < out.reconstruction.objects.size(); ++k) {
-    const auto& reconstruction = out.reconstruction.objects[k];
     SceneObjectRun object;
     object.id = k;
-    object.cluster = reconstruction.cluster;
-    object.info = scene.cluster_info[reconstruction.cluster];
-    object.stages.push_back({"reconstruct", reconstruction.meshing.report.total_s});
-    object.total_s = reconstruction.meshing.report.total_s;
-    if (reconstruction.meshing.status.ok()) {
-      object.mesh = reconstruction.meshing.mesh;
-      object.observed = reconstruction.meshing.observed;
-    } else {
-      object.status = Status::Make(reconstruction.meshing.status.code,
-                                   "meshing: " + reconstruction.meshing.status.message);
-      object.reason = object_reason::kMeshingFailed;
-    }
+    object.cluster = out.reconstruction.objects[k].cluster;
+    object.info = scene.cluster_info[object.cluster];
+    for (const auto& p : scene.clusters[object.cluster].points) objects_box.extend(p);
     out.objects.push_back(std::move(object));
   }
 
-  // One map of the scene, covering every meshed object's workspace.
+  // One map of the scene, covering every object's workspace.
   Stopwatch watch;
   internal::ObstacleParts parts;
   if (params.scene_check) {
@@ -121,13 +183,6 @@ SceneRunResult runScene(const perception::Scan& scan, const HandModel& hand,
     const PointCloud obstacles = sceneObstacles(scene, parts);
     out.obstacle_points = obstacles.size();
     SceneOccupancyParams occupancy = params.occupancy;
-    AxisAlignedBox objects_box;
-    for (const auto& o : out.objects) {
-      if (o.mesh.empty()) continue;
-      const AxisAlignedBox box = o.mesh.bounds();
-      objects_box.extend(box.min);
-      objects_box.extend(box.max);
-    }
     if (occupancy.region.empty() && !objects_box.empty())
       occupancy.region = internal::workspaceAround(objects_box, params);
     out.occupancy = std::make_shared<SceneOccupancy>(obstacles, scan.cloud.sensor_origin, occupancy,
@@ -135,12 +190,42 @@ SceneRunResult runScene(const perception::Scan& scan, const HandModel& hand,
   }
   stage("occupancy", watch.seconds());
 
-  for (auto& object : out.objects) {
-    if (!object.reason.empty()) continue;  // not meshed
-    log().info("run: object {} of {} ({} points)", object.id + 1, out.objects.size(),
-               object.info.points);
-    planSceneObject(object, hand, out.occupancy.get(), scene.clusters[object.cluster], parts.loose,
-                    support, scan.cloud.sensor_origin, params);
+  // The largest objects first, as the objects are ordered.
+  arena.execute([&] {
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, out.objects.size(), 1),
+        [&](const tbb::blocked_range<std::size_t>& range) {
+          for (std::size_t k = range.begin(); k != range.end(); ++k) {
+            SceneObjectRun& object = out.objects[k];
+            auto& meshing = out.reconstruction.objects[k].meshing;
+            meshing = reconstruction::meshObject(ingest.objects[k], scene.plane,
+                                                 params.reconstruction.meshing);
+            object.stages.push_back({"reconstruct", meshing.report.total_s});
+            object.total_s = meshing.report.total_s;
+            if (!meshing.status.ok()) {
+              object.status =
+                  Status::Make(meshing.status.code, "meshing: " + meshing.status.message);
+              object.reason = object_reason::kMeshingFailed;
+              continue;
+            }
+            object.mesh = meshing.mesh;
+            object.observed = meshing.observed;
+            log().info("run: object {} of {} ({} points)", object.id + 1, out.objects.size(),
+                       object.info.points);
+            planSceneObject(object, hand, out.occupancy.get(), scene.clusters[object.cluster],
+                            parts.loose, support, scan.cloud.sensor_origin, params);
+            object.blocked_by = blockingObstacles(object.plan.summary, out.objects);
+            if (object.ranked.empty()) explainNoGrasp(object);
+          }
+        },
+        tbb::simple_partitioner());
+  });
+  for (const auto& object : out.reconstruction.objects) {
+    if (object.meshing.status.ok()) continue;
+    out.reconstruction.status =
+        Status::Make(object.meshing.status.code, "object " + std::to_string(object.cluster) + ": " +
+                                                     object.meshing.status.message);
+    break;
   }
   const std::size_t with_grasps = out.objectsWithGrasps();
   out.status =

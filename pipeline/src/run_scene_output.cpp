@@ -42,6 +42,15 @@ nlohmann::json objectJson(const ObjectEntry& e) {
   j["grasps"] = count;
   j["best_rank_score"] =
       count > 0 ? nlohmann::json(e.ranked->front().score) : nlohmann::json(nullptr);
+  if (e.blocked_by != nullptr) {
+    j["blocked_by"] = nlohmann::json::array();
+    for (const auto& b : *e.blocked_by) {
+      j["blocked_by"].push_back(
+          {{"obstacle", b.obstacle},
+           {"object", b.object ? nlohmann::json(*b.object) : nlohmann::json()},
+           {"poses", b.poses}});
+    }
+  }
   j["time_s"] = e.time_s;
   j["timing"] = e.stages != nullptr ? timingJson(*e.stages, e.time_s) : nlohmann::json(nullptr);
   j["planning"] = e.plan != nullptr ? planSummaryJson(*e.plan) : nlohmann::json(nullptr);
@@ -101,6 +110,7 @@ nlohmann::json sceneRunJson(const SceneRunResult& r, const HandModel& hand,
     e.status = &o.status;
     e.reason = o.reason;
     e.ranked = &o.ranked;
+    e.blocked_by = &o.blocked_by;
     if (o.skeleton && o.skeleton->status.ok()) {
       e.plan = &o.plan.summary;
       header.summary.add(o.plan.summary);

@@ -1,6 +1,7 @@
 // PCL translation unit: Poisson surface reconstruction.
 #include <pcl/surface/poisson.h>
 
+#include <mutex>
 #include <thread>
 
 #include "poisson.h"
@@ -39,6 +40,11 @@ TriangleMesh poissonSurface(const PointCloud& oriented, const PoissonParams& par
   pcl::PointCloud<pcl::PointNormal> vertices;
   std::vector<pcl::Vertices> polygons;
   {
+    // One reconstruction at a time in the process: PCL's PoissonRecon keeps its octree's
+    // allocators and neighbour tables in static members (two at once crash), and the stdout
+    // silenced here is the process's.
+    static std::mutex one_at_a_time;
+    const std::lock_guard<std::mutex> lock(one_at_a_time);
     // PCL's PoissonRecon prints marching-cubes diagnostics ("Vertex pair not in list") with printf;
     // stdout belongs to the CLI's summaries.
     const SilencedStream quiet(SilencedStream::Stream::kStdout);

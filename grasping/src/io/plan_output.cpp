@@ -97,6 +97,7 @@ nlohmann::json planSummaryJson(const PlanSummary& s) {
            s.force_closure ? nlohmann::json(s.msPerValidGrasp()) : nlohmann::json(nullptr)},
           {"rejections", s.rejections},
           {"scene_collision_links", s.scene_collision_links},
+          {"scene_collision_obstacles", s.scene_collision_obstacles},
           {"by_type", {{"power", s.power}, {"precision", s.precision}}},
           {"timed_out", s.timed_out},
           {"max_grasps_reached", s.max_grasps_reached}};

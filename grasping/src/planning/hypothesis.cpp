@@ -38,6 +38,12 @@ bool comesDownOntoPlane(const SceneChecker& scene, const Eigen::Vector3d& approa
   return scene.plane() &&
          -approach.dot(scene.plane()->coefficients.head<3>()) >= kLiftMinDownCosine;
 }
+
+// The key of PlanSummary::scene_collision_obstacles for a collision.
+std::string obstacleName(const SceneCheckResult& hit) {
+  if (hit.obstacle == "support_plane") return hit.obstacle;
+  return hit.obstacle_label != 0 ? "label " + std::to_string(hit.obstacle_label) : "unlabelled";
+}
 }  // namespace
 
 HypothesisOutcome closeHypothesis(GraspSimulator& simulator, const Pose& gcp,
@@ -121,6 +127,7 @@ HypothesisOutcome closeHypothesis(GraspSimulator& simulator, const Pose& gcp,
     if (scene.collision) {
       out.reason = reason::kSceneCollision;
       out.scene_link = scene.link;
+      out.scene_obstacle = obstacleName(scene);
       return out;
     }
   }
@@ -138,6 +145,7 @@ HypothesisOutcome closeHypothesis(GraspSimulator& simulator, const Pose& gcp,
     if (closed.collision) {
       out.reason = reason::kSceneCollision;
       out.scene_link = closed.link;
+      out.scene_obstacle = obstacleName(closed);
       return out;
     }
   }
@@ -177,6 +185,8 @@ std::optional<Grasp> countOutcome(HypothesisOutcome&& outcome, PlanSummary& summ
   if (!outcome.grasp) {
     ++summary.rejections[outcome.reason];
     if (!outcome.scene_link.empty()) ++summary.scene_collision_links[outcome.scene_link];
+    if (!outcome.scene_obstacle.empty())
+      ++summary.scene_collision_obstacles[outcome.scene_obstacle];
   }
   return std::move(outcome.grasp);
 }
@@ -190,6 +200,8 @@ void PlanSummary::add(const PlanSummary& other) {
   for (const auto& [why, count] : other.rejections) rejections[why] += count;
   for (const auto& [link, count] : other.scene_collision_links)
     scene_collision_links[link] += count;
+  for (const auto& [obstacle, count] : other.scene_collision_obstacles)
+    scene_collision_obstacles[obstacle] += count;
   precision += other.precision;
   power += other.power;
   timed_out = timed_out || other.timed_out;

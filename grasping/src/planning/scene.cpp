@@ -109,6 +109,9 @@ void checkSceneOccupancyMemory(const PointCloud& obstacles, const Eigen::Vector3
 
 struct SceneOccupancy::Impl {
   std::shared_ptr<octomap::OcTree> tree;
+  // Obstacle label per occupied cell (SceneOccupancy's labels); shared by the cleared copies.
+  using Labels = std::unordered_map<octomap::OcTreeKey, std::uint32_t, octomap::OcTreeKey::KeyHash>;
+  std::shared_ptr<const Labels> labels;
 };
 
 SceneOccupancy::SceneOccupancy(const PointCloud& obstacles, const Eigen::Vector3d& sensor_origin,
@@ -131,6 +134,17 @@ SceneOccupancy::SceneOccupancy(const PointCloud& obstacles, const Eigen::Vector3
       continue;
     cloud.push_back(static_cast<float>(p.x()), static_cast<float>(p.y()),
                     static_cast<float>(p.z()));
+  }
+  if (obstacles.hasLabels()) {
+    auto labels = std::make_shared<Impl::Labels>();
+    for (std::size_t i = 0; i < obstacles.size(); ++i) {
+      const auto& p = obstacles.points[i];
+      octomap::OcTreeKey key;
+      if (obstacles.labels[i] != 0 && p.allFinite() &&
+          impl_->tree->coordToKeyChecked(p.x(), p.y(), p.z(), key))
+        labels->emplace(key, obstacles.labels[i]);
+    }
+    impl_->labels = std::move(labels);
   }
   const octomap::point3d origin(static_cast<float>(sensor_origin.x()),
                                 static_cast<float>(sensor_origin.y()),
@@ -204,6 +218,7 @@ std::unique_ptr<SceneOccupancy> SceneOccupancy::withPointsCleared(const PointClo
   std::unique_ptr<SceneOccupancy> copy(new SceneOccupancy());
   copy->impl_ = std::make_unique<Impl>();
   copy->impl_->tree = std::make_shared<octomap::OcTree>(*impl_->tree);
+  copy->impl_->labels = impl_->labels;
   auto& tree = *copy->impl_->tree;
   const float free_log_odds = tree.getClampingThresMinLog();
   octomap::KeySet cleared;
@@ -256,6 +271,34 @@ bool SceneOccupancy::isOccupied(const Eigen::Vector3d& p) const {
   return node != nullptr && impl_->tree->isNodeOccupied(node);
 }
 
+std::uint32_t SceneOccupancy::labelAt(const Eigen::Vector3d& p) const {
+  octomap::OcTreeKey key;
+  if (!impl_->labels || !impl_->tree->coordToKeyChecked(p.x(), p.y(), p.z(), key)) return 0;
+  const auto labelOf = [&](const octomap::OcTreeKey& k) {
+    const auto it = impl_->labels->find(k);
+    return it == impl_->labels->end() ? std::uint32_t{0} : it->second;
+  };
+  if (const std::uint32_t own = labelOf(key)) return own;
+  std::uint32_t best = 0;
+  int best_distance = 4;
+  for (int dx = -1; dx <= 1; ++dx) {
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dz = -1; dz <= 1; ++dz) {
+        const int distance = std::abs(dx) + std::abs(dy) + std::abs(dz);
+        if (distance == 0 || distance >= best_distance) continue;
+        const octomap::OcTreeKey cell(static_cast<octomap::key_type>(key[0] + dx),
+                                      static_cast<octomap::key_type>(key[1] + dy),
+                                      static_cast<octomap::key_type>(key[2] + dz));
+        if (const std::uint32_t label = labelOf(cell)) {
+          best = label;
+          best_distance = distance;
+        }
+      }
+    }
+  }
+  return best;
+}
+
 void SceneOccupancy::writeBinary(const std::string& path) const {
   // The stream overload: the file-name one also prints progress on stdout.
   writeFileAtomically(path, [this, &path](std::ostream& out) {
@@ -270,6 +313,8 @@ struct SceneChecker::Impl {
   SceneCheckParams params;
   std::optional<SupportPlane> plane;
   std::unique_ptr<fcl::CollisionObjectd> octree;
+  const SceneOccupancy* occupancy = nullptr;
+  bool labelled = false;  // the occupancy has obstacle labels
   std::unique_ptr<fcl::CollisionObjectd> halfspace;
   // Per link: each shape's geometry and its origin in the link frame.
   std::vector<std::vector<std::pair<std::shared_ptr<fcl::CollisionGeometryd>, Pose>>> shapes;
@@ -284,6 +329,8 @@ SceneChecker::SceneChecker(const HandModel& hand, const SceneOccupancy* occupanc
     auto geometry = std::make_shared<fcl::OcTreed>(occupancy->impl().tree);
     impl_->octree = std::make_unique<fcl::CollisionObjectd>(geometry);
     impl_->octree->computeAABB();
+    impl_->occupancy = occupancy;
+    impl_->labelled = occupancy->impl().labels != nullptr;
   }
   if (plane) {
     // The obstacle is the half-space below the plane: n . x <= -d - tolerance.
@@ -339,13 +386,19 @@ SceneCheckResult SceneChecker::checkPath(const Pose& hand_pose, const Eigen::Vec
         placed.computeAABB();
         for (const auto* obstacle : {impl_->octree.get(), impl_->halfspace.get()}) {
           if (!obstacle) continue;
+          const bool octree = obstacle == impl_->octree.get();
           fcl::CollisionRequestd request;
+          // In a labelled map the contact names the obstacle hit; it is computed for the one
+          // colliding check that ends the path.
+          request.enable_contact = octree && impl_->labelled;
           fcl::CollisionResultd hit;
           fcl::collide(&placed, obstacle, request, hit);
           if (hit.isCollision()) {
             result.collision = true;
             result.link = impl_->hand->links()[l].name;
-            result.obstacle = obstacle == impl_->octree.get() ? "octree" : "support_plane";
+            result.obstacle = octree ? "octree" : "support_plane";
+            if (request.enable_contact && hit.numContacts() > 0)
+              result.obstacle_label = impl_->occupancy->labelAt(hit.getContact(0).pos);
             result.distance_m = back;
             return result;
           }

@@ -73,6 +73,41 @@ TEST(SceneCheck, ApproachesThroughAWallAreRejected) {
   }
 }
 
+// Two labelled walls, one on each side of a cylinder: the map keeps each wall's label, a cleared
+// copy keeps them too, and the rejected poses of a plan are counted by the wall they hit.
+TEST(SceneCheck, LabelledObstaclesNameWhatAHandHit) {
+  PointCloud walls = wall(0.095, 0.3, 0.35);
+  walls.labels.assign(walls.size(), 7);
+  const PointCloud far_wall = wall(-0.095, 0.3, 0.35);
+  walls.points.insert(walls.points.end(), far_wall.points.begin(), far_wall.points.end());
+  walls.labels.resize(walls.size(), 9);
+  const SceneOccupancy scene(walls, Eigen::Vector3d(0, -0.8, 0.3));
+  EXPECT_EQ(scene.labelAt({0.095, 0.0, 0.1}), 7u);
+  EXPECT_EQ(scene.labelAt({-0.095, 0.0, 0.1}), 9u);
+  EXPECT_EQ(scene.labelAt({-0.099, 0.0, 0.1}), 9u);  // a neighbouring cell's label
+  EXPECT_EQ(scene.labelAt({0.0, 0.0, 0.1}), 0u);     // free space
+  EXPECT_EQ(scene.withPointsCleared(wall(0.095, 0.3, 0.35))->labelAt({-0.095, 0, 0.1}), 9u);
+  EXPECT_EQ(
+      SceneOccupancy(wall(0.095, 0.3, 0.35), Eigen::Vector3d::Zero()).labelAt({0.095, 0, 0.1}),
+      0u);  // no labels
+
+  const auto hand = loadBuiltinHand("armar3");
+  TriangleMesh mesh = geometry::shapes::makeCylinder(0.035, 0.2, 48, 10);
+  mesh.transform(Eigen::Isometry3d(Eigen::Translation3d(0, 0, 0.1)));
+  const GraspObject object(mesh);
+  const SceneChecker checker(hand, &scene, SupportPlane{Eigen::Vector4d(0, 0, 1, 0)});
+  SkeletonPlannerParams params;
+  params.hypothesis.scene = &checker;
+  const auto plan =
+      planSkeletonGrasps(hand, object, skeleton::extractSkeleton(mesh).skeleton, params);
+  const auto& hits = plan.summary.scene_collision_obstacles;
+  std::size_t counted = 0;
+  for (const auto& [name, count] : hits) counted += count;
+  EXPECT_EQ(counted, plan.summary.rejections.at(reason::kSceneCollision));
+  EXPECT_GT(hits.count("label 7") ? hits.at("label 7") : 0, 10u);
+  EXPECT_GT(hits.count("label 9") ? hits.at("label 9") : 0, 10u);
+}
+
 TEST(SceneCheck, TheSupportPlaneBlocksHandsBelowIt) {
   const auto hand = loadBuiltinHand("sdh");
   const SceneChecker checker(hand, nullptr, SupportPlane{Eigen::Vector4d(0, 0, 1, 0)});

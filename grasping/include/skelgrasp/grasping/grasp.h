@@ -130,7 +130,10 @@ struct PlanSummary {
   double planning_s = 0;
   std::map<std::string, std::size_t> rejections;
   std::map<std::string, std::size_t> scene_collision_links;  // first colliding link per rejection
-  std::size_t precision = 0, power = 0;                      // kept grasps by type
+  // What that link hit, per rejection: "support_plane", "label N" (the octree cell's obstacle
+  // label, SceneOccupancy) or "unlabelled".
+  std::map<std::string, std::size_t> scene_collision_obstacles;
+  std::size_t precision = 0, power = 0;  // kept grasps by type
   bool timed_out = false;
   bool max_grasps_reached = false;
 

@@ -29,4 +29,10 @@ struct ReconstructionResult {
 ReconstructionResult reconstructScan(const perception::Scan& scan,
                                      const ReconstructionParams& params = {});
 
+// reconstructScan without the meshing: filters, segmentation and normals, with each selected
+// object's cluster in `objects` and its meshing left empty (the caller meshes it with
+// reconstruction::meshObject, e.g. while other objects are planned).
+ReconstructionResult ingestObjects(const perception::Scan& scan,
+                                   const ReconstructionParams& params = {});
+
 }  // namespace skelgrasp::pipeline

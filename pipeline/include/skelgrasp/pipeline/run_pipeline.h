@@ -85,6 +85,9 @@ struct RunParams {
   // The seed of r is robust_ranking.robustness.seed; the robustness is judged on the object alone
   // (the perturbed hand is not checked against the rest of the scene).
   ranking::RobustRankingParams robust_ranking;
+  // runScene: objects planned at once (0 = one per core). The grasps do not depend on it: each
+  // object is planned on its own, with its own seeds, and the results are kept in object order.
+  int object_jobs = 0;
 };
 
 struct RankedGrasp {

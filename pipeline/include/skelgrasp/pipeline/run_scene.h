@@ -20,6 +20,15 @@ inline constexpr const char* kSkeletonFailed = "skeleton_failed";  // no usable 
 inline constexpr const char* kNoGrasp = "no_grasp";                // planned, nothing kept
 }  // namespace object_reason
 
+// One obstacle that blocked a hand's pose or approach (SceneObjectRun::blocked_by).
+struct BlockingObstacle {
+  // "table" (the support plane), "object" (another object of the scene, `object` its id) or
+  // "clutter" (points in no object: the table's edge, fragments, whatever stands beside it).
+  std::string obstacle;
+  std::optional<std::size_t> object;
+  std::size_t poses = 0;  // hand poses or approaches it blocked
+};
+
 struct SceneObjectRun {
   std::size_t id = 0;       // position in SceneRunResult::objects, the id in the outputs
   std::size_t cluster = 0;  // index into reconstruction.ingest.scene.clusters
@@ -31,7 +40,10 @@ struct SceneObjectRun {
   std::optional<skeleton::SkeletonResult> skeleton;
   grasping::PlanResult plan;        // summary; grasps moved into `ranked`
   std::vector<RankedGrasp> ranked;  // best first, ids 0..n-1 within the object
-  std::vector<StageTime> stages;    // reconstruct, skeleton, occupancy, plan, rank
+  // What the scene check's rejected poses hit, most first (planned objects). An object without a
+  // grasp whose poses the scene blocked says so in its status, naming these.
+  std::vector<BlockingObstacle> blocked_by;
+  std::vector<StageTime> stages;  // reconstruct, skeleton, occupancy, plan, rank
   double total_s = 0;
 };
 

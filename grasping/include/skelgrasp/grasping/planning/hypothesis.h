@@ -44,6 +44,8 @@ struct HypothesisOutcome {
   const char* reason = nullptr;  // set when not kept
   bool generated = false;        // placed collision-free and closed
   std::string scene_link;        // scene_collision: the first colliding link
+  std::string
+      scene_obstacle;  // scene_collision: what it hit (PlanSummary::scene_collision_obstacles)
 };
 
 // `gcp` is the hypothesis' grasp centre point pose (object frame; z = approach direction).

@@ -55,8 +55,10 @@ void checkSceneOccupancyMemory(const PointCloud& obstacles, const Eigen::Vector3
 class SceneOccupancy {
  public:
   // `obstacles` in the scan frame; rays start at `sensor_origin`. `target_box` (scan frame) is only
-  // used for UnknownSpace::kOccupied. Throws InvalidArgument for a non-positive resolution and
-  // ResourceLimitExceeded when estimateSceneOccupancyBytes exceeds the memory limit.
+  // used for UnknownSpace::kOccupied. With labels (one per point, 0 = none), each occupied cell
+  // keeps the label of its first point: the scene check names what a hand hit (labelAt). Throws
+  // InvalidArgument for a non-positive resolution and ResourceLimitExceeded when
+  // estimateSceneOccupancyBytes exceeds the memory limit.
   SceneOccupancy(const PointCloud& obstacles, const Eigen::Vector3d& sensor_origin,
                  const SceneOccupancyParams& params = {}, const AxisAlignedBox& target_box = {});
   ~SceneOccupancy();
@@ -74,6 +76,9 @@ class SceneOccupancy {
   std::size_t freeLeaves() const;
   double resolution() const;
   bool isOccupied(const Eigen::Vector3d& point) const;
+  // The label of the obstacle points in the cell holding `point`, or else in the nearest of its
+  // 26 neighbours that has one (a contact lies on a cell's surface); 0 when none.
+  std::uint32_t labelAt(const Eigen::Vector3d& point) const;
   // OctoMap binary file (.bt). Throws IoError.
   void writeBinary(const std::string& path) const;
 
@@ -98,9 +103,10 @@ struct SceneCheckParams {
 
 struct SceneCheckResult {
   bool collision = false;
-  std::string link;       // first colliding link
-  std::string obstacle;   // "octree" or "support_plane"
-  double distance_m = 0;  // along the approach path, from the final pose back
+  std::string link;                  // first colliding link
+  std::string obstacle;              // "octree" or "support_plane"
+  std::uint32_t obstacle_label = 0;  // octree: SceneOccupancy::labelAt the contact (0 = none)
+  double distance_m = 0;             // along the approach path, from the final pose back
 };
 
 // Checks a hand (in the scan frame, at `hand_pose` in configuration `q`) and its straight approach
