@@ -1,6 +1,8 @@
 #include "skelgrasp/pipeline/run_scene.h"
 
+#include <Eigen/Eigenvalues>
 #include <cstring>
+#include <limits>
 #include <map>
 
 #include <fmt/format.h>
@@ -75,21 +77,70 @@ std::string describe(const BlockingObstacle& b) {
   return b.obstacle == "object" ? "object " + std::to_string(*b.object) : b.obstacle;
 }
 
-// An object without a grasp whose poses the scene blocked: its status names what blocked them.
-void explainNoGrasp(SceneObjectRun& object) {
+// The narrowest width of a mesh across the support: the smaller extent of its vertices, projected
+// on the plane, along their principal axes there.
+double narrowestWidth(const TriangleMesh& mesh, const Eigen::Vector3d& up) {
+  if (mesh.vertices.empty()) return 0;
+  const Eigen::Vector3d across = up.unitOrthogonal(), along = up.cross(across);
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& v : mesh.vertices) mean += Eigen::Vector2d(across.dot(v), along.dot(v));
+  mean /= static_cast<double>(mesh.vertices.size());
+  Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+  for (const auto& v : mesh.vertices) {
+    const Eigen::Vector2d q = Eigen::Vector2d(across.dot(v), along.dot(v)) - mean;
+    scatter += q * q.transpose();
+  }
+  const Eigen::Vector2d minor =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(scatter).eigenvectors().col(
+          0);  // eigenvalues ascend
+  double low = std::numeric_limits<double>::infinity(), high = -low;
+  for (const auto& v : mesh.vertices) {
+    const double t = minor.dot(Eigen::Vector2d(across.dot(v), along.dot(v)));
+    low = std::min(low, t);
+    high = std::max(high, t);
+  }
+  return high - low;
+}
+
+// The widest object a hand closes around: twice the largest lambda2 its grasp types accept.
+double widestGrasp(const HandModel& hand) {
+  double lambda2 = 0;
+  for (const auto& limits : {hand.thresholds().precision, hand.thresholds().power}) {
+    if (limits) lambda2 = std::max(lambda2, limits->lambda2_max_m);
+  }
+  return 2 * lambda2;
+}
+
+// An object without a grasp: its status says whether it is wider than the hand's grasps
+// (reason too_wide) and names what the scene blocked.
+void explainNoGrasp(SceneObjectRun& object, const HandModel& hand,
+                    const std::optional<SupportPlane>& plane) {
+  std::string why;
+  if (plane) {
+    const double width = narrowestWidth(object.mesh, plane->coefficients.head<3>().normalized());
+    const double widest = widestGrasp(hand);
+    if (width > widest) {
+      object.reason = object_reason::kTooWide;
+      why = fmt::format(
+          "{:.2f} m wide at its narrowest across the table, the {} closes around at "
+          "most {:.2f} m",
+          width, hand.name(), widest);
+    }
+  }
   const auto& summary = object.plan.summary;
   const auto blocked = summary.rejections.find(grasping::reason::kSceneCollision);
-  if (object.blocked_by.empty() || blocked == summary.rejections.end()) return;
-  std::string names;
-  for (std::size_t k = 0; k < object.blocked_by.size() && k < kNamedObstacles; ++k) {
-    names += (k ? ", " : "") + describe(object.blocked_by[k]) + " " +
-             std::to_string(object.blocked_by[k].poses);
+  if (!object.blocked_by.empty() && blocked != summary.rejections.end()) {
+    std::string names;
+    for (std::size_t k = 0; k < object.blocked_by.size() && k < kNamedObstacles; ++k) {
+      names += (k ? ", " : "") + describe(object.blocked_by[k]) + " " +
+               std::to_string(object.blocked_by[k].poses);
+    }
+    why += fmt::format("{}the scene blocked {} of {} hand poses ({})", why.empty() ? "" : "; ",
+                       blocked->second, summary.poses, names);
   }
+  if (why.empty()) return;
   object.status = Status::Make(
-      object.status.code,
-      fmt::format("no grasp: the scene blocked {} of {} hand poses ({}); the other rejections are "
-                  "in planning.rejections",
-                  blocked->second, summary.poses, names));
+      object.status.code, "no grasp: " + why + "; the other rejections are in planning.rejections");
 }
 
 // Plans one meshed object; the failure of any step is the object's status and reason.
@@ -215,7 +266,7 @@ SceneRunResult runScene(const perception::Scan& scan, const HandModel& hand,
             planSceneObject(object, hand, out.occupancy.get(), scene.clusters[object.cluster],
                             parts.loose, support, scan.cloud.sensor_origin, params);
             object.blocked_by = blockingObstacles(object.plan.summary, out.objects);
-            if (object.ranked.empty()) explainNoGrasp(object);
+            if (object.ranked.empty()) explainNoGrasp(object, hand, support);
           }
         },
         tbb::simple_partitioner());

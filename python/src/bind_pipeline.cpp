@@ -253,7 +253,7 @@ ValueError with the command line's message.)doc");
           },
           "Centroid of its points (scan frame, metres).")
       .def_readonly("reason", &pipeline::SceneObjectRun::reason,
-                    "Empty when it has grasps, else meshing_failed, skeleton_failed or no_grasp.")
+                    "Empty when it has grasps, else meshing_failed, skeleton_failed, no_grasp or too_wide.")
       .def_property_readonly(
           "mesh",
           [](const pipeline::SceneObjectRun& o) {

@@ -18,6 +18,9 @@ namespace object_reason {
 inline constexpr const char* kMeshingFailed = "meshing_failed";    // too small, too thin, noise
 inline constexpr const char* kSkeletonFailed = "skeleton_failed";  // no usable skeleton
 inline constexpr const char* kNoGrasp = "no_grasp";                // planned, nothing kept
+// Planned, nothing kept, and wider at its narrowest across the support than any grasp of the hand
+// (twice its largest lambda2): a flat box lying on the table offers no two faces it can reach.
+inline constexpr const char* kTooWide = "too_wide";
 }  // namespace object_reason
 
 // One obstacle that blocked a hand's pose or approach (SceneObjectRun::blocked_by).
