@@ -79,10 +79,10 @@ struct ReconstructOptions {
         ->check(lengthOrZero())
         ->capture_default_str();
     cmd.add_option("--segmentation", segmentation,
-                   "Objects above the support: euclidean (connected components) or lccp "
-                   "(supervoxels + locally convex patches: separates touching objects; "
-                   "docs/reconstruction.md)")
-        ->check(CLI::IsMember({"euclidean", "lccp"}))
+                   "Objects above the support: lccp (supervoxels + locally convex patches: "
+                   "separates touching objects; docs/perception.md) or euclidean (connected "
+                   "components: touching objects stay one)")
+        ->check(CLI::IsMember({"lccp", "euclidean"}))
         ->capture_default_str();
     cmd.add_option("--cluster-tolerance", cluster_tolerance_m, "Euclidean clustering distance (m)")
         ->check(positiveLength())

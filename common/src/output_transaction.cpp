@@ -83,6 +83,12 @@ void OutputTransaction::commit() {
     if (!owned.empty() && target.parent_path() == owned && fs::exists(staged.temporary, ec))
       written.insert(target.filename().string());
   }
+  // The directories written to: a command killed there earlier may have left hidden temporaries,
+  // which this one, writing the same files anew, clears (removeStaleTemporaries: only those of
+  // processes that no longer run).
+  std::set<fs::path> directories;
+  for (const auto& staged : staged_)
+    directories.insert(absoluteNormal(staged.target).parent_path());
   std::set<std::string> previous;
   if (!owned.empty()) {
     previous = readOutputList(owned);
@@ -99,6 +105,7 @@ void OutputTransaction::commit() {
   }
   committed_ = true;
   created_on_signal_.clear();
+  for (const auto& directory : directories) removeStaleTemporaries(directory.string());
   if (owned.empty()) return;
   for (const auto& name : previous) {
     if (written.count(name)) continue;

@@ -9,6 +9,9 @@
 #include <iterator>
 #include <stdexcept>
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include "skelgrasp/common/error.h"
 #include "test_support.h"
 
@@ -212,6 +215,31 @@ TEST(OutputTransaction, FilesAppearOnlyAtCommitInStagingOrder) {
   EXPECT_EQ(slurp(out + "/grasps.json"), "index");
   EXPECT_FALSE(fs::exists(out + "/empty.png"));
   EXPECT_TRUE(temporariesUnder(dir).empty());
+}
+
+// A command killed while writing leaves hidden temporaries named after its process; the next
+// command to commit files into that directory (a second `plan --out` there) removes them, and
+// leaves those of a process that still runs and the user's own files.
+TEST(OutputTransaction, ACommitClearsTheTemporariesOfKilledCommands) {
+  const std::string dir = test::tempDir("transaction_stale");
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  ASSERT_GT(child, 0);
+  ::waitpid(child, nullptr, 0);  // a process id that no longer runs
+  const std::string stale = dir + "/.grasps.tmp." + std::to_string(child) + ".3.json";
+  const std::string alive = dir + "/.grasps.tmp." + std::to_string(::getppid()) + ".1.json";
+  const std::string users = dir + "/notes.tmp.1.txt";
+  for (const auto& path : {stale, alive, users}) std::ofstream(path) << "x";
+  {
+    OutputTransaction outputs;
+    writeFileAtomically(outputs.stage(dir + "/grasps.json"), std::string("new"));
+    EXPECT_TRUE(fs::exists(stale));  // only at commit
+    outputs.commit();
+  }
+  EXPECT_EQ(slurp(dir + "/grasps.json"), "new");
+  EXPECT_FALSE(fs::exists(stale));
+  EXPECT_TRUE(fs::exists(alive));
+  EXPECT_TRUE(fs::exists(users));
 }
 
 TEST(OutputTransaction, FailureBeforeCommitLeavesNothingNewAndKeepsOldFiles) {

@@ -91,7 +91,8 @@ class OutputTransaction {
   // Throws IoError when `final_path` is a directory or its directory cannot be created.
   std::string stage(const std::string& final_path);
   // Throws IoError naming the final path when a rename fails; temporaries not yet renamed are
-  // removed.
+  // removed. Then the hidden temporaries killed commands left in the directories written to are
+  // removed (removeStaleTemporaries).
   void commit();
 
   // The files of `dir` this transaction writes replace those of the previous command that wrote
