@@ -24,9 +24,10 @@ std::string variantPhrase(const std::string& variant) {
 
 }  // namespace
 
-void addGraspTable(presentation::HtmlReport& report, const std::vector<RankedGrasp>& ranked) {
+void addGraspTable(presentation::HtmlReport& report, const std::vector<RankedGrasp>& ranked,
+                   std::size_t max_rows) {
   std::vector<std::vector<std::string>> rows;
-  for (std::size_t k = 0; k < ranked.size(); ++k) {
+  for (std::size_t k = 0; k < ranked.size() && k < max_rows; ++k) {
     const auto& g = ranked[k].grasp;
     const std::string r = g.robustness
                               ? fmt::format("{:.2f} [{:.2f}, {:.2f}]", g.robustness->r,
@@ -48,6 +49,10 @@ void addGraspTable(presentation::HtmlReport& report, const std::vector<RankedGra
       {"rank", "type", "strategy", "epsilon", "observed contacts", "r [95% interval]",
        "failed samples: start in object / too few contacts / slipped / too weak", "rank score"},
       rows);
+  if (ranked.size() > rows.size()) {
+    report.paragraph(
+        fmt::format("The other {} ranked grasps are in grasps.json.", ranked.size() - rows.size()));
+  }
 }
 
 std::string robustnessHistogramSvg(const std::vector<std::size_t>& counts) {

@@ -1,4 +1,5 @@
 #pragma once
+#include <limits>
 // The grasp sections of the run reports (one target and scene): a table of the ranked grasps with
 // their robustness r and its interval, and a histogram of r over the object's scored grasps.
 #include <string>
@@ -11,7 +12,10 @@ namespace skelgrasp::pipeline::internal {
 
 // Rank, type, strategy, epsilon, observed contacts, r [95 % interval] and its failed samples by
 // cause ("-" when not scored) and the rank score, one row per grasp.
-void addGraspTable(presentation::HtmlReport& report, const std::vector<RankedGrasp>& ranked);
+// The first `max_rows` ranked grasps (all by default), with a line saying how many more
+// grasps.json holds.
+void addGraspTable(presentation::HtmlReport& report, const std::vector<RankedGrasp>& ranked,
+                   std::size_t max_rows = std::numeric_limits<std::size_t>::max());
 
 // An inline SVG bar chart (no file, works offline) of r over the scored grasps, in ten bins of
 // 0.1; a sentence instead when no grasp was scored.

@@ -171,7 +171,10 @@ void planSceneObject(SceneObjectRun& object, const HandModel& hand, const SceneO
       perception::append(own, internal::splitByDistanceToMesh(
                                   loose, object.mesh, params.table_obstacles.target_foot_distance_m)
                                   .near);
-      own_map = scene_map->withPointsCleared(own);
+      // The copy holds the object's workspace only (RunParams::workspace_margin_m: no hand
+      // reaches beyond it), so that each object of a large scene copies its surroundings.
+      own_map = scene_map->withPointsCleared(
+          own, 1, internal::workspaceAround(object.mesh.bounds(), params));
     }
     checker = std::make_unique<SceneChecker>(hand, own_map.get(), plane, params.approach);
   }

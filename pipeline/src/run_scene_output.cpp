@@ -2,6 +2,7 @@
 // object_<id>.ply and skeleton_<id>.json per meshed object, scene.bt, and report.html with a scene
 // overview (3D view, object table, the scan coloured by object) and a section per object.
 #include <fmt/format.h>
+#include <limits>
 
 #include <algorithm>
 #include <filesystem>
@@ -158,8 +159,13 @@ void addObjectTable(presentation::HtmlReport& report, const SceneRunResult& r) {
   report.rawHtml(links + "</p>\n");
 }
 
+// Scenes with more objects show each object's first kRowsInLargeScenes grasps in its table.
+constexpr std::size_t kFullTablesUpTo = 20;
+constexpr std::size_t kRowsInLargeScenes = 5;
+
 void addObjectSection(presentation::HtmlReport& report, OutputTransaction& outputs,
-                      const std::string& dir, const SceneObjectRun& o, const HandModel& hand) {
+                      const std::string& dir, const SceneObjectRun& o, const HandModel& hand,
+                      std::size_t objects) {
   // The id is the anchor the overview's links (and the demo's index) point to.
   report.rawHtml(fmt::format("<h2 id=\"object-{0}\">Object {0}</h2>\n", o.id));
   report.paragraph(fmt::format(
@@ -174,7 +180,10 @@ void addObjectSection(presentation::HtmlReport& report, OutputTransaction& outpu
   presentation::renderPlanPng(outputs.stage(dir + "/" + file), o.mesh, &o.skeleton->skeleton, shown,
                               hand);
   report.image(file, fmt::format("Object {}: approach directions; the best grasp closed", o.id));
-  internal::addGraspTable(report, o.ranked);
+  // A large scene's report keeps to its budget (docs/report.md): fewer rows per object.
+  internal::addGraspTable(
+      report, o.ranked,
+      objects > kFullTablesUpTo ? kRowsInLargeScenes : std::numeric_limits<std::size_t>::max());
   internal::addRobustnessHistogram(report, o.ranked);
   report.paragraph(fmt::format("Object {}: why hypotheses were rejected", o.id));
   internal::addRejectionTable(report, o.plan.summary);
@@ -227,7 +236,7 @@ void writeSceneRunOutputs(const std::string& dir, const SceneRunResult& r, const
       writeJsonFile(staged(fmt::format("skeleton_{}.json", o.id)),
                     skeleton::skeletonToJson(*o.skeleton, o.mesh, info));
     }
-    addObjectSection(report, outputs, dir, o, hand);
+    addObjectSection(report, outputs, dir, o, hand, r.objects.size());
   }
   report.write(staged("report.html"));
   const nlohmann::json grasps = sceneRunJson(r, hand, scan, input_name);

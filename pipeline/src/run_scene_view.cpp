@@ -3,7 +3,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <limits>
 
+#include "skelgrasp/geometry/point_index.h"
+#include "skelgrasp/geometry/regularisation.h"
 #include "skelgrasp/presentation/hand_render.h"
 #include "skelgrasp/skeleton/output.h"
 
@@ -67,12 +70,38 @@ void addGrasps(presentation::SceneView3d& view, const std::vector<RankedGrasp>& 
   }
 }
 
+// `coloured` with about `max_vertices` vertices for the view (edge collapse, which keeps it
+// closed), each vertex taking the colour of the nearest original one; as it is when it has no more
+// or the collapse fails.
+TriangleMesh decimatedForView(const TriangleMesh& coloured, std::size_t max_vertices) {
+  if (coloured.numVertices() <= max_vertices) return coloured;
+  geometry::RegularisationParams params;
+  params.method = geometry::RegularisationMethod::kNone;
+  params.max_vertices = max_vertices;
+  auto result = geometry::regularise(coloured, params);
+  if (!result.status.ok()) return coloured;
+  TriangleMesh out = std::move(result.mesh);
+  if (coloured.vertex_colors.size() == coloured.numVertices()) {
+    const geometry::PointIndex original(coloured.vertices);
+    out.vertex_colors.resize(out.numVertices());
+    for (std::size_t v = 0; v < out.numVertices(); ++v) {
+      const int nearest = original.nearest(out.vertices[v]).first;
+      if (nearest >= 0) out.vertex_colors[v] = coloured.vertex_colors[nearest];
+    }
+  }
+  return out;
+}
+
 void addObject(presentation::SceneView3d& view, const std::string& layer, const TriangleMesh& mesh,
-               const std::optional<skeleton::SkeletonResult>& skeleton) {
+               const std::optional<skeleton::SkeletonResult>& skeleton,
+               std::size_t max_vertices = std::numeric_limits<std::size_t>::max()) {
   if (mesh.empty()) return;
   const bool segmented = skeleton && skeleton->status.ok();
-  view.addMesh(layer, segmented ? skeleton::colourBySegment(mesh, skeleton->skeleton) : mesh,
-               kObjectBeige);
+  view.addMesh(
+      layer,
+      decimatedForView(segmented ? skeleton::colourBySegment(mesh, skeleton->skeleton) : mesh,
+                       max_vertices),
+      kObjectBeige);
   if (segmented) addSkeleton(view, skeleton->skeleton);
 }
 
@@ -95,10 +124,22 @@ presentation::SceneView3d sceneRunView(const SceneRunResult& r, const grasping::
   presentation::SceneView3d view;
   addScan(view, scan, params);
   const auto parts = addHandParts(view, hand);
+  std::size_t vertices = 0, meshes = 0;
   for (const auto& object : r.objects) {
-    addObject(view, fmt::format("object {}", object.id), object.mesh, object.skeleton);
-    addGrasps(view, object.ranked, params.grasps_per_object, hand, parts,
-              fmt::format("object {} ", object.id));
+    vertices += object.mesh.numVertices();
+    meshes += !object.mesh.empty();
+  }
+  const std::size_t share =
+      vertices <= params.max_object_vertices
+          ? std::numeric_limits<std::size_t>::max()
+          : std::max(params.min_vertices_per_object, params.max_object_vertices / meshes);
+  const std::size_t grasps_each =
+      std::min(params.grasps_per_object,
+               std::max<std::size_t>(
+                   1, params.max_scene_grasps / std::max<std::size_t>(1, r.objects.size())));
+  for (const auto& object : r.objects) {
+    addObject(view, fmt::format("object {}", object.id), object.mesh, object.skeleton, share);
+    addGrasps(view, object.ranked, grasps_each, hand, parts, fmt::format("object {} ", object.id));
   }
   return view;
 }

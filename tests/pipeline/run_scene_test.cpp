@@ -7,11 +7,13 @@
 #include <algorithm>
 
 #include "skelgrasp/geometry/mesh_query.h"
+#include "skelgrasp/geometry/shapes.h"
 #include "skelgrasp/grasping/hand/hand_model.h"
 #include "skelgrasp/grasping/planning/scene.h"
 #include "skelgrasp/grasping/simulation/grasp_simulator.h"
 #include "skelgrasp/perception/cloud_io.h"
 #include "skelgrasp/perception/demo_scene.h"
+#include "skelgrasp/pipeline/run_output.h"
 #include "test_support.h"
 
 namespace skelgrasp::pipeline {
@@ -171,6 +173,31 @@ TEST(RunScene, AnObjectWithoutAGraspNamesWhatBlockedIt) {
   EXPECT_EQ(std::count_if(run.objects.begin(), run.objects.end(),
                           [](const auto& o) { return o.reason == object_reason::kTooWide; }),
             1);
+}
+
+// The report of a scene with many objects stays within its budget (docs/report.md: 5 MB): past
+// a total, the 3D view decimates each object's mesh to an equal share. 30 spheres of 8 000
+// vertices would embed 240 000.
+TEST(RunScene, TheReportOfManyObjectsStaysWithinItsBudget) {
+  SceneRunResult run;
+  run.status = Status::Ok();
+  perception::Scan scan;
+  for (std::size_t k = 0; k < 30; ++k) {
+    SceneObjectRun object;
+    object.id = object.cluster = k;
+    object.mesh = geometry::shapes::makeSphere(0.03, 128, 64);
+    object.mesh.transform(Pose(Eigen::Translation3d(0.1 * (k % 6), 0.1 * (k / 6), 0.03)));
+    object.observed.assign(object.mesh.numVertices(), 1);
+    object.status = Status::Make(StatusCode::kNoResult, "no grasp");
+    object.reason = object_reason::kNoGrasp;
+    run.objects.push_back(std::move(object));
+  }
+  run.reconstruction.objects.resize(run.objects.size());
+  const std::string dir = test::tempDir("run_scene_many_objects");
+  writeSceneRunOutputs(dir, run, loadBuiltinHand("sdh"), scan, "many objects");
+  const auto bytes = std::filesystem::file_size(dir + "/report.html");
+  std::cout << "[ report   ] " << bytes << " bytes for 30 objects" << std::endl;
+  EXPECT_LT(bytes, 5u * 1000 * 1000);
 }
 
 TEST(RunScene, ClearedSceneMapKeepsTheOtherObjects) {

@@ -107,6 +107,49 @@ void checkSceneOccupancyMemory(const PointCloud& obstacles, const Eigen::Vector3
                       "--octree-resolution");
 }
 
+namespace {
+
+// A tree with the sensor model of `source` holding only its occupied cells inside `region`, each
+// at full depth (a pruned occupied leaf is expanded to the cells it covers there).
+std::shared_ptr<octomap::OcTree> occupiedCellsWithin(const octomap::OcTree& source,
+                                                     const AxisAlignedBox& region) {
+  auto tree = std::make_shared<octomap::OcTree>(source.getResolution());
+  tree->setProbHit(source.getProbHit());
+  tree->setProbMiss(source.getProbMiss());
+  tree->setClampingThresMin(source.getClampingThresMin());
+  tree->setClampingThresMax(source.getClampingThresMax());
+  tree->setOccupancyThres(source.getOccupancyThres());
+  octomap::OcTreeKey low, high;
+  if (!source.coordToKeyChecked(region.min.x(), region.min.y(), region.min.z(), low) ||
+      !source.coordToKeyChecked(region.max.x(), region.max.y(), region.max.z(), high)) {
+    // A region beyond the tree's range: the whole tree, as without one.
+    return std::make_shared<octomap::OcTree>(source);
+  }
+  const unsigned depth = source.getTreeDepth();
+  for (auto it = source.begin_leafs_bbx(low, high), end = source.end_leafs_bbx(); it != end;
+       ++it) {
+    if (!source.isNodeOccupied(*it)) continue;
+    const unsigned span = 1u << (depth - it.getDepth());
+    const octomap::OcTreeKey corner = it.getIndexKey();
+    for (unsigned dx = 0; dx < span; ++dx) {
+      for (unsigned dy = 0; dy < span; ++dy) {
+        for (unsigned dz = 0; dz < span; ++dz) {
+          const octomap::OcTreeKey cell(static_cast<octomap::key_type>(corner[0] + dx),
+                                        static_cast<octomap::key_type>(corner[1] + dy),
+                                        static_cast<octomap::key_type>(corner[2] + dz));
+          bool inside = true;
+          for (int a = 0; a < 3; ++a) inside = inside && cell[a] >= low[a] && cell[a] <= high[a];
+          if (inside) tree->setNodeValue(cell, it->getLogOdds(), /*lazy_eval=*/true);
+        }
+      }
+    }
+  }
+  tree->updateInnerOccupancy();
+  return tree;
+}
+
+}  // namespace
+
 struct SceneOccupancy::Impl {
   std::shared_ptr<octomap::OcTree> tree;
   // Obstacle label per occupied cell (SceneOccupancy's labels); shared by the cleared copies.
@@ -212,13 +255,17 @@ SceneOccupancy::SceneOccupancy(const PointCloud& obstacles, const Eigen::Vector3
 
 SceneOccupancy::~SceneOccupancy() = default;
 
-std::unique_ptr<SceneOccupancy> SceneOccupancy::withPointsCleared(const PointCloud& points,
-                                                                  int dilation_cells) const {
+std::unique_ptr<SceneOccupancy> SceneOccupancy::withPointsCleared(
+    const PointCloud& points, int dilation_cells, const AxisAlignedBox& region) const {
   if (dilation_cells < 0) throw InvalidArgument("scene occupancy: negative dilation");
   std::unique_ptr<SceneOccupancy> copy(new SceneOccupancy());
   copy->impl_ = std::make_unique<Impl>();
-  copy->impl_->tree = std::make_shared<octomap::OcTree>(*impl_->tree);
   copy->impl_->labels = impl_->labels;
+  if (!region.empty()) {
+    copy->impl_->tree = occupiedCellsWithin(*impl_->tree, region);
+  } else {
+    copy->impl_->tree = std::make_shared<octomap::OcTree>(*impl_->tree);
+  }
   auto& tree = *copy->impl_->tree;
   const float free_log_odds = tree.getClampingThresMinLog();
   octomap::KeySet cleared;

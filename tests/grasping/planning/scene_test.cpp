@@ -108,6 +108,44 @@ TEST(SceneCheck, LabelledObstaclesNameWhatAHandHit) {
   EXPECT_GT(hits.count("label 9") ? hits.at("label 9") : 0, 10u);
 }
 
+// A copy limited to a region holds exactly the occupied cells of the full copy inside it (pruned
+// blocks of cells included) and nothing outside.
+TEST(SceneOccupancy, ARegionCopyHoldsTheOccupiedCellsInsideIt) {
+  PointCloud solid;  // a 4 cm cube of points every 2 mm: whole 8-cell blocks that the tree prunes
+  for (double x = 0.0; x <= 0.04; x += 0.002)
+    for (double y = 0.0; y <= 0.04; y += 0.002)
+      for (double z = 0.0; z <= 0.04; z += 0.002) solid.points.emplace_back(x, y, z + 0.1);
+  PointCloud scene = wall(0.3, 0.2, 0.3);
+  scene.points.insert(scene.points.end(), solid.points.begin(), solid.points.end());
+  const SceneOccupancy map(scene, Eigen::Vector3d(-0.5, 0, 0.2));
+  PointCloud own;
+  own.points.emplace_back(0.0205, 0.0205, 0.1205);
+  AxisAlignedBox region;
+  region.extend({-0.05, -0.05, 0.05});
+  region.extend({0.1, 0.1, 0.2});
+  const auto full = map.withPointsCleared(own);
+  const auto cropped = map.withPointsCleared(own, 1, region);
+  std::size_t inside = 0;
+  for (double x = -0.1; x <= 0.35; x += 0.0025) {
+    for (double y = -0.1; y <= 0.15; y += 0.0025) {
+      for (double z = 0.0; z <= 0.25; z += 0.0025) {
+        const Eigen::Vector3d p(x + 0.0001, y + 0.0001, z + 0.0001);
+        const bool in =
+            (p.array() >= region.min.array()).all() && (p.array() <= region.max.array()).all();
+        if (in) {
+          inside += full->isOccupied(p);
+          EXPECT_EQ(cropped->isOccupied(p), full->isOccupied(p)) << p.transpose();
+        } else {
+          EXPECT_FALSE(cropped->isOccupied(p)) << p.transpose();
+        }
+      }
+    }
+  }
+  EXPECT_GT(inside, 1000u);
+  EXPECT_FALSE(cropped->isOccupied({0.0205, 0.0205, 0.1205}));  // cleared
+  EXPECT_TRUE(full->isOccupied({0.3, 0.0, 0.1}));               // the wall, outside the region
+}
+
 TEST(SceneCheck, TheSupportPlaneBlocksHandsBelowIt) {
   const auto hand = loadBuiltinHand("sdh");
   const SceneChecker checker(hand, nullptr, SupportPlane{Eigen::Vector4d(0, 0, 1, 0)});

@@ -68,9 +68,13 @@ class SceneOccupancy {
   // A copy in which the cells holding `points`, and their neighbours up to `dilation_cells` away,
   // are free. One map of a whole scene serves each of its objects: the object's own points are
   // cleared from its copy, so its grasps meet the table and the other objects but not itself
-  // (copying costs a fraction of the ray insertion). Throws InvalidArgument for negative dilation.
+  // (copying costs a fraction of the ray insertion). With a `region`, the copy holds only the
+  // occupied cells inside it (free and unknown cells both count as free to the scene check): an
+  // object's workspace, so that each object of a large scene copies its surroundings, not the
+  // whole scene. Throws InvalidArgument for negative dilation.
   std::unique_ptr<SceneOccupancy> withPointsCleared(const PointCloud& points,
-                                                    int dilation_cells = 1) const;
+                                                    int dilation_cells = 1,
+                                                    const AxisAlignedBox& region = {}) const;
 
   std::size_t occupiedLeaves() const;
   std::size_t freeLeaves() const;
