@@ -113,7 +113,7 @@ Count toCount(const py::handle& value, const std::string& what) {
   }
 }
 
-// The robust ranking of plan() and run() from their keyword arguments (as the CLI's
+// The robust ranking of run() from its keyword arguments (as the CLI's
 // --no-robustness, --robustness-samples, --robustness-variant, --robustness-top-k,
 // --robustness-screen, --robustness-screen-samples, --robustness-screen-by,
 // --robustness-confirm-samples, --robustness-mu,
@@ -141,7 +141,7 @@ void checkSamples(const char* name, int value, int min);
 void checkTimeout(double timeout_s);
 void checkTorsionalFriction(const std::optional<double>& torsional_friction);
 
-// The quality keywords plan(), close() and score() share (--mu, --fc-test, --reference-compat,
+// The quality keywords close() and score() share (--mu, --fc-test, --reference-compat,
 // --torsional-friction; None leaves the contact model to the hand, withHandContactModel).
 grasping::QualityParams qualityParams(double mu, const std::string& fc_test, bool reference_compat,
                                       std::optional<double> torsional_friction);
