@@ -16,8 +16,9 @@
 
 namespace skelgrasp::cli {
 
-// --timeout takes the range the Python module takes.
+// --timeout and --mu take the ranges the Python module takes.
 static_assert(kMaxTimeoutS == ranking::kMaxPlanTimeoutS);
+static_assert(kMaxFriction == ranking::kMaxFriction);
 
 // Planning time limit of the commands (the library's default is none: on the command line a
 // forgotten limit would let a planner run for minutes on a large mesh).

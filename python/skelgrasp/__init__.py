@@ -4,7 +4,7 @@ numpy in and out, no file round-trips (docs/python.md)::
 
     import skelgrasp
     mesh = skelgrasp.load_mesh("mug.ply")            # or skelgrasp.Mesh(vertices, faces)
-    result = skelgrasp.plan(mesh, skelgrasp.hand("sdh"), seed=1)
+    result = skelgrasp.plan(mesh, skelgrasp.hand("sdh"), seed=1)  # or options: PlanOptions()
     best = result.grasps[0]
     best.hand_pose, best.epsilon, best.joints
 
@@ -13,16 +13,25 @@ message the command line prints.
 """
 from ._skelgrasp import (  # noqa: F401
     CloseResult,
+    ClosingParams,
     Grasp,
     Hand,
     Mesh,
+    PlanOptions,
     PlanResult,
     PointCloud,
+    QualityParams,
     Reconstruction,
+    RobustnessParams,
+    RobustRankingParams,
+    RobustRefinementParams,
     RunResult,
     SceneObject,
     SceneRunResult,
     Skeleton,
+    SkeletonParams,
+    SkeletonPlannerParams,
+    SurfacePlannerParams,
     close,
     hand,
     hands,

@@ -6,6 +6,7 @@
 
 #include "bindings.h"
 #include "convert.h"
+#include "plan_options.h"
 #include "skelgrasp/common/json.h"
 #include "skelgrasp/evaluation/plan_record.h"
 #include "skelgrasp/evaluation/score.h"
@@ -14,8 +15,6 @@
 #include "skelgrasp/presentation/hand_render.h"
 #include "skelgrasp/presentation/plan_render.h"
 #include "skelgrasp/ranking/plan_grasps.h"
-#include "skelgrasp/ranking/robust_ranking.h"
-#include "skelgrasp/ranking/robustness.h"
 #include "skelgrasp/skeleton/output.h"
 
 namespace skelgrasp::python {
@@ -31,63 +30,22 @@ HandPtr handFromFiles(const std::string& urdf, const std::string& description) {
   return std::make_shared<grasping::HandModel>(grasping::loadHand(urdf, description));
 }
 
-Plan plan(const Mesh& mesh, const HandPtr& hand, const std::string& planner, std::uint64_t seed,
-          double timeout_s, std::size_t max_grasps, double min_epsilon, double mu,
-          double vertex_distance_m, std::optional<double> round_ratio, bool reference_compat,
-          const std::string& fc_test, const std::string& closing, std::size_t max_hypotheses,
-          const std::string& regularisation, double alpha_divisor, double offset_divisor,
-          double spur_radius_factor, bool robustness, int robustness_samples,
-          const std::string& robustness_variant, std::size_t robustness_top_k,
-          std::optional<std::size_t> robustness_screen,
-          std::optional<int> robustness_screen_samples,
-          const std::optional<std::string>& robustness_screen_by,
-          std::optional<int> robustness_confirm_samples, std::optional<double> robustness_mu,
-          bool robust_refine, std::optional<double> robust_refine_below_r, bool centre_candidates,
-          std::size_t surface_candidates, bool wrench_volume,
-          std::optional<double> torsional_friction, const std::string& contact_patch,
-          bool alternative_preshapes) {
-  if (planner != "skeleton" && planner != "surface")
-    throw InvalidArgument("planner: '" + planner + "' is not skeleton or surface");
-  checkTimeout(timeout_s);
-  ranking::PlanOptions options;
-  options.planner = ranking::parsePlanner(planner);
-  grasping::HypothesisParams hypothesis;
-  hypothesis.min_epsilon = min_epsilon;
-  hypothesis.quality = qualityParams(mu, fc_test, reference_compat, torsional_friction);
-  hypothesis.quality.compute_volume = wrench_volume;
-  hypothesis.closing.method = grasping::parseClosingMethod(closing);
-  hypothesis.closing.contact_patch = grasping::contactPatchFor(contact_patch, reference_compat);
-  skeleton::SkeletonParams& skeleton_params = options.skeleton;
-  skeleton_params.regularisation.method = geometry::parseRegularisationMethod(regularisation);
-  skeleton_params.regularisation.alpha_divisor = alpha_divisor;
-  skeleton_params.regularisation.offset_divisor = offset_divisor;
-  skeleton_params.spur_radius_factor = spur_radius_factor;
-  grasping::SkeletonPlannerParams& p = options.skeleton_planner;
-  p.timeout_s = timeout_s;
-  p.max_grasps = max_grasps;
-  p.seed = seed;
-  p.vertex_distance_m = vertex_distance_m;
-  p.round_ratio = round_ratio;
-  p.centre_candidates = centre_candidates;
-  p.surface_candidates = surface_candidates;
-  p.alternative_preshapes = alternative_preshapes;
-  p.hypothesis = hypothesis;
-  grasping::SurfacePlannerParams& q = options.surface_planner;
-  q.timeout_s = timeout_s;
-  q.max_hypotheses = max_hypotheses;
-  q.max_grasps = max_grasps;
-  q.seed = seed;
-  q.hypothesis = hypothesis;
-  // As `skelgrasp plan`: the best grasps scored by r and re-ranked (docs/planning.md).
-  options.ranking = robustRankingParams(
-      robustness, robustness_samples, robustness_variant, robustness_top_k, robustness_screen,
-      robustness_screen_samples, robustness_screen_by, robustness_confirm_samples, robustness_mu,
-      seed, robust_refine, robust_refine_below_r);
+// `options` (None: PlanOptions()) with the keyword shortcuts given, validated, planned.
+Plan plan(const Mesh& mesh, const HandPtr& hand, const std::optional<PlanOptions>& given,
+          std::optional<std::uint64_t> seed, std::optional<double> timeout_s,
+          std::optional<std::size_t> max_grasps, std::optional<double> mu) {
+  PlanOptions options = given.value_or(PlanOptions{});
+  if (seed) options.seed = *seed;
+  if (timeout_s) options.timeout_s = *timeout_s;
+  if (max_grasps) options.max_grasps = *max_grasps;
+  if (mu) options.quality.friction = *mu;
+  options.validate();
+  const ranking::PlanOptions library = options.library();
   Plan out;
   out.hand = hand;
   out.object = mesh.name;
   py::gil_scoped_release release;
-  out.result = ranking::planGrasps(mesh.mesh, *hand, options);
+  out.result = ranking::planGrasps(mesh.mesh, *hand, library);
   // As the CLI: a mesh the skeleton stage cannot process is bad input.
   if (out.result.skeleton_failed)
     throw InvalidArgument(mesh.name + ": " + out.result.status.message);
@@ -172,8 +130,8 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
           "Ferrari-Canny epsilon (L1) of the grasp wrench space.")
       .def_property_readonly(
           "volume", [](const Grasp& g) { return g.grasp.volume; },
-          "Grasp wrench space volume, or None when not computed (``plan(..., "
-          "wrench_volume=True)``).")
+          "Grasp wrench space volume, or None when not computed "
+          "(``PlanOptions.quality.compute_volume``).")
       .def_property_readonly(
           "robustness",
           [](const Grasp& g) -> py::object {
@@ -260,73 +218,15 @@ A hand from a URDF file (meshes resolved relative to it) and a grasp description
                grasping::planSummaryLine(p.result, p.hand->name(), p.object) + ">";
       });
 
-  const grasping::SkeletonPlannerParams planner;
-  const grasping::SurfacePlannerParams surface;
-  const skeleton::SkeletonParams skel;
-  const ranking::RobustRankingParams ranking;
-  m.def("plan", &plan, py::arg("mesh"), py::arg("hand"), py::arg("planner") = "skeleton",
-        py::arg("seed") = planner.seed, py::kw_only(), py::arg("timeout_s") = planner.timeout_s,
-        py::arg("max_grasps") = planner.max_grasps,
-        py::arg("min_epsilon") = planner.hypothesis.min_epsilon,
-        py::arg("mu") = planner.hypothesis.quality.friction,
-        py::arg("vertex_distance_m") = planner.vertex_distance_m,
-        py::arg("round_ratio") = planner.round_ratio,
-        py::arg("reference_compat") = planner.hypothesis.quality.reference_compat,
-        py::arg("fc_test") = std::string(toString(planner.hypothesis.quality.fc_test)),
-        py::arg("closing") = std::string(toString(planner.hypothesis.closing.method)),
-        py::arg("max_hypotheses") = surface.max_hypotheses,
-        py::arg("regularisation") = std::string(toString(skel.regularisation.method)),
-        py::arg("alpha_divisor") = skel.regularisation.alpha_divisor,
-        py::arg("offset_divisor") = skel.regularisation.offset_divisor,
-        py::arg("spur_radius_factor") = skel.spur_radius_factor,
-        py::arg("robustness") = ranking.enabled,
-        py::arg("robustness_samples") = ranking.robustness.samples,
-        py::arg("robustness_variant") = std::string(ranking::toString(ranking.robustness.variant)),
-        py::arg("robustness_top_k") = ranking.top_k,
-        py::arg("robustness_screen") = ranking.screen_k,
-        py::arg("robustness_screen_samples") = ranking.screen_samples,
-        py::arg("robustness_screen_by") = py::none(),
-        py::arg("robustness_confirm_samples") = ranking.confirm_samples,
-        py::arg("robustness_mu") = ranking.friction,
-        py::arg("robust_refine") = ranking.refinement.enabled,
-        py::arg("robust_refine_below_r") = ranking.refinement.search_below_r,
-        py::arg("centre_candidates") = planner.centre_candidates,
-        py::arg("surface_candidates") = planner.surface_candidates,
-        py::arg("wrench_volume") = planner.hypothesis.quality.compute_volume,
-        py::arg("torsional_friction") = planner.hypothesis.quality.torsional_friction_m,
-        py::arg("contact_patch") = std::string(toString(planner.hypothesis.closing.contact_patch)),
-        py::arg("alternative_preshapes") = planner.alternative_preshapes,
+  m.def("plan", &plan, py::arg("mesh"), py::arg("hand"), py::arg("options") = py::none(),
+        py::kw_only(), py::arg("seed") = py::none(), py::arg("timeout_s") = py::none(),
+        py::arg("max_grasps") = py::none(), py::arg("mu") = py::none(),
         R"doc(
-Plans grasps for ``mesh`` with ``hand`` (``skelgrasp plan``): planner 'skeleton' (paper Alg. 1)
-or 'surface' (surface-normal baseline). Deterministic for a seed. The defaults are the library's
-SkeletonPlannerParams / SurfacePlannerParams (no time limit: ``timeout_s=0``; the command line
-sets 30 s) and RobustRankingParams. ``max_hypotheses`` is the surface planner's. Robust ranking
-(docs/planning.md): ``robustness_screen`` grasps (0: all), each preshape's best by epsilon in turn
-(``robustness_screen_by='preshapes'``; 'travel': each preshape's by least finger travel in turn;
-'epsilon': the best by epsilon over all) are screened with a
-cheap r from ``robustness_screen_samples`` executions each (None, for any of the three: the hand's
-ranking budget, 60, 'preshapes' and 10 unless its description says otherwise; the SDH's
-'travel'; the Shadow hand's 40, 'epsilon' and 8); the best 2 x ``robustness_top_k`` of those run
-``robustness_confirm_samples`` more executions each (None: the hand's, 10 unless its description
-says otherwise; the Shadow hand's 0; 0: none) before the best ``robustness_top_k`` of them (0: all)
-get a robustness r from
-``robustness_samples`` perturbed executions (``robustness_variant`` 'paper', 'guarded', 'settled' or 'reference',
-friction ``robustness_mu`` or ``mu``, samples seeded by ``seed``) and are ranked first by r;
-``robustness=False`` keeps the epsilon order. ``robust_refine`` searches near the most robust
-scored grasps whose r is below ``robust_refine_below_r`` (None: the hand's, 0.7 or the SDH's
-and the Shadow hand's 0.5) for more robust poses (docs/ranking.md, "Refinement for robustness"). ``centre_candidates`` (skeleton planner) also tries
-power and precision grasps about the object's centre on every object, the robust grasps the
-ranking chooses from; ``surface_candidates`` (skeleton planner) adds that many surface-normal hypotheses to the
-same pool (0: none; docs/planning.md, "Surface candidates"). ``wrench_volume`` also computes each
-grasp's wrench space volume (the whole 6D hull, slower; else ``Grasp.volume`` is None).
-``torsional_friction`` (metres) judges contacts as soft fingers (docs/hands.md; None: the hand's
-own model, point contacts for the built-in hands), in planning and in r. ``contact_patch``
-'corners' lets a link touching over an area push through its patch's corners, 'centre' through its
-centre only (the reference's model; implied by ``reference_compat``). ``alternative_preshapes``
-(skeleton planner) also closes every pose with the hand's alternative preshapes of its grasp type,
-the SDH's 'claw', 'precision_tripod' and (small objects only) 'narrow_tripod' tripods and its
-'lateral_power' and 'lateral_precision' grips (docs/hands.md); False or ``reference_compat``:
-'power' and 'precision' only. A mesh the skeleton stage cannot process raises ValueError.)doc");
+Plans grasps for ``mesh`` with ``hand`` and ranks them by robustness (``skelgrasp plan``;
+docs/planning.md, docs/ranking.md). ``options``: a PlanOptions (None: PlanOptions(), the library's
+defaults, no time limit); ``seed``, ``timeout_s``, ``max_grasps`` and ``mu`` (its
+``quality.friction``) override its fields. Deterministic for a seed. Calls ``options.validate()``
+first (ValueError naming the field); a mesh the skeleton stage cannot process raises ValueError.)doc");
 
   m.def(
       "render_plan",

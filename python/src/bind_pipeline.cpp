@@ -329,9 +329,10 @@ ValueError with the command line's message.)doc");
         R"doc(
 The main job (``skelgrasp run``): a scan of a table scene to ranked, collision-free grasps on one
 object (``objects``: 'largest', 'nearest:x,y,z', 'index:k' or a point; a RunResult) or on every
-object in one run (``objects='all'``: a SceneRunResult, as ``run --object all``). Defaults are the library's RunParams
-(docs/pipeline.md); the robustness keywords are :func:`plan`'s. A scan without a plane or object raises ValueError; no grasp is a result with
-status 'no_result'.)doc");
+object in one run (``objects='all'``: a SceneRunResult, as ``run --object all``). Defaults are the
+library's RunParams (docs/pipeline.md); the robustness keywords are the CLI's ranking options
+(``robustness_samples``: ``--robustness-samples``). A scan without a plane or object raises
+ValueError; no grasp is a result with status 'no_result'.)doc");
 }
 
 }  // namespace skelgrasp::python

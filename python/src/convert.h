@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "skelgrasp/common/error.h"
 #include "skelgrasp/common/mesh_io.h"
 #include "skelgrasp/common/point_cloud.h"
 #include "skelgrasp/common/pose.h"
@@ -91,7 +92,28 @@ Matrix fromPose(const Pose& pose);
 // nlohmann::json -> Python objects (dict, list, float, int, str, bool, None).
 py::object fromJson(const nlohmann::json& j);
 
-// The robust ranking of plan() and run() from their keyword arguments (as the CLI's
+// A whole number >= 0 from Python (an int, or anything with __index__ such as numpy's integers).
+// Throws TypeError for another type, InvalidArgument naming `what` for a negative number or one
+// beyond Count's range.
+template <typename Count>
+Count toCount(const py::handle& value, const std::string& what) {
+  const auto index = py::reinterpret_steal<py::object>(PyNumber_Index(value.ptr()));
+  if (!index) {
+    PyErr_Clear();
+    throw py::type_error(what + ": expected a whole number, got " +
+                         py::str(py::type::handle_of(value).attr("__name__")).cast<std::string>());
+  }
+  const std::string text = py::str(index);
+  if (PyObject_RichCompareBool(index.ptr(), py::int_(0).ptr(), Py_LT) == 1)
+    throw InvalidArgument(what + ": " + text + " is negative, expected a whole number >= 0");
+  try {
+    return index.cast<Count>();
+  } catch (const py::cast_error&) {
+    throw InvalidArgument(what + ": " + text + " is too large");
+  }
+}
+
+// The robust ranking of run() from its keyword arguments (as the CLI's
 // --no-robustness, --robustness-samples, --robustness-variant, --robustness-top-k,
 // --robustness-screen, --robustness-screen-samples, --robustness-screen-by,
 // --robustness-confirm-samples, --robustness-mu,
@@ -119,7 +141,7 @@ void checkSamples(const char* name, int value, int min);
 void checkTimeout(double timeout_s);
 void checkTorsionalFriction(const std::optional<double>& torsional_friction);
 
-// The quality keywords plan(), close() and score() share (--mu, --fc-test, --reference-compat,
+// The quality keywords close() and score() share (--mu, --fc-test, --reference-compat,
 // --torsional-friction; None leaves the contact model to the hand, withHandContactModel).
 grasping::QualityParams qualityParams(double mu, const std::string& fc_test, bool reference_compat,
                                       std::optional<double> torsional_friction);

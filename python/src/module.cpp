@@ -45,6 +45,7 @@ PYBIND11_MODULE(_skelgrasp, m) {
       "Level of the library's log on stderr: 'debug', 'info' (default), 'warn', 'error', 'off'.");
 
   skelgrasp::python::bindGeometry(m);
+  skelgrasp::python::bindOptions(m);
   skelgrasp::python::bindGrasping(m);
   skelgrasp::python::bindScoring(m);
   skelgrasp::python::bindPhysics(m);

@@ -8,15 +8,20 @@ import skelgrasp
 from conftest import capsule_arrays, run_cli, without_timing, write_ply, ycb_mesh_path
 
 
-def plan_both(tmp_path, mesh_path, hand, seed, max_grasps):
+def plan_cli(tmp_path, mesh_path, hand, *options):
+    """`skelgrasp plan` without a time limit, as Python plans; its grasps.json without timings."""
     out = tmp_path / "grasps.json"
-    code, _, stderr = run_cli("plan", mesh_path, "--hand", hand, "--seed", seed, "--timeout", 0,
-                              "--max-grasps", max_grasps, "--out", out, "-q")
+    code, _, stderr = run_cli("plan", mesh_path, "--hand", hand, "--timeout", 0, "--out", out,
+                              "-q", *options)
     assert code == 0, stderr
-    cli = json.loads(out.read_text())
+    return without_timing(json.loads(out.read_text()))
+
+
+def plan_both(tmp_path, mesh_path, hand, seed, max_grasps):
+    cli = plan_cli(tmp_path, mesh_path, hand, "--seed", seed, "--max-grasps", max_grasps)
     python = skelgrasp.plan(skelgrasp.load_mesh(str(mesh_path)), skelgrasp.hand(hand), seed=seed,
                             max_grasps=max_grasps).to_dict()
-    return without_timing(cli), without_timing(python)
+    return cli, without_timing(python)
 
 
 def test_plan_on_a_generated_capsule_equals_the_cli(tmp_path):
@@ -25,6 +30,26 @@ def test_plan_on_a_generated_capsule_equals_the_cli(tmp_path):
     cli, python = plan_both(tmp_path, path, "sdh", 7, 3)
     assert cli["grasps"], "the capsule should have grasps"
     assert python == cli
+
+
+def test_nested_options_change_what_their_cli_options_change(tmp_path):
+    path = tmp_path / "capsule.ply"
+    write_ply(path, *capsule_arrays())
+    options = skelgrasp.PlanOptions(seed=7, max_grasps=3)
+    options.quality.friction = 0.5
+    options.ranking.robustness.samples = 10
+    options.ranking.robustness.variant = "paper"
+    options.skeleton_planner.surface_candidates = 0
+    python = skelgrasp.plan(skelgrasp.load_mesh(str(path)), skelgrasp.hand("sdh"), options)
+    cli = plan_cli(tmp_path, path, "sdh", "--seed", 7, "--max-grasps", 3, "--mu", 0.5,
+                   "--robustness-samples", 10, "--robustness-variant", "paper",
+                   "--surface-candidates", 0)
+    assert without_timing(python.to_dict()) == cli
+    scored = [g.robustness for g in python.grasps if g.robustness is not None]
+    assert scored and all((r["samples"], r["variant"], r["mu"]) == (10, "paper", 0.5)
+                          for r in scored)
+    default, _ = plan_both(tmp_path, path, "sdh", 7, 3)
+    assert default != cli
 
 
 def test_plan_on_a_ycb_mesh_equals_the_cli(tmp_path):

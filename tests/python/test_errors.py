@@ -69,8 +69,8 @@ def test_missing_hand_files(tmp_path):
 
 
 def test_bad_planner_preshape_and_pose(capsule, sdh):
-    with pytest.raises(ValueError, match="planner: 'magic' is not skeleton or surface"):
-        skelgrasp.plan(capsule, sdh, planner="magic")
+    with pytest.raises(ValueError, match="^PlanOptions.planner: unknown planner 'magic'"):
+        skelgrasp.PlanOptions(planner="magic")
     with pytest.raises(ValueError, match="fist"):
         skelgrasp.close(capsule, sdh, "fist", np.eye(4))
     with pytest.raises(ValueError, match="gcp_pose: expected a 4 x 4 matrix"):
@@ -81,12 +81,14 @@ def test_bad_planner_preshape_and_pose(capsule, sdh):
         skelgrasp.close(capsule, sdh, "power", skewed)
     with pytest.raises(ValueError, match="gcp_pose: "):
         skelgrasp.close(capsule, sdh, "power", np.full((4, 4), np.nan))
-    with pytest.raises(ValueError):
-        skelgrasp.plan(capsule, sdh, fc_test="guess")
+    with pytest.raises(ValueError, match="^QualityParams.fc_test: unknown force-closure test"):
+        skelgrasp.QualityParams(fc_test="guess")
     with pytest.raises(ValueError):
         skelgrasp.score(capsule, sdh, "not grasps")
     with pytest.raises(TypeError):
         skelgrasp.plan("mesh.ply", sdh)
+    with pytest.raises(TypeError):  # the planner is an option, not an argument
+        skelgrasp.plan(capsule, sdh, "surface")
 
 
 def test_flat_mesh_the_skeleton_cannot_process_is_value_error(sdh):
@@ -122,12 +124,15 @@ def test_mesh_without_area_is_value_error_not_a_crash(sdh):
 
 def test_plan_timeout_and_samples_take_the_cli_ranges(capsule, sdh):
     for timeout in (float("nan"), -5.0, float("inf"), 1e7):
-        with pytest.raises(ValueError, match="timeout_s: "):
+        with pytest.raises(ValueError, match="^timeout_s: "):
             skelgrasp.plan(capsule, sdh, timeout_s=timeout)
-    with pytest.raises(ValueError, match="robustness_samples: 1000000000 is outside"):
-        skelgrasp.plan(capsule, sdh, robustness_samples=10**9, timeout_s=20)
-    with pytest.raises(ValueError, match="robustness_screen_samples: "):
-        skelgrasp.plan(capsule, sdh, robustness_screen_samples=10**9)
+    options = skelgrasp.PlanOptions(timeout_s=20)
+    options.ranking.robustness.samples = 10**9
+    with pytest.raises(ValueError, match="^ranking.robustness.samples: 1000000000 is outside"):
+        skelgrasp.plan(capsule, sdh, options)
+    options = skelgrasp.PlanOptions(ranking=skelgrasp.RobustRankingParams(screen_samples=10**9))
+    with pytest.raises(ValueError, match="^ranking.screen_samples: "):
+        skelgrasp.plan(capsule, sdh, options)
     with pytest.raises(ValueError, match="robustness_samples: "):
         skelgrasp.score(capsule, sdh, [], robustness_samples=10**9)
 
@@ -136,7 +141,8 @@ def test_surface_planner_refuses_a_mesh_without_area(sdh):
     mesh = skelgrasp.Mesh(np.array([[0, 0, 0], [0.05, 0, 0], [0.1, 0, 0]], dtype=float),
                           [[0, 1, 2]])
     with pytest.raises(ValueError, match="degenerate mesh"):
-        skelgrasp.plan(mesh, sdh, planner="surface", max_grasps=1, timeout_s=5)
+        skelgrasp.plan(mesh, sdh, skelgrasp.PlanOptions(planner="surface"), max_grasps=1,
+                       timeout_s=5)
 
 
 def test_score_grasps_names_what_is_wrong_in_a_dict_or_a_file(tmp_path, capsule, sdh):

@@ -3,6 +3,7 @@ import numpy as np
 import pytest
 
 import skelgrasp
+from skelgrasp import PlanOptions
 
 from conftest import without_timing
 
@@ -55,10 +56,12 @@ def test_decimated_skeleton_keeps_the_segment_and_maps_every_vertex(capsule):
 
 
 def test_skeleton_defaults_come_from_the_library(capsule):
-    import inspect  # noqa: F401  (pybind11 signatures are in the docstring)
+    # pybind11 signatures are in the docstring; the options' defaults in their fields' docs.
     assert "alpha_divisor: float = 50.0" in skelgrasp.skeleton.__doc__
-    assert "seed: int = 1" in skelgrasp.plan.__doc__
-    assert "mu: float = 0.35" in skelgrasp.plan.__doc__
+    options = PlanOptions()
+    assert options.seed == 1 and "(default 1)" in PlanOptions.seed.__doc__
+    assert options.quality.friction == 0.35
+    assert "(default 0.35)" in skelgrasp.QualityParams.friction.__doc__
 
 
 def test_plan_invariants(capsule, sdh, capsule_plan):
@@ -93,10 +96,20 @@ def test_plan_invariants(capsule, sdh, capsule_plan):
                                               + timing["planning_s"] + timing["ranking_s"])
 
 
-def test_plan_robustness_keywords(capsule, sdh):
-    assert "robustness_samples: int = 50" in skelgrasp.plan.__doc__
-    result = skelgrasp.plan(capsule, sdh, seed=1, max_grasps=4, robustness_samples=10,
-                            robustness_top_k=2, robustness_variant="reference", robustness_mu=0.5)
+def ranking_options(samples, top_k=10, **ranking):
+    """PlanOptions scoring `top_k` grasps with `samples` executions each, `ranking` its other
+    RobustRankingParams fields."""
+    options = PlanOptions(ranking=skelgrasp.RobustRankingParams(top_k=top_k, **ranking))
+    options.ranking.robustness.samples = samples
+    return options
+
+
+def test_plan_ranking_options(capsule, sdh):
+    assert PlanOptions().ranking.robustness.samples == 50
+    assert "(default 50)" in skelgrasp.RobustnessParams.samples.__doc__
+    options = ranking_options(10, top_k=2, friction=0.5)
+    options.ranking.robustness.variant = "reference"
+    result = skelgrasp.plan(capsule, sdh, options, seed=1, max_grasps=4)
     scored = [g.robustness for g in result.grasps]
     assert all(r is not None for r in scored[:2]) and all(r is None for r in scored[2:])
     for r, entry in zip(scored[:2], result.to_dict()["grasps"]):
@@ -112,37 +125,44 @@ def test_plan_robustness_keywords(capsule, sdh):
             assert r["refinement"]["refined"] == (after is not None
                                                   and after >= check["holds_before"])
         assert r["refinement"]["search_samples"] >= 1
-    unrefined = skelgrasp.plan(capsule, sdh, seed=1, max_grasps=4, robustness_samples=10,
-                               robustness_top_k=2, robust_refine=False)
+    options = ranking_options(10, top_k=2)
+    options.ranking.refinement.enabled = False
+    unrefined = skelgrasp.plan(capsule, sdh, options, seed=1, max_grasps=4)
     assert all("refinement" not in g.robustness for g in unrefined.grasps[:2])
-    plain = skelgrasp.plan(capsule, sdh, seed=1, max_grasps=4, robustness=False)
+    plain = skelgrasp.plan(capsule, sdh, PlanOptions(ranking=skelgrasp.RobustRankingParams(
+        enabled=False)), seed=1, max_grasps=4)
     epsilons = [g.epsilon for g in plain.grasps]
     assert epsilons == sorted(epsilons, reverse=True)
     assert all(g.robustness is None and "robustness" not in g.to_dict() for g in plain.grasps)
     assert plain.to_dict()["ranking"] is None
-    with pytest.raises(ValueError):
-        skelgrasp.plan(capsule, sdh, robustness_samples=0)
+    with pytest.raises(ValueError, match="^ranking.robustness.samples: 0 is outside"):
+        skelgrasp.plan(capsule, sdh, ranking_options(0))
 
 
 def test_plan_ranks_with_the_hands_budget_unless_told_otherwise(capsule):
     # The Shadow hand's description sets its own ranking budget (docs/hands.md, "Ranking budget");
-    # a keyword given overrides its part of it, None leaves it to the hand.
+    # a field set overrides its part of it, None leaves it to the hand.
     shadow = skelgrasp.hand("shadow")
-    own = skelgrasp.plan(capsule, shadow, seed=1, max_grasps=4, robustness_samples=4)
+    own = skelgrasp.plan(capsule, shadow, ranking_options(4), seed=1, max_grasps=4)
     assert own.to_dict()["ranking"]["budget"] == {
         "screen_grasps": 40, "screen_samples": 8, "screen_by": "epsilon",
         "confirm_samples": 0, "refine_below_r": 0.5}
-    given = skelgrasp.plan(capsule, shadow, seed=1, max_grasps=4, robustness_samples=4,
-                           robustness_screen=60, robustness_screen_samples=10,
-                           robustness_screen_by="preshapes", robustness_confirm_samples=10,
-                           robust_refine_below_r=0.7)
+    options = ranking_options(4, screen_k=60, screen_samples=10, screen_by="preshapes",
+                              confirm_samples=10)
+    options.ranking.refinement.search_below_r = 0.7
+    given = skelgrasp.plan(capsule, shadow, options, seed=1, max_grasps=4)
     assert given.to_dict()["ranking"]["budget"] == {
         "screen_grasps": 60, "screen_samples": 10, "screen_by": "preshapes",
         "confirm_samples": 10, "refine_below_r": 0.7}
-    for bad in ({"robustness_screen_samples": 0}, {"robust_refine_below_r": 1.5},
-                {"robustness_screen_by": "random"}, {"robustness_confirm_samples": -1}):
-        with pytest.raises(ValueError):
-            skelgrasp.plan(capsule, shadow, **bad)
+    for field, bad in (("screen_samples", 0), ("confirm_samples", -1)):
+        with pytest.raises(ValueError, match=f"^ranking.{field}: {bad} is outside"):
+            skelgrasp.plan(capsule, shadow, ranking_options(4, **{field: bad}))
+    options = ranking_options(4)
+    options.ranking.refinement.search_below_r = 1.5
+    with pytest.raises(ValueError, match="^ranking.refinement.search_below_r: 1.5 is not"):
+        skelgrasp.plan(capsule, shadow, options)
+    with pytest.raises(ValueError, match="^RobustRankingParams.screen_by: unknown"):
+        options.ranking.screen_by = "random"
 
 
 def test_plan_is_deterministic_for_a_seed(capsule, sdh, capsule_plan):
@@ -151,7 +171,9 @@ def test_plan_is_deterministic_for_a_seed(capsule, sdh, capsule_plan):
 
 
 def test_surface_planner(capsule, sdh):
-    result = skelgrasp.plan(capsule, sdh, planner="surface", seed=2, max_hypotheses=40)
+    options = PlanOptions(planner="surface", seed=2)
+    options.surface_planner.max_hypotheses = 40
+    result = skelgrasp.plan(capsule, sdh, options)
     document = result.to_dict()
     assert document["planner"] == "surface" and result.skeleton is None
     assert document["timing"]["regularise_s"] is None and document["timing"]["skeleton_s"] is None
@@ -160,28 +182,38 @@ def test_surface_planner(capsule, sdh):
 
 
 def test_surface_candidates_join_the_skeleton_planners_pool(capsule):
-    assert "surface_candidates: int = 50" in skelgrasp.plan.__doc__
+    assert PlanOptions().skeleton_planner.surface_candidates == 50
     # ARMAR-III's power grasp closes on the capsule from most surface normals (the SDH's seldom).
     armar3 = skelgrasp.hand("armar3")
     hypotheses = 30
-    result = skelgrasp.plan(capsule, armar3, seed=1, max_grasps=0, surface_candidates=hypotheses,
-                            robustness=False)
-    without = skelgrasp.plan(capsule, armar3, seed=1, max_grasps=0, surface_candidates=0,
-                             robustness=False)
+    options = unranked()
+    options.skeleton_planner.surface_candidates = hypotheses
+    result = skelgrasp.plan(capsule, armar3, options, seed=1)
+    options.skeleton_planner.surface_candidates = 0
+    without = skelgrasp.plan(capsule, armar3, options, seed=1)
     assert result.summary["hypotheses"] == without.summary["hypotheses"] + hypotheses
     surface = [g for g in result.grasps if g.strategy == "surface"]
     assert surface and len(result.grasps) == len(without.grasps) + len(surface)
 
 
-def test_alternative_preshapes_is_a_keyword_of_plan(capsule, sdh, capsule_plan):
+def unranked():
+    """PlanOptions without the robust ranking: the planner's grasps in epsilon order."""
+    return PlanOptions(ranking=skelgrasp.RobustRankingParams(enabled=False))
+
+
+def test_alternative_preshapes_is_an_option_of_plan(capsule, sdh, capsule_plan):
     # The SDH's alternatives ("claw" and "lateral_power", power preshapes, "precision_tripod" and
     # "lateral_precision") are closed wherever the main preshape of their type is;
     # "narrow_tripod" only on small objects (70 mm in the SDH's description), and the capsule is
     # 160 mm long.
-    assert "alternative_preshapes: bool = True" in skelgrasp.plan.__doc__
-    with_alternatives = skelgrasp.plan(capsule, sdh, seed=1, robustness=False)
-    plain = skelgrasp.plan(capsule, sdh, seed=1, robustness=False, alternative_preshapes=False)
-    reference = skelgrasp.plan(capsule, sdh, seed=1, robustness=False, reference_compat=True)
+    assert PlanOptions().skeleton_planner.alternative_preshapes
+    with_alternatives = skelgrasp.plan(capsule, sdh, unranked(), seed=1)
+    options = unranked()
+    options.skeleton_planner.alternative_preshapes = False
+    plain = skelgrasp.plan(capsule, sdh, options, seed=1)
+    options = unranked()
+    options.quality.reference_compat = True
+    reference = skelgrasp.plan(capsule, sdh, options, seed=1)
     grasps = with_alternatives.to_dict()["grasps"]
     lateral_power = [g for g in grasps if g["preshape"] == "lateral_power"]
     lateral_precision = [g for g in grasps if g["preshape"] == "lateral_precision"]
@@ -201,10 +233,11 @@ def test_alternative_preshapes_is_a_keyword_of_plan(capsule, sdh, capsule_plan):
 
 
 def test_wrench_volume_is_computed_on_request_only(capsule, sdh):
-    assert "wrench_volume: bool = False" in skelgrasp.plan.__doc__
-    without = skelgrasp.plan(capsule, sdh, seed=1, max_grasps=5, robustness=False)
-    with_volume = skelgrasp.plan(capsule, sdh, seed=1, max_grasps=5, robustness=False,
-                                 wrench_volume=True)
+    assert not PlanOptions().quality.compute_volume
+    without = skelgrasp.plan(capsule, sdh, unranked(), seed=1, max_grasps=5)
+    options = unranked()
+    options.quality.compute_volume = True
+    with_volume = skelgrasp.plan(capsule, sdh, options, seed=1, max_grasps=5)
     assert len(without.grasps) == len(with_volume.grasps) > 0
     for a, b in zip(without.grasps, with_volume.grasps):
         assert a.volume is None and b.volume > 0
@@ -213,10 +246,12 @@ def test_wrench_volume_is_computed_on_request_only(capsule, sdh):
     assert all(g["volume"] is None for g in without.to_dict()["grasps"])
 
 
-def test_soft_finger_contacts_are_a_keyword_of_plan_close_and_score(capsule, sdh):
-    assert "torsional_friction: Optional[float] = None" in skelgrasp.plan.__doc__
-    soft = skelgrasp.plan(capsule, sdh, seed=5, max_grasps=3, robustness_samples=6,
-                          torsional_friction=0.0023)
+def test_soft_finger_contacts_are_an_option_of_plan_and_a_keyword_of_close_and_score(capsule,
+                                                                                    sdh):
+    assert PlanOptions().quality.torsional_friction_m is None
+    options = ranking_options(6)
+    options.quality.torsional_friction_m = 0.0023
+    soft = skelgrasp.plan(capsule, sdh, options, seed=5, max_grasps=3)
     scored = [g for g in soft.grasps if g.robustness is not None]
     assert scored and all(g.robustness["torsional_friction_m"] == 0.0023 for g in scored)
     # score with the same contact model gives plan's r back; point contacts never hold more
@@ -234,14 +269,16 @@ def test_soft_finger_contacts_are_a_keyword_of_plan_close_and_score(capsule, sdh
     closed = skelgrasp.close(capsule, sdh, best.to_dict()["preshape"], best.gcp_pose,
                              torsional_friction=0.0023)
     assert closed.epsilon == pytest.approx(best.epsilon, rel=1e-6)
-    with pytest.raises(ValueError, match="torsional_friction"):
-        skelgrasp.plan(capsule, sdh, torsional_friction=-0.001)
+    options.quality.torsional_friction_m = -0.001
+    with pytest.raises(ValueError, match="^quality.torsional_friction_m: -0.001 is not"):
+        skelgrasp.plan(capsule, sdh, options)
 
 
-def test_contact_patch_is_a_keyword_of_plan_close_and_score(capsule, sdh):
-    assert "contact_patch: str = 'corners'" in skelgrasp.plan.__doc__
-    centre = skelgrasp.plan(capsule, sdh, seed=5, max_grasps=3, robustness_samples=6,
-                            contact_patch="centre")
+def test_contact_patch_is_an_option_of_plan_and_a_keyword_of_close_and_score(capsule, sdh):
+    assert PlanOptions().closing.contact_patch == "corners"
+    options = ranking_options(6)
+    options.closing.contact_patch = "centre"
+    centre = skelgrasp.plan(capsule, sdh, options, seed=5, max_grasps=3)
     scored = [g for g in centre.grasps if g.robustness is not None]
     assert scored and all(g.robustness["contact_patch"] == "centre" for g in scored)
     for g in centre.grasps:  # one contact per link
@@ -253,7 +290,7 @@ def test_contact_patch_is_a_keyword_of_plan_close_and_score(capsule, sdh):
     for g, s in zip(centre.grasps, again):
         if g.robustness is not None:
             assert s["robustness"] == g.robustness["r"]
-    corners = skelgrasp.plan(capsule, sdh, seed=5, max_grasps=3, robustness_samples=6)
+    corners = skelgrasp.plan(capsule, sdh, ranking_options(6), seed=5, max_grasps=3)
     assert all(g.robustness["contact_patch"] == "corners"
                for g in corners.grasps if g.robustness is not None)
     best = centre.grasps[0]
@@ -265,8 +302,8 @@ def test_contact_patch_is_a_keyword_of_plan_close_and_score(capsule, sdh):
                              reference_compat=True, contact_patch="corners")
     links = [c["link"] for c in compat.contacts]
     assert len(links) == len(set(links))
-    with pytest.raises(ValueError, match="contact patch"):
-        skelgrasp.plan(capsule, sdh, contact_patch="edges")
+    with pytest.raises(ValueError, match="^ClosingParams.contact_patch: unknown contact patch"):
+        options.closing.contact_patch = "edges"
 
 
 def test_close_at_a_planned_grasp_reproduces_its_contacts(capsule, sdh, capsule_plan):
@@ -316,7 +353,7 @@ def test_score_recomputes_quality_and_robustness(capsule, sdh, capsule_plan):
 
 
 def test_score_reproduces_the_r_plan_ranked_by(capsule, sdh):
-    planned = skelgrasp.plan(capsule, sdh, seed=5, max_grasps=3, robustness_samples=6)
+    planned = skelgrasp.plan(capsule, sdh, ranking_options(6), seed=5, max_grasps=3)
     scores = skelgrasp.score(capsule, sdh, planned, robustness_samples=6, seed=5)
     scored = [(s, g) for s, g in zip(scores, planned.grasps) if g.robustness is not None]
     assert scored

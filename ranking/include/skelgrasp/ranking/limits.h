@@ -11,6 +11,8 @@ namespace skelgrasp::ranking {
 constexpr std::uint64_t kMaxRobustnessSamples = 1'000'000;
 // Longest planning time limit, in seconds (about eleven days).
 constexpr double kMaxPlanTimeoutS = 1e6;
+// Largest friction coefficient: above it no physical contact (rubber on rubber is about 1-2).
+constexpr double kMaxFriction = 10;
 // Most hand closings one re-scoring of a grasps file may run (`score`, Python score_grasps):
 // grasps x (1 + frictions x robustness samples). About ten hours on one core at the 3.6 ms a
 // closing of the SDH hand takes; beyond it a request is a mistake (10 000 grasps at 1000 samples)
