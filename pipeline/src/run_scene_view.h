@@ -16,11 +16,11 @@ struct RunSceneViewParams {
   // the view and the page. At most max_scene_grasps in all (about 0.6 MB), at least one each.
   std::size_t grasps_per_object = 3;
   std::size_t max_scene_grasps = 150;
-  // A scene's object meshes hold at most this many vertices in all (about 1.8 MB of page data);
+  // A scene's object meshes hold at most this many vertices in all (about 1.4 MB of page data);
   // beyond it each larger mesh is decimated to an equal share, no fewer than
   // min_vertices_per_object. The demo's five objects hold 27 000; a 200-object scene's made a
   // 56 MB page.
-  std::size_t max_object_vertices = 40000;
+  std::size_t max_object_vertices = 30000;
   std::size_t min_vertices_per_object = 100;
 };
 
