@@ -52,4 +52,35 @@ double principalLengthM(const TriangleMesh& mesh, const PrincipalAxes& axes) {
   return high - low;
 }
 
+FootprintExtents footprintExtents(const std::vector<Eigen::Vector3d>& points,
+                                  const Eigen::Vector3d& up) {
+  FootprintExtents out;
+  if (points.empty()) return out;
+  const Eigen::Vector3d across = up.unitOrthogonal();
+  const Eigen::Vector3d along = up.cross(across);
+  std::vector<Eigen::Vector2d> flat;
+  flat.reserve(points.size());
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& p : points) {
+    flat.emplace_back(across.dot(p), along.dot(p));
+    mean += flat.back();
+  }
+  mean /= static_cast<double>(flat.size());
+  Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+  for (const auto& q : flat) scatter += (q - mean) * (q - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> axes(scatter);
+  // Eigenvalues ascend: column 1 is the major axis, column 0 the minor.
+  const auto extentAlong = [&](const Eigen::Vector2d& axis) {
+    double low = std::numeric_limits<double>::infinity(), high = -low;
+    for (const auto& q : flat) {
+      low = std::min(low, axis.dot(q));
+      high = std::max(high, axis.dot(q));
+    }
+    return high - low;
+  };
+  out.widest_m = extentAlong(axes.eigenvectors().col(1));
+  out.narrowest_m = extentAlong(axes.eigenvectors().col(0));
+  return out;
+}
+
 }  // namespace skelgrasp::geometry

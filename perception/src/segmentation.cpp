@@ -7,14 +7,15 @@
 #include <pcl/segmentation/lccp_segmentation.h>
 #include <pcl/segmentation/supervoxel_clustering.h>
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <set>
 
 #include "skelgrasp/common/logging.h"
+#include "skelgrasp/geometry/principal_axes.h"
 #include "skelgrasp/internal/pcl_conversions.h"
 
 namespace skelgrasp::internal {
@@ -138,11 +139,8 @@ Stance stanceOf(const PointCloud& cloud, const std::vector<int>& members,
                 const perception::SupportPlane& plane) {
   Stance s;
   if (members.empty()) return s;
-  const Eigen::Vector3d across = plane.normal.unitOrthogonal();
-  const Eigen::Vector3d along = plane.normal.cross(across);
-  std::vector<Eigen::Vector2d> flat;
-  flat.reserve(members.size());
-  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  std::vector<Eigen::Vector3d> points;
+  points.reserve(members.size());
   double top = -std::numeric_limits<double>::infinity();
   s.lowest_m = std::numeric_limits<double>::infinity();
   for (int i : members) {
@@ -150,21 +148,10 @@ Stance stanceOf(const PointCloud& cloud, const std::vector<int>& members,
     const double h = plane.signedDistance(p);
     s.lowest_m = std::min(s.lowest_m, h);
     top = std::max(top, h);
-    flat.emplace_back(across.dot(p), along.dot(p));
-    mean += flat.back();
+    points.push_back(p);
   }
   s.height_m = top - s.lowest_m;
-  mean /= static_cast<double>(flat.size());
-  Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
-  for (const auto& q : flat) scatter += (q - mean) * (q - mean).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> axes(scatter);
-  const Eigen::Vector2d major = axes.eigenvectors().col(1);  // eigenvalues ascend
-  double low = std::numeric_limits<double>::infinity(), high = -low;
-  for (const auto& q : flat) {
-    low = std::min(low, major.dot(q));
-    high = std::max(high, major.dot(q));
-  }
-  s.width_m = high - low;
+  s.width_m = geometry::footprintExtents(points, plane.normal).widest_m;
   return s;
 }
 
@@ -373,7 +360,9 @@ Segmentation lccpSegments(const PointCloud& cloud, const std::vector<int>& candi
   }
   // Symmetric bodies: segments on one circle about an axis normal to the support are one body cut
   // at its rim; the smaller joins the larger. The pieces need not share a supervoxel edge (a thin
-  // rim leaves none), only come within kSymmetricPairReachM of each other.
+  // rim leaves none), only come within kSymmetricPairReachM of each other. A pair found apart
+  // stays apart until one of them grows: after a join only the grown segment's pairs are tested.
+  std::set<std::pair<std::uint32_t, std::uint32_t>> apart;
   for (bool changed = lp.join_symmetric_bodies; changed;) {
     changed = false;
     std::vector<std::pair<std::uint32_t, AxisAlignedBox>> boxes;
@@ -390,11 +379,18 @@ Segmentation lccpSegments(const PointCloud& cloud, const std::vector<int>& candi
             ((bj.min.array() - kSymmetricPairReachM) > bi.max.array()).any())
           continue;
         const std::uint32_t a = boxes[i].first, b = boxes[j].first;
-        if (!oneSymmetricBody(cloud, members[a], members[b], plane, lp)) continue;
+        if (apart.count({a, b})) continue;
+        if (!oneSymmetricBody(cloud, members[a], members[b], plane, lp)) {
+          apart.insert({a, b});
+          continue;
+        }
         const bool a_smaller = members[a].size() < members[b].size();
+        const std::uint32_t grown = a_smaller ? b : a;
         log().debug("scene: segments of {} and {} points are one symmetric body", members[a].size(),
                     members[b].size());
-        absorb(a_smaller ? a : b, a_smaller ? b : a, "");
+        absorb(a_smaller ? a : b, grown, "");
+        for (auto it = apart.begin(); it != apart.end();)
+          it = it->first == grown || it->second == grown ? apart.erase(it) : std::next(it);
         changed = true;
       }
     }

@@ -8,6 +8,15 @@
 
 namespace skelgrasp::pipeline {
 
+Status meshingStatus(const std::vector<ObjectReconstruction>& objects) {
+  for (const auto& object : objects) {
+    if (!object.meshing.status.ok())
+      return Status::Make(object.meshing.status.code, "object " + std::to_string(object.cluster) +
+                                                          ": " + object.meshing.status.message);
+  }
+  return Status::Ok();
+}
+
 ReconstructionResult ingestObjects(const perception::Scan& scan,
                                    const ReconstructionParams& params) {
   Stopwatch total;
@@ -47,13 +56,7 @@ ReconstructionResult reconstructScan(const perception::Scan& scan,
         }
       },
       tbb::simple_partitioner());
-  for (const auto& object : result.objects) {
-    if (object.meshing.status.ok()) continue;
-    result.status =
-        Status::Make(object.meshing.status.code, "object " + std::to_string(object.cluster) + ": " +
-                                                     object.meshing.status.message);
-    break;
-  }
+  result.status = meshingStatus(result.objects);
   result.total_s = total.seconds();
   return result;
 }

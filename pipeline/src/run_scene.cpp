@@ -1,8 +1,5 @@
 #include "skelgrasp/pipeline/run_scene.h"
 
-#include <Eigen/Eigenvalues>
-#include <cstring>
-#include <limits>
 #include <map>
 
 #include <fmt/format.h>
@@ -14,6 +11,7 @@
 #include "object_planning.h"
 #include "scene_obstacles.h"
 #include "skelgrasp/common/logging.h"
+#include "skelgrasp/geometry/principal_axes.h"
 #include "skelgrasp/perception/cloud_ops.h"
 #include "skelgrasp/reconstruction/meshing.h"
 
@@ -49,25 +47,23 @@ PointCloud sceneObstacles(const perception::SceneResult& scene,
   return obstacles;
 }
 
-// The obstacles of an object's rejected poses (PlanSummary::scene_collision_obstacles), named:
-// label c + 1 is cluster c, the object whose cluster it is.
+// What blocked an object's rejected poses, named: the support plane is the table, octree label
+// c + 1 the object of cluster c (sceneObstacles), label 0 clutter.
 std::vector<BlockingObstacle> blockingObstacles(const grasping::PlanSummary& summary,
                                                 const std::vector<SceneObjectRun>& objects) {
-  std::map<std::pair<std::string, std::optional<std::size_t>>, std::size_t> counts;
-  for (const auto& [name, poses] : summary.scene_collision_obstacles) {
-    std::pair<std::string, std::optional<std::size_t>> key{"clutter", std::nullopt};
-    if (name == "support_plane") key.first = "table";
-    constexpr const char* kLabel = "label ";
-    if (name.rfind(kLabel, 0) == 0) {
-      const std::size_t cluster = std::stoul(name.substr(std::strlen(kLabel))) - 1;
-      for (const auto& o : objects) {
-        if (o.cluster == cluster) key = {"object", o.id};
-      }
+  std::map<std::optional<std::size_t>, std::size_t> by_object;  // nullopt: clutter
+  for (const auto& [label, poses] : summary.scene_collision_labels) {
+    std::optional<std::size_t> object;
+    for (const auto& o : objects) {
+      if (label != 0 && o.cluster == label - 1) object = o.id;
     }
-    counts[key] += poses;
+    by_object[object] += poses;
   }
   std::vector<BlockingObstacle> out;
-  for (const auto& [key, poses] : counts) out.push_back({key.first, key.second, poses});
+  for (const auto& [object, poses] : by_object)
+    out.push_back({object ? "object" : "clutter", object, poses});
+  const auto table = summary.scene_collision_obstacles.find("support_plane");
+  if (table != summary.scene_collision_obstacles.end()) out.push_back({"table", {}, table->second});
   std::stable_sort(out.begin(), out.end(),
                    [](const auto& a, const auto& b) { return a.poses > b.poses; });
   return out;
@@ -75,31 +71,6 @@ std::vector<BlockingObstacle> blockingObstacles(const grasping::PlanSummary& sum
 
 std::string describe(const BlockingObstacle& b) {
   return b.obstacle == "object" ? "object " + std::to_string(*b.object) : b.obstacle;
-}
-
-// The narrowest width of a mesh across the support: the smaller extent of its vertices, projected
-// on the plane, along their principal axes there.
-double narrowestWidth(const TriangleMesh& mesh, const Eigen::Vector3d& up) {
-  if (mesh.vertices.empty()) return 0;
-  const Eigen::Vector3d across = up.unitOrthogonal(), along = up.cross(across);
-  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-  for (const auto& v : mesh.vertices) mean += Eigen::Vector2d(across.dot(v), along.dot(v));
-  mean /= static_cast<double>(mesh.vertices.size());
-  Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
-  for (const auto& v : mesh.vertices) {
-    const Eigen::Vector2d q = Eigen::Vector2d(across.dot(v), along.dot(v)) - mean;
-    scatter += q * q.transpose();
-  }
-  const Eigen::Vector2d minor =
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(scatter).eigenvectors().col(
-          0);  // eigenvalues ascend
-  double low = std::numeric_limits<double>::infinity(), high = -low;
-  for (const auto& v : mesh.vertices) {
-    const double t = minor.dot(Eigen::Vector2d(across.dot(v), along.dot(v)));
-    low = std::min(low, t);
-    high = std::max(high, t);
-  }
-  return high - low;
 }
 
 // The widest object a hand closes around: twice the largest lambda2 its grasp types accept.
@@ -117,7 +88,9 @@ void explainNoGrasp(SceneObjectRun& object, const HandModel& hand,
                     const std::optional<SupportPlane>& plane) {
   std::string why;
   if (plane) {
-    const double width = narrowestWidth(object.mesh, plane->coefficients.head<3>().normalized());
+    const double width =
+        geometry::footprintExtents(object.mesh.vertices, plane->coefficients.head<3>().normalized())
+            .narrowest_m;
     const double widest = widestGrasp(hand);
     if (width > widest) {
       object.reason = object_reason::kTooWide;
@@ -274,13 +247,7 @@ SceneRunResult runScene(const perception::Scan& scan, const HandModel& hand,
         },
         tbb::simple_partitioner());
   });
-  for (const auto& object : out.reconstruction.objects) {
-    if (object.meshing.status.ok()) continue;
-    out.reconstruction.status =
-        Status::Make(object.meshing.status.code, "object " + std::to_string(object.cluster) + ": " +
-                                                     object.meshing.status.message);
-    break;
-  }
+  out.reconstruction.status = meshingStatus(out.reconstruction.objects);
   const std::size_t with_grasps = out.objectsWithGrasps();
   out.status =
       with_grasps > 0 ? Status::Ok() : Status::Make(StatusCode::kNoResult, "no object got a grasp");

@@ -151,7 +151,9 @@ TEST(RunScene, AnObjectWithoutAGraspNamesWhatBlockedIt) {
       named += b.poses;
       EXPECT_TRUE(b.obstacle == "table" || b.obstacle == "object" || b.obstacle == "clutter");
       EXPECT_EQ(b.object.has_value(), b.obstacle == "object");
-      if (b.object) EXPECT_NE(*b.object, object.id);  // its own points are cleared
+      if (b.object) {
+        EXPECT_NE(*b.object, object.id);  // its own points are cleared
+      }
     }
     EXPECT_EQ(named, blocked);
     if (object.ranked.empty() && blocked > 0) {

@@ -87,6 +87,8 @@ nlohmann::json graspToJson(const Grasp& g, const HandModel& hand) {
 }
 
 nlohmann::json planSummaryJson(const PlanSummary& s) {
+  nlohmann::json labels = nlohmann::json::object();  // JSON keys are strings
+  for (const auto& [label, count] : s.scene_collision_labels) labels[std::to_string(label)] = count;
   return {{"hypotheses", s.hypotheses},
           {"poses", s.poses},
           {"generated", s.generated},
@@ -98,6 +100,7 @@ nlohmann::json planSummaryJson(const PlanSummary& s) {
           {"rejections", s.rejections},
           {"scene_collision_links", s.scene_collision_links},
           {"scene_collision_obstacles", s.scene_collision_obstacles},
+          {"scene_collision_labels", labels},
           {"by_type", {{"power", s.power}, {"precision", s.precision}}},
           {"timed_out", s.timed_out},
           {"max_grasps_reached", s.max_grasps_reached}};

@@ -38,12 +38,6 @@ bool comesDownOntoPlane(const SceneChecker& scene, const Eigen::Vector3d& approa
   return scene.plane() &&
          -approach.dot(scene.plane()->coefficients.head<3>()) >= kLiftMinDownCosine;
 }
-
-// The key of PlanSummary::scene_collision_obstacles for a collision.
-std::string obstacleName(const SceneCheckResult& hit) {
-  if (hit.obstacle == "support_plane") return hit.obstacle;
-  return hit.obstacle_label != 0 ? "label " + std::to_string(hit.obstacle_label) : "unlabelled";
-}
 }  // namespace
 
 HypothesisOutcome closeHypothesis(GraspSimulator& simulator, const Pose& gcp,
@@ -126,8 +120,7 @@ HypothesisOutcome closeHypothesis(GraspSimulator& simulator, const Pose& gcp,
     }
     if (scene.collision) {
       out.reason = reason::kSceneCollision;
-      out.scene_link = scene.link;
-      out.scene_obstacle = obstacleName(scene);
+      out.scene_hit = std::move(scene);
       return out;
     }
   }
@@ -144,8 +137,7 @@ HypothesisOutcome closeHypothesis(GraspSimulator& simulator, const Pose& gcp,
     const SceneCheckResult closed = params.scene->checkPose(grasp.hand_pose, closing.joints);
     if (closed.collision) {
       out.reason = reason::kSceneCollision;
-      out.scene_link = closed.link;
-      out.scene_obstacle = obstacleName(closed);
+      out.scene_hit = closed;
       return out;
     }
   }
@@ -184,9 +176,12 @@ std::optional<Grasp> countOutcome(HypothesisOutcome&& outcome, PlanSummary& summ
   }
   if (!outcome.grasp) {
     ++summary.rejections[outcome.reason];
-    if (!outcome.scene_link.empty()) ++summary.scene_collision_links[outcome.scene_link];
-    if (!outcome.scene_obstacle.empty())
-      ++summary.scene_collision_obstacles[outcome.scene_obstacle];
+    const SceneCheckResult& hit = outcome.scene_hit;
+    if (hit.collision) {
+      ++summary.scene_collision_links[hit.link];
+      ++summary.scene_collision_obstacles[hit.obstacle];
+      if (hit.obstacle == "octree") ++summary.scene_collision_labels[hit.obstacle_label];
+    }
   }
   return std::move(outcome.grasp);
 }
@@ -202,6 +197,8 @@ void PlanSummary::add(const PlanSummary& other) {
     scene_collision_links[link] += count;
   for (const auto& [obstacle, count] : other.scene_collision_obstacles)
     scene_collision_obstacles[obstacle] += count;
+  for (const auto& [label, count] : other.scene_collision_labels)
+    scene_collision_labels[label] += count;
   precision += other.precision;
   power += other.power;
   timed_out = timed_out || other.timed_out;

@@ -126,8 +126,7 @@ std::shared_ptr<octomap::OcTree> occupiedCellsWithin(const octomap::OcTree& sour
     return std::make_shared<octomap::OcTree>(source);
   }
   const unsigned depth = source.getTreeDepth();
-  for (auto it = source.begin_leafs_bbx(low, high), end = source.end_leafs_bbx(); it != end;
-       ++it) {
+  for (auto it = source.begin_leafs_bbx(low, high), end = source.end_leafs_bbx(); it != end; ++it) {
     if (!source.isNodeOccupied(*it)) continue;
     const unsigned span = 1u << (depth - it.getDepth());
     const octomap::OcTreeKey corner = it.getIndexKey();
@@ -361,7 +360,6 @@ struct SceneChecker::Impl {
   std::optional<SupportPlane> plane;
   std::unique_ptr<fcl::CollisionObjectd> octree;
   const SceneOccupancy* occupancy = nullptr;
-  bool labelled = false;  // the occupancy has obstacle labels
   std::unique_ptr<fcl::CollisionObjectd> halfspace;
   // Per link: each shape's geometry and its origin in the link frame.
   std::vector<std::vector<std::pair<std::shared_ptr<fcl::CollisionGeometryd>, Pose>>> shapes;
@@ -377,7 +375,6 @@ SceneChecker::SceneChecker(const HandModel& hand, const SceneOccupancy* occupanc
     impl_->octree = std::make_unique<fcl::CollisionObjectd>(geometry);
     impl_->octree->computeAABB();
     impl_->occupancy = occupancy;
-    impl_->labelled = occupancy->impl().labels != nullptr;
   }
   if (plane) {
     // The obstacle is the half-space below the plane: n . x <= -d - tolerance.
@@ -437,7 +434,7 @@ SceneCheckResult SceneChecker::checkPath(const Pose& hand_pose, const Eigen::Vec
           fcl::CollisionRequestd request;
           // In a labelled map the contact names the obstacle hit; it is computed for the one
           // colliding check that ends the path.
-          request.enable_contact = octree && impl_->labelled;
+          request.enable_contact = octree && impl_->occupancy->impl().labels != nullptr;
           fcl::CollisionResultd hit;
           fcl::collide(&placed, obstacle, request, hit);
           if (hit.isCollision()) {

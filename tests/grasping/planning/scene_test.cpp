@@ -100,12 +100,16 @@ TEST(SceneCheck, LabelledObstaclesNameWhatAHandHit) {
   params.hypothesis.scene = &checker;
   const auto plan =
       planSkeletonGrasps(hand, object, skeleton::extractSkeleton(mesh).skeleton, params);
-  const auto& hits = plan.summary.scene_collision_obstacles;
+  const auto& obstacles = plan.summary.scene_collision_obstacles;
   std::size_t counted = 0;
-  for (const auto& [name, count] : hits) counted += count;
+  for (const auto& [name, count] : obstacles) counted += count;
   EXPECT_EQ(counted, plan.summary.rejections.at(reason::kSceneCollision));
-  EXPECT_GT(hits.count("label 7") ? hits.at("label 7") : 0, 10u);
-  EXPECT_GT(hits.count("label 9") ? hits.at("label 9") : 0, 10u);
+  const auto& labels = plan.summary.scene_collision_labels;
+  std::size_t labelled = 0;
+  for (const auto& [label, count] : labels) labelled += count;
+  EXPECT_EQ(labelled, obstacles.count("octree") ? obstacles.at("octree") : 0);
+  EXPECT_GT(labels.count(7) ? labels.at(7) : 0, 10u);
+  EXPECT_GT(labels.count(9) ? labels.at(9) : 0, 10u);
 }
 
 // A copy limited to a region holds exactly the occupied cells of the full copy inside it (pruned

@@ -3,6 +3,7 @@
 // is turned. The fallback grasp strategies place the hand along these axes, and preshapes made for
 // small objects are closed by the length along the longest (docs/hands.md).
 #include <Eigen/Core>
+#include <vector>
 
 #include "skelgrasp/common/mesh.h"
 
@@ -23,5 +24,15 @@ PrincipalAxes surfacePrincipalAxes(const TriangleMesh& mesh);
 // the length anywhere between the side and the diagonal of that cross-section. A mesh without area
 // has no axes: its bounding box diagonal is returned.
 double principalLengthM(const TriangleMesh& mesh, const PrincipalAxes& axes);
+
+// The footprint of points on a plane with unit normal `up`: their extents, in metres, along the
+// principal axes of their projection onto it (the widest and the narrowest way across, as an
+// object stands on a table). No points: zeros.
+struct FootprintExtents {
+  double widest_m = 0;
+  double narrowest_m = 0;
+};
+FootprintExtents footprintExtents(const std::vector<Eigen::Vector3d>& points,
+                                  const Eigen::Vector3d& up);
 
 }  // namespace skelgrasp::geometry

@@ -1,5 +1,6 @@
 #pragma once
 // A planned grasp, the outcome of evaluating one hypothesis, and a planner's result.
+#include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
@@ -130,9 +131,10 @@ struct PlanSummary {
   double planning_s = 0;
   std::map<std::string, std::size_t> rejections;
   std::map<std::string, std::size_t> scene_collision_links;  // first colliding link per rejection
-  // What that link hit, per rejection: "support_plane", "label N" (the octree cell's obstacle
-  // label, SceneOccupancy) or "unlabelled".
+  // What that link hit, per rejection: "support_plane" or "octree" (SceneCheckResult::obstacle),
+  // and the octree's rejections by the obstacle label of the cell hit (SceneOccupancy; 0: none).
   std::map<std::string, std::size_t> scene_collision_obstacles;
+  std::map<std::uint32_t, std::size_t> scene_collision_labels;
   std::size_t precision = 0, power = 0;  // kept grasps by type
   bool timed_out = false;
   bool max_grasps_reached = false;

@@ -29,6 +29,10 @@ struct ReconstructionResult {
 ReconstructionResult reconstructScan(const perception::Scan& scan,
                                      const ReconstructionParams& params = {});
 
+// Ok, or the first meshing failure in object order, naming the object's cluster: the status of a
+// reconstruction whose objects were meshed, whatever order they were meshed in.
+Status meshingStatus(const std::vector<ObjectReconstruction>& objects);
+
 // reconstructScan without the meshing: filters, segmentation and normals, with each selected
 // object's cluster in `objects` and its meshing left empty (the caller meshes it with
 // reconstruction::meshObject, e.g. while other objects are planned).

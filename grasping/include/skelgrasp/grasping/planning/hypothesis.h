@@ -43,9 +43,7 @@ struct HypothesisOutcome {
   std::optional<Grasp> grasp;    // set when kept (force closure and epsilon >= minimum)
   const char* reason = nullptr;  // set when not kept
   bool generated = false;        // placed collision-free and closed
-  std::string scene_link;        // scene_collision: the first colliding link
-  std::string
-      scene_obstacle;  // scene_collision: what it hit (PlanSummary::scene_collision_obstacles)
+  SceneCheckResult scene_hit;    // scene_collision: the first colliding link and what it hit
 };
 
 // `gcp` is the hypothesis' grasp centre point pose (object frame; z = approach direction).
@@ -55,7 +53,7 @@ HypothesisOutcome evaluateHypothesis(GraspSimulator& simulator, const Pose& gcp,
 
 // The first half of evaluateHypothesis: back off, retreat, scene check, close. `generated` with
 // `grasp` set (pose, joints, contacts; quality not judged yet) when it closed with enough contacts,
-// else `reason` (and `scene_link`). Local refinement (refinement.h) closes many poses this way.
+// else `reason` (and `scene_hit`). Local refinement (refinement.h) closes many poses this way.
 HypothesisOutcome closeHypothesis(GraspSimulator& simulator, const Pose& gcp,
                                   const Preshape& preshape, const HypothesisParams& params);
 // The second half: quality of a closed hypothesis' grasp, kept or rejected (not_force_closure,

@@ -57,10 +57,8 @@ struct SkeletonPlannerParams {
   // within the time and grasp count left, and their grasps (strategy "surface") added to the
   // pool the robust ranking chooses from. 0: none. The surface planner's pool holds better than
   // the centre-aimed candidates on handles and small round objects for some hands (the Shadow
-  // hand: CHANGELOG.md has the measurement). 50 since the
-  // settled judge: the Shadow hand's top-10 r median 69.3 -> 76.7 % over the 58 YCB meshes, the
-  // other hands within noise, no measurable time (docs/results.md, "Surface candidates by
-  // default").
+  // hand). 50 since the settled judge: the Shadow hand's top-10 r median 69.3 -> 76.7 % over the
+  // 58 YCB meshes, the other hands within noise, no measurable time (CHANGELOG.md).
   std::size_t surface_candidates = 50;
   // Retreat, closing, quality (mu, contact model), min epsilon. extra_retreat_m is the hand's
   // power retreat for power grasps and precision_retreat_m for precision grasps.
